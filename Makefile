@@ -1,0 +1,58 @@
+# secest: every target builds the virtual environment first (python3 + make are all you need).
+SHELL := /bin/bash
+.DELETE_ON_ERROR:
+
+VENV   := .venv
+PY     := $(VENV)/bin/python
+STAMP  := $(VENV)/.stamp
+KEYS   := $(sort $(basename $(notdir $(wildcard notebooks/*.py))))
+NB     ?= $(KEYS)
+export JUPYTER_PREFER_ENV_PATH := 1
+export OMP_NUM_THREADS := 1
+export OPENBLAS_NUM_THREADS := 1
+export MPLBACKEND := Agg
+export PYDEVD_DISABLE_FILE_VALIDATION := 1
+
+.PHONY: venv figures test lint bench lock html clean $(addprefix figures-,$(KEYS))
+
+venv: $(STAMP)
+
+$(STAMP): environment.lock
+	rm -rf $(VENV)
+	python3 -m venv $(VENV)
+	$(PY) -m pip install --quiet --disable-pip-version-check --require-hashes -r environment.lock
+	$(PY) -m pip install --quiet --disable-pip-version-check --no-deps --no-build-isolation -e .
+	$(PY) -m ipykernel install --sys-prefix --name python3 --display-name "Python 3 (secest)" >/dev/null
+	touch $@
+
+## figures: build each notebook from its .py, execute it in place, strip metadata, check the manifest
+figures: $(addprefix figures-,$(NB))
+	$(PY) -m secest.build manifest $(NB)
+
+$(addprefix figures-,$(KEYS)): figures-%: $(STAMP)
+	$(PY) -m secest.build ipynb $*
+	$(PY) -m secest.build prepare $*
+	$(PY) -m secest.run $*
+	$(PY) -m secest.build strip $*
+
+## test: unit tests + papermill-executed notebook tests (fast mode) + lint
+test: $(STAMP)
+	$(PY) -m ruff check secest tests notebooks
+	$(PY) -m pytest -n 2 --dist loadgroup
+
+bench: $(STAMP)
+	$(PY) -m pytest benchmarks -q -s -p no:xdist
+
+## lock: regenerate environment.lock (pinned with hashes) from pyproject.toml
+lock:
+	python3 -m venv build/lockenv
+	build/lockenv/bin/python -m pip install --quiet uv==0.13.9
+	build/lockenv/bin/uv pip compile pyproject.toml --extra dev --extra bench --generate-hashes \
+	    --universal --python-version 3.11 --no-header -o environment.lock
+
+## html: render the executed notebooks to build/html/ (not committed)
+html: $(STAMP)
+	$(PY) -m jupyter nbconvert --to html --output-dir build/html notebooks/*.ipynb
+
+clean:
+	rm -rf $(VENV) build .pytest_cache

@@ -1,0 +1,118 @@
+"""Notebook build steps used by the Makefile.
+
+``python -m secest.build ipynb KEY``     build ``notebooks/KEY.ipynb`` from ``KEY.py`` (one way)
+``python -m secest.build prepare KEY``   delete KEY's old PNG/CSV figures before a run
+``python -m secest.build strip KEY``     strip timing metadata and cell ids after a run
+``python -m secest.build manifest KEY..`` check that every figure listed in
+                                          ``figures/manifest.toml`` exists
+
+The ``.ipynb`` is always rebuilt from the ``.py`` (never synced the other way:
+``jupytext --sync`` trusts timestamps, which git scrambles). Cell ids are
+removed (nbformat 4.4) and papermill / nbclient timing metadata is stripped so
+that executing twice leaves ``git status`` clean.
+"""
+
+from __future__ import annotations
+
+import sys
+import tomllib
+from pathlib import Path
+
+import jupytext
+import nbformat
+
+from secest.results import repo_root
+from secest.validation import ValidationError
+
+__all__ = ["build_ipynb", "check_manifest", "prepare_figures", "strip_notebook"]
+
+_CELL_KEYS_DROPPED = ("papermill", "execution", "ExecuteTime", "collapsed", "scrolled")
+_NB_KEYS_DROPPED = ("papermill", "widgets")
+
+
+def _paths(key: str) -> tuple[Path, Path]:
+    root = repo_root() / "notebooks"
+    src = root / f"{key}.py"
+    if not src.exists():
+        raise ValidationError(f"key {key!r} names no notebook source: {src} does not exist")
+    return src, root / f"{key}.ipynb"
+
+
+def _without_ids(nb: nbformat.NotebookNode) -> nbformat.NotebookNode:
+    nb.nbformat, nb.nbformat_minor = 4, 4
+    for cell in nb.cells:
+        cell.pop("id", None)
+    return nb
+
+
+def build_ipynb(key: str) -> Path:
+    """Write ``notebooks/<key>.ipynb`` from ``notebooks/<key>.py`` (outputs empty)."""
+    src, dst = _paths(key)
+    nb = jupytext.read(src)
+    nb.metadata.pop("jupytext", None)
+    jupytext.write(_without_ids(nb), dst, fmt="ipynb")
+    return dst
+
+
+def strip_notebook(key: str) -> Path:
+    """Remove timing metadata and cell ids from the executed ``notebooks/<key>.ipynb``."""
+    _, path = _paths(key)
+    nb = nbformat.read(path, as_version=4)
+    for k in _NB_KEYS_DROPPED:
+        nb.metadata.pop(k, None)
+    for cell in nb.cells:
+        for k in _CELL_KEYS_DROPPED:
+            cell.metadata.pop(k, None)
+    nbformat.write(_without_ids(nb), path)
+    return path
+
+
+def _manifest() -> dict:
+    path = repo_root() / "figures" / "manifest.toml"
+    with path.open("rb") as fh:
+        return tomllib.load(fh)
+
+
+def prepare_figures(key: str) -> list[Path]:
+    """Delete the PNG and CSV files in ``figures/<key>/`` so stale figures cannot survive a run."""
+    folder = repo_root() / "figures" / key
+    removed = sorted([*folder.glob("*.png"), *folder.glob("*.csv")]) if folder.exists() else []
+    for path in removed:
+        path.unlink()
+    return removed
+
+
+def check_manifest(keys: list[str]) -> list[str]:
+    """Return the files listed for ``keys`` in ``figures/manifest.toml`` that are missing."""
+    manifest = _manifest()
+    missing = []
+    for key in keys:
+        if key not in manifest:
+            raise ValidationError(f"figures/manifest.toml has no [{key}] table")
+        for fig in manifest[key].get("figures", []):
+            for name in fig["files"]:
+                if not (repo_root() / name).exists():
+                    missing.append(name)
+    return missing
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Command-line entry point (see the module docstring)."""
+    args = sys.argv[1:] if argv is None else argv
+    if len(args) < 2 or args[0] not in {"ipynb", "prepare", "strip", "manifest"}:
+        print(__doc__, file=sys.stderr)
+        return 2
+    command, keys = args[0], args[1:]
+    if command == "manifest":
+        missing = check_manifest(keys)
+        for name in missing:
+            print(f"missing figure listed in figures/manifest.toml: {name}", file=sys.stderr)
+        return 1 if missing else 0
+    action = {"ipynb": build_ipynb, "prepare": prepare_figures, "strip": strip_notebook}[command]
+    for key in keys:
+        action(key)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
