@@ -38,16 +38,12 @@ fig_dir = "figures/lee2020"
 results_path = "figures/lee2020/claims.json"
 
 # %%
-import sys
-
 import matplotlib.pyplot as plt
 import numpy as np
 
-import secest
 from secest import graphs, plotting, results
 
-print("python:", sys.executable)
-print("secest:", secest.__file__)
+print(results.environment_summary())
 
 run = results.Run("lee2020", globals())
 if mode not in ("paper", "fast"):

@@ -63,8 +63,27 @@ def strip_notebook(key: str) -> Path:
     for cell in nb.cells:
         for k in _CELL_KEYS_DROPPED:
             cell.metadata.pop(k, None)
+        if cell.cell_type == "code":
+            cell.outputs = _coalesce_streams(cell.outputs)
     nbformat.write(_without_ids(nb), path)
     return path
+
+
+def _coalesce_streams(outputs: list) -> list:
+    """Merge consecutive stream outputs of the same name (their split depends on flush timing)."""
+    merged: list = []
+    for out in outputs:
+        prev = merged[-1] if merged else None
+        if (
+            out.get("output_type") == "stream"
+            and prev is not None
+            and prev.get("output_type") == "stream"
+            and prev.get("name") == out.get("name")
+        ):
+            prev["text"] = prev["text"] + out["text"]
+        else:
+            merged.append(out)
+    return merged
 
 
 def _manifest() -> dict:

@@ -27,6 +27,7 @@ __all__ = [
     "Run",
     "claim",
     "declared_parameters",
+    "environment_summary",
     "notebook_path",
     "repo_root",
     "resolve",
@@ -41,6 +42,26 @@ _PACKAGES = ("numpy", "scipy", "networkx", "cvxpy", "clarabel", "scs", "control"
 def repo_root() -> Path:
     """The repository root (the folder holding ``secest/``); paths resolve from here."""
     return Path(__file__).resolve().parent.parent
+
+
+def environment_summary() -> str:
+    """Interpreter and secest location, repository paths shown as ``<repo>/...``.
+
+    The first code cell of every notebook prints this, so a wrong interpreter is
+    visible while the committed output does not depend on where the repository lives.
+    """
+    import sys
+
+    import secest
+
+    def show(path: str) -> str:
+        p = Path(path)
+        try:
+            return "<repo>/" + p.relative_to(repo_root()).as_posix()
+        except ValueError:
+            return str(p)
+
+    return f"python: {show(sys.executable)}\nsecest: {show(secest.__file__)}"
 
 
 def resolve(path: str | Path) -> Path:

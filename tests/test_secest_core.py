@@ -441,3 +441,19 @@ def test_parameter_cell_parse_failure_is_an_error(tmp_path, monkeypatch) -> None
     monkeypatch.setattr(results, "notebook_path", lambda key: path)
     with pytest.raises(ValidationError, match="papermill cannot parse a line"):
         results.declared_parameters("bad")
+
+
+def test_environment_summary_uses_repo_relative_paths() -> None:
+    text = results.environment_summary()
+    assert text.startswith("python: ") and "secest: <repo>/secest/__init__.py" in text
+
+
+def test_strip_coalesces_split_streams() -> None:
+    from nbformat.v4 import new_output
+
+    from secest.build import _coalesce_streams
+
+    outs = [new_output("stream", name="stdout", text="a\n"), new_output("stream", name="stdout", text="b\n"),
+            new_output("stream", name="stderr", text="w\n"), new_output("stream", name="stdout", text="c\n")]
+    merged = _coalesce_streams(outs)
+    assert [o["text"] for o in merged] == ["a\nb\n", "w\n", "c\n"]
