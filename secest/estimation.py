@@ -1,0 +1,269 @@
+"""Joint state / unknown-input estimation helpers (guo2023 and any filter with feed-through).
+
+Plain functions for estimators of the Gillijns--De Moor / Yong--Zhu--Frazzoli family, where an
+unknown input ``u`` enters the output through a feed-through matrix ``H``:
+
+.. math::  x_{k+1} = A_k x_k + G_k u_k + w_k, \\qquad y_k = C_k x_k + H_k u_k + v_k .
+
+``feedthrough_decomposition``  SVD of ``H`` and the decorrelating output transform ``T``
+                               (guo2023, display after (3) and before (5))
+``constrained_gain``           trace-minimising gain under ``K U_1 = 0`` (guo2023, (28))
+``fusion_weights``             matrix weights of consensus-on-information fusion
+                               (guo2023, (19)-(20)); batched form of
+                               :func:`secest.covariance.information_fusion`
+``ltv_observability_matrix``   observability matrix of a linear time-varying pair
+                               ``col(C_k, C_{k+1} A_k, C_{k+2} A_{k+1} A_k, ...)``
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from secest.covariance import check_psd, symmetrize
+from secest.validation import ValidationError, as_matrix
+
+__all__ = [
+    "FeedthroughSVD",
+    "constrained_gain",
+    "feedthrough_decomposition",
+    "fusion_weights",
+    "ltv_observability_matrix",
+    "relative_rank",
+]
+
+
+class FeedthroughSVD(NamedTuple):
+    """Output of :func:`feedthrough_decomposition` (guo2023 notation)."""
+
+    U1: NDArray[np.float64]
+    """(n_y, p) left singular vectors of the range of ``H``."""
+    U2: NDArray[np.float64]
+    """(n_y, n_y - p) orthonormal basis of the left null space of ``H``."""
+    Sigma: NDArray[np.float64]
+    """(p, p) diagonal matrix of the non-zero singular values."""
+    V1: NDArray[np.float64]
+    """(n_u, p) right singular vectors: ``u_1 = V1^T u`` is seen in the output."""
+    V2: NDArray[np.float64]
+    """(n_u, n_u - p) the rest: ``u_2 = V2^T u`` is not seen in the output."""
+    T1: NDArray[np.float64]
+    """(p, n_y) first block row of the output transform ``T``; ``T1 R U2 = 0``."""
+    rank: int
+    """``p = rank H`` decided with the relative tolerance ``rtol``."""
+
+
+def relative_rank(M: ArrayLike, rtol: float = 1e-10) -> int:
+    """Number of singular values of ``M`` larger than ``rtol`` times the largest one.
+
+    Raises
+    ------
+    ValidationError
+        If ``M`` is not a finite 2-D array or ``rtol`` is not in (0, 1).
+    """
+    M = as_matrix("M", M, (None, None))
+    if not (0.0 < float(rtol) < 1.0):
+        raise ValidationError(f"rtol must lie in (0, 1), found {rtol}")
+    if M.size == 0:
+        return 0
+    s = np.linalg.svd(M, compute_uv=False)
+    if s[0] == 0.0:
+        return 0
+    return int(np.sum(s > rtol * s[0]))
+
+
+def feedthrough_decomposition(H: ArrayLike, R: ArrayLike, *, rtol: float = 1e-10) -> FeedthroughSVD:
+    """SVD of a feed-through matrix and the noise-decorrelating output transform.
+
+    With ``H = [U1 U2] diag(Sigma, 0) [V1 V2]^T`` (one SVD call, so the signs of ``U`` and
+    ``V`` match) and ``p = rank H``, the transform of guo2023 (display before (5)) is
+
+    .. math::  T = \\begin{bmatrix} I & -U_1^T R U_2 (U_2^T R U_2)^{-1} \\\\ 0 & I \\end{bmatrix}
+               \\begin{bmatrix} U_1^T \\\\ U_2^T \\end{bmatrix},
+
+    so that ``z1 = T1 y = T1 C x + Sigma u_1 + T1 v`` and ``z2 = U2^T y = U2^T C x + U2^T v``
+    with uncorrelated noises (``T1 R U2 = 0``). When ``R`` is a multiple of the identity,
+    ``T1 = U1^T``.
+
+    Parameters
+    ----------
+    H : (n_y, n_u) array_like
+        Feed-through matrix of the unknown input (guo2023: ``H_bar = [0 H]``).
+    R : (n_y, n_y) array_like
+        Measurement-noise covariance, symmetric positive definite.
+    rtol : float, default 1e-10
+        Singular values ``<= rtol * sigma_max`` count as zero.
+
+    Returns
+    -------
+    FeedthroughSVD
+
+    Raises
+    ------
+    ValidationError
+        Non-finite or non-2-D ``H``; ``R`` of the wrong shape or not positive definite;
+        ``rtol`` outside (0, 1).
+    """
+    H = as_matrix("H", H, (None, None))
+    ny, nu = H.shape
+    R = check_psd("R", as_matrix("R", R, (ny, ny)), strict=True)
+    if not (0.0 < float(rtol) < 1.0):
+        raise ValidationError(f"rtol must lie in (0, 1), found {rtol}")
+    U, s, Vt = np.linalg.svd(H)
+    p = int(np.sum(s > rtol * s[0])) if s.size and s[0] > 0 else 0
+    U1, U2 = U[:, :p], U[:, p:]
+    V1, V2 = Vt[:p].T, Vt[p:].T
+    if U2.shape[1] > 0:
+        T1 = U1.T - U1.T @ R @ U2 @ np.linalg.solve(U2.T @ R @ U2, U2.T)
+    else:
+        T1 = U1.T.copy()
+    return FeedthroughSVD(U1=U1, U2=U2, Sigma=np.diag(s[:p]), V1=V1, V2=V2, T1=T1, rank=p)
+
+
+def constrained_gain(S: ArrayLike, Theta: ArrayLike, U1: ArrayLike) -> NDArray[np.float64]:
+    """Gain minimising ``tr P`` subject to ``K U1 = 0`` (guo2023, Lemma 2, (28)).
+
+    .. math::  K = S \\Theta \\left[I - U_1 (U_1^T \\Theta U_1)^{-1} U_1^T \\Theta\\right]
+
+    Any ``Theta`` of the family of Lemma 1, or ``Theta = Xi^{-1}(I - C J)`` of Algorithm 1
+    line 13, gives the same gain (see the guo2023 notebook). ``K U1 = 0`` holds by
+    construction, whatever ``S`` is.
+
+    Parameters
+    ----------
+    S : (n_x, n_y) array_like
+        Cross term ``P* C^T - J R`` of (26).
+    Theta : (n_y, n_y) array_like
+        Weighting matrix of (27)-(28).
+    U1 : (n_y, p) array_like
+        Directions of the output that the unknown input can excite.
+
+    Returns
+    -------
+    (n_x, n_y) ndarray
+
+    Raises
+    ------
+    ValidationError
+        Incompatible shapes, or ``U1^T Theta U1`` singular (relative condition > 1e12).
+    """
+    S = as_matrix("S", S, (None, None))
+    nx, ny = S.shape
+    Theta = as_matrix("Theta", Theta, (ny, ny))
+    U1 = as_matrix("U1", U1, (ny, None))
+    if U1.shape[1] == 0:
+        return S @ Theta
+    ThU1 = Theta @ U1
+    inner = U1.T @ ThU1
+    if np.linalg.cond(inner) > 1e12:
+        raise ValidationError(
+            f"U1^T Theta U1 must be invertible, found condition number {np.linalg.cond(inner):.3g}"
+        )
+    return S @ Theta - S @ ThU1 @ np.linalg.solve(inner, U1.T @ Theta)
+
+
+def fusion_weights(
+    covariances: Sequence[ArrayLike] | ArrayLike, weights: ArrayLike
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Fused covariance bound and matrix weights of consensus-on-information fusion.
+
+    guo2023 (19)-(20): ``P = [sum_j w_j P_j^{-1}]^{-1}`` and ``W_j = w_j P P_j^{-1}``, so that
+    the fused estimate is ``x = sum_j W_j x_j`` (21) and ``sum_j W_j = I`` when the weights
+    sum to one. This is :func:`secest.covariance.information_fusion` returning the matrix
+    weights instead of the estimate, so that the fusion applies to a whole batch of
+    Monte Carlo runs at once (``x = np.einsum("jab,rjb->ra", W, xs)``) and the exact joint
+    error covariance can be propagated.
+
+    Parameters
+    ----------
+    covariances : (m, n, n) array_like or sequence of (n, n)
+        Positive definite covariance bounds ``P_j`` of the estimates to fuse.
+    weights : (m,) array_like
+        Non-negative scalar weights ``pi_ij`` summing to one.
+
+    Returns
+    -------
+    P : (n, n) ndarray
+        Fused bound (symmetrised).
+    W : (m, n, n) ndarray
+        Matrix weights, ``W[j] = w_j P P_j^{-1}``.
+
+    Raises
+    ------
+    ValidationError
+        Empty input, mismatched shapes, a covariance not symmetric positive definite, or
+        weights negative / not summing to one.
+    """
+    P = np.asarray(covariances, dtype=float)
+    if P.ndim != 3 or P.shape[0] == 0 or P.shape[1] != P.shape[2]:
+        raise ValidationError(
+            f"covariances must be a non-empty stack of square matrices (m, n, n), found shape "
+            f"{P.shape}"
+        )
+    for j in range(P.shape[0]):
+        check_psd(f"covariances[{j}]", P[j], strict=True)
+    m = P.shape[0]
+    w = as_matrix("weights", weights, (m,))
+    if np.any(w < 0) or abs(w.sum() - 1.0) > 1e-12:
+        raise ValidationError(
+            f"weights must be non-negative and sum to 1, found sum {w.sum():.6g}"
+        )
+    info = np.linalg.inv(P)
+    omega = np.einsum("j,jab->ab", w, info)
+    P_fused = symmetrize(np.linalg.inv(omega))
+    W = w[:, None, None] * np.einsum("ab,jbc->jac", P_fused, info)
+    return P_fused, W
+
+
+def ltv_observability_matrix(
+    A_seq: Sequence[ArrayLike], C_seq: Sequence[ArrayLike]
+) -> NDArray[np.float64]:
+    """Observability matrix of ``x_{k+1} = A_k x_k``, ``y_k = C_k x_k`` over a window.
+
+    ``O = col(C_0, C_1 A_0, C_2 A_1 A_0, ..., C_{L-1} A_{L-2} ... A_0)`` for
+    ``C_seq = [C_0, ..., C_{L-1}]`` and ``A_seq = [A_0, ..., A_{L-2}]`` (the last ``A`` is not
+    needed; a sequence of length ``L`` is accepted too). ``rank O = n`` means the initial
+    state of the window is determined by the outputs of the window. For a constant pair it
+    equals :func:`secest.systems.observability_matrix`.
+
+    Parameters
+    ----------
+    A_seq : sequence of (n, n) array_like
+        ``L - 1`` or ``L`` state matrices.
+    C_seq : sequence of (m_k, n) array_like
+        ``L`` output matrices (row counts may differ).
+
+    Returns
+    -------
+    (sum_k m_k, n) ndarray
+
+    Raises
+    ------
+    ValidationError
+        Empty ``C_seq``, too few ``A`` matrices, or incompatible shapes.
+    """
+    Cs = list(C_seq)
+    As = list(A_seq)
+    if not Cs:
+        raise ValidationError("C_seq must contain at least one output matrix")
+    if len(As) < len(Cs) - 1:
+        raise ValidationError(
+            f"A_seq must hold at least len(C_seq) - 1 = {len(Cs) - 1} matrices, found {len(As)}"
+        )
+    C0 = np.atleast_2d(as_matrix("C_seq[0]", Cs[0]))
+    n = C0.shape[1]
+    Phi = np.eye(n)
+    rows = []
+    for k, Ck in enumerate(Cs):
+        Ck = np.atleast_2d(as_matrix(f"C_seq[{k}]", Ck))
+        if Ck.ndim != 2 or Ck.shape[1] != n:
+            raise ValidationError(
+                f"Incompatible dimensions of C_seq[{k}]: expected (*, {n}), found {Ck.shape}"
+            )
+        rows.append(Ck @ Phi)
+        if k < len(Cs) - 1:
+            Ak = as_matrix(f"A_seq[{k}]", As[k], (n, n))
+            Phi = Ak @ Phi
+    return np.vstack(rows)
