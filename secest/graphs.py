@@ -34,6 +34,8 @@ def adjacency(graph: nx.Graph | nx.DiGraph) -> NDArray[np.float64]:
     ``i`` lists the in-neighbours whose data node ``i`` receives. Self-loops are
     dropped.
     """
+    if not isinstance(graph, nx.Graph):
+        raise ValidationError(f"graph must be a networkx Graph or DiGraph, found {type(graph).__name__}")
     nodes = sorted(graph.nodes)
     a = nx.to_numpy_array(graph, nodelist=nodes, weight=None, dtype=float)
     if graph.is_directed():

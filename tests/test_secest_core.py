@@ -457,3 +457,55 @@ def test_strip_coalesces_split_streams() -> None:
             new_output("stream", name="stderr", text="w\n"), new_output("stream", name="stdout", text="c\n")]
     merged = _coalesce_streams(outs)
     assert [o["text"] for o in merged] == ["a\nb\n", "w\n", "c\n"]
+
+
+# ---------------------------------------------------------------- remaining bad-input cases
+
+
+def test_graph_helpers_reject_bad_adjacency() -> None:
+    with pytest.raises(ValidationError, match="graph must be a networkx Graph or DiGraph, found ndarray"):
+        graphs.adjacency(np.eye(2))
+    with pytest.raises(ValidationError, match="adj must contain only 0 and 1 entries"):
+        graphs.neighbours([[0, 0.5], [0.5, 0]])
+    with pytest.raises(ValidationError, match=r"adj must be a square matrix, found shape \(2, 3\)"):
+        graphs.laplacian(np.zeros((2, 3)))
+    with pytest.raises(ValidationError, match="adj must have a zero diagonal"):
+        graphs.row_stochastic_weights(np.eye(2))
+
+
+def test_min_eig_and_ci_bad_input() -> None:
+    assert np.allclose(covariance.min_eig(np.stack([np.eye(2), 2 * np.eye(2)])), [1.0, 2.0])
+    with pytest.raises(ValidationError, match="P must be square in its last two axes"):
+        covariance.min_eig(np.zeros(3))
+    with pytest.raises(ValidationError, match=r"covariances\[0\] must be symmetric"):
+        covariance.covariance_intersection([np.zeros(2)], [[[1.0, 1.0], [0.0, 1.0]]])
+
+
+def test_build_steps(tmp_path, monkeypatch) -> None:
+    from secest import build
+
+    with pytest.raises(ValidationError, match="key 'nope' names no notebook source"):
+        build.build_ipynb("nope")
+    assert build.check_manifest(["lee2020"]) == []
+    with pytest.raises(ValidationError, match=r"figures/manifest.toml has no \[nope\] table"):
+        build.check_manifest(["nope"])
+    (tmp_path / "figures" / "k").mkdir(parents=True)
+    (tmp_path / "figures" / "k" / "old.png").write_bytes(b"x")
+    (tmp_path / "figures" / "k" / "claims.json").write_text("{}")
+    (tmp_path / "figures" / "manifest.toml").write_text(
+        '[k]\nnotebook = "n"\n[[k.figures]]\nfiles = ["figures/k/old.png"]\nstatus = "ours"\n')
+    monkeypatch.setattr(build, "repo_root", lambda: tmp_path)
+    assert build.check_manifest(["k"]) == []
+    assert [p.name for p in build.prepare_figures("k")] == ["old.png"]
+    assert build.check_manifest(["k"]) == ["figures/k/old.png"]
+    assert (tmp_path / "figures" / "k" / "claims.json").exists()
+    assert build.main(["manifest", "k"]) == 1 and build.main(["bogus"]) == 2
+
+
+def test_run_cli_parses_literals(monkeypatch) -> None:
+    from secest import run
+
+    seen = {}
+    monkeypatch.setattr(run, "execute_notebook", lambda key, params, out: seen.update(key=key, params=params, out=out))
+    run.main(["lee2020", "-p", "gamma", "2.5", "-p", "mode", "fast", "-p", "z", "[1, 2]"])
+    assert seen == {"key": "lee2020", "params": {"gamma": 2.5, "mode": "fast", "z": [1, 2]}, "out": None}
