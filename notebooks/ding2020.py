@@ -65,17 +65,14 @@ results_path = "figures/ding2020/claims.json"
 
 # %%
 import inspect
-import sys
 
 import matplotlib.pyplot as plt
 import networkx as nx
 import numpy as np
 
-import secest
 from secest import channels, detectors, filters, graphs, montecarlo, plotting, results
 
-print("python:", sys.executable)
-print("secest:", secest.__file__)
+print(results.environment_summary())
 
 run = results.Run("ding2020", globals())
 if mode not in ("paper", "fast"):

@@ -51,7 +51,6 @@ fig_dir = "figures/guo2023"
 results_path = "figures/guo2023/claims.json"
 
 # %%
-import sys
 from types import SimpleNamespace
 
 import cvxpy as cp
@@ -60,7 +59,6 @@ import numpy as np
 import scipy.linalg as sla
 from IPython.display import Markdown, display
 
-import secest
 from secest import covariance, montecarlo, plotting, results, systems
 from secest.estimation import (
     constrained_gain,
@@ -70,8 +68,7 @@ from secest.estimation import (
     relative_rank,
 )
 
-print("python:", sys.executable)
-print("secest:", secest.__file__)
+print(results.environment_summary())
 
 run = results.Run("guo2023", globals())
 if mode not in ("paper", "fast"):

@@ -90,3 +90,10 @@ def test_readme_lists_all_papers_and_errata_links_deviations() -> None:
     for key in PAPERS:
         assert f"notebooks/{key}" in readme
         assert f"## {key}" in errata
+
+
+@pytest.mark.parametrize("key", KEYS)
+def test_committed_notebook_has_no_checkout_path(key: str) -> None:
+    """Outputs must not depend on where the repository is checked out (determinism)."""
+    text = (ROOT / "notebooks" / f"{key}.ipynb").read_text()
+    assert str(ROOT) not in text
