@@ -27,8 +27,12 @@
 # position/velocity/acceleration target with 20 nodes.
 #
 # **Verdict: [Re, partial].** The simulation claims reproduce on our stand-in for the missing
-# topology. The χ² detector rejects every attacked sample. Unattacked nodes are untouched. Without the detector the
-# error grows more than ten-fold in the attack windows. The bounds $\Gamma^+\preceq P^+\preceq\Pi^+$
+# topology, with one qualification. The χ² detector rejects every attacked sample. Without the detector the
+# error grows more than ten-fold in the attack windows. The attack still reaches unattacked nodes
+# through the consensus term. The leak falls by more than an order of magnitude per hop, but direct
+# neighbours of an attacked sensor move by about 0.03 (up to 0.18). In our default stand-in topology node 20 is such
+# a neighbour, so the paper's "node 20 is unaffected" (≤ 10⁻³) fails there (C2a), though the shift is
+# invisible at the scale of Fig. 4. The bounds $\Gamma^+\preceq P^+\preceq\Pi^+$
 # hold against the exact covariance. But Theorem 4's condition (42)–(43) **fails** for the paper's own example, and for
 # every $(p,q,\kappa)$ with this plant; $\Pi$ nevertheless stays bounded empirically. The
 # detector also has a **lockout** failure mode the paper does not show: after an attack window,
@@ -37,7 +41,8 @@
 # %% tags=["parameters"]
 mode = "paper"  # "paper": full Monte Carlo and long runs; "fast": fewer runs for the tests
 seed = 2020  # master seed: SeedSequence(seed).spawn(5) -> channel, world, mc, chain, long run
-topology_seed = 2021  # seed of secest.graphs.random_geometric_graph (MISSING, see provenance)
+topology_seed = 2020  # seed of secest.graphs.random_geometric_graph (MISSING, see provenance)
+leak_topology_seeds = [2020, 2021, 2022, 2023, 2024, 2025, 2026, 2027, 2028, 2029]  # C2 sweep (MISSING)
 m = 20  # number of sensor nodes (PAPER, Sec. V)
 radius = 0.35  # connection radius of the random geometric graph, unit square (MISSING)
 T = 0.05  # sampling period [s] (PAPER)
@@ -93,7 +98,8 @@ PLOT = [i - 1 for i in plot_nodes]  # 0-based indices of the plotted nodes (P1)
 # | name | value | tag | source / reason |
 # |---|---|---|---|
 # | `m` | 20 | PAPER | Sec. V |
-# | topology | `random_geometric_graph(20, 0.35, seed=2021)`, unit square, undirected | MISSING | Fig. 1 is not in our copy; "randomly deployed". Seed 2020 (the first candidate) makes node 20 a direct neighbour of attacked node 12. The paper uses node 20 as an unattacked node and shows its curves unchanged. We take the next seed, where node 20 is 2 hops from node 12 and 4 from node 4. The leak through a direct link is quantified below (C2). |
+# | topology | `random_geometric_graph(20, 0.35, seed=2020)`, unit square, undirected | MISSING | Fig. 1 is not in our copy; "randomly deployed". The seed is the first candidate: the master seed, which the reproduction brief proposed before any run. In this draw node 20 is a direct neighbour of attacked node 12, so the paper's "node 20 unaffected" fails here (C2a). An earlier version of this notebook switched to seed 2021 after seeing that outcome (there node 20 is 2 hops away). That choice depended on the result, so it was dropped. C2 is now measured over a list of topologies fixed in advance. |
+# | `leak_topology_seeds` | 2020–2029 | MISSING | the first ten seeds from the default, a list fixed in advance for C2 (C2a, C2b). Each gets one Case A and one Case B run on the default channel and world. Node 20's leak and its hop distance to the attacked sensors are reported, with the leak by hop distance over all unattacked nodes |
 # | weights | $h_{ij}=1/\lvert\mathcal N_i\rvert$, $h_{ii}=0$ | PAPER | Sec. V; $\mathcal N_i$ excludes $i$ |
 # | $A$, $T$ | constant-acceleration model, $T=0.05$ s | PAPER | Sec. V |
 # | $B$, $D$ | $0.2I_3$, $0.05$ | PAPER | Sec. V; $w_k\sim\mathcal N(0,I_3)$, $v_{i,k}\sim\mathcal N(0,1)$ |
@@ -113,7 +119,7 @@ PLOT = [i - 1 for i in plot_nodes]  # 0-based indices of the plotted nodes (P1)
 # | `tol`, `strict` | $10^{-10}$ relative, non-strict | MISSING | order tests of (17), (18); see E6 |
 # | `nu` | 0 | MISSING | Theorem 4, most favourable value (E8) |
 # | `mc_runs` | 300 (fast: 100) | MISSING | fixed topology and $\delta$; $x_0$, $\hat x_0$, $w$, $v$ redrawn |
-# | `long_steps` | 2000 (fast: 600) | MISSING | Π boundedness (C8) |
+# | `long_steps` | 2000 (fast: 600) | MISSING | Π boundedness (C8b) |
 # | `chain_steps` | $10^5$ | MISSING | estimate of $p$, $q$ (C6) |
 
 # %% [markdown]
@@ -325,14 +331,16 @@ def draw_world(rng: np.random.Generator, runs: int, steps: int) -> dict[str, np.
 
 
 def simulate(xh0, y, delta_seq, *, inspect_=True, inspection_cov="Gamma", const_gain=None,
-             keep_bounds=False):
+             keep_bounds=False, net=None):
     """Run the secure filter (or a constant-gain filter) over all steps.
 
     xh0 (R, m, n), y (R, N+1, m) measurements incl. attacks, delta_seq (N+1,).
+    net = (adjacency, weights) of another topology (default: the stand-in of Fig. 1).
     Returns estimates (R, N+1, m, n), detector outcomes theta (R, N+1, m) (theta[:, 0] = 1:
     no update at k = 0) and, with keep_bounds, Pi, Gamma (R, N+1, m, n, n), gains and counters.
     """
     runs, steps = xh0.shape[0], y.shape[1] - 1
+    adj_, H_ = (adj, H) if net is None else net
     x_post = xh0.copy()
     Pi = np.broadcast_to(pi0_scale * sigma0 * np.eye(n_x), (runs, m, n_x, n_x)).copy()
     Gam = Pi.copy()
@@ -342,7 +350,7 @@ def simulate(xh0, y, delta_seq, *, inspect_=True, inspection_cov="Gamma", const_
                    nis=[])
     for k in range(steps):
         if const_gain is not None:
-            x_prior, d_r = filters.consensus_prediction(x_post, delta_seq[k], adj, H, A, kappa,
+            x_prior, d_r = filters.consensus_prediction(x_post, delta_seq[k], adj_, H_, A, kappa,
                                                          validate=(k == 0))
             if cmp_form == "predictor":  # x_{k+1} = A x_k + kappa A xi_k + K_i (y_k - C_i x_k)
                 eta = y[:, k] - np.einsum("in,rin->ri", C_rows, x_post)
@@ -354,7 +362,7 @@ def simulate(xh0, y, delta_seq, *, inspect_=True, inspection_cov="Gamma", const_
         else:
             st = filters.secure_filter_step(
                 x_post, Pi, Gam, delta_seq[k], y[:, k + 1, :, None], A=A, BBt=BBt, C=C, DDt=DDt,
-                adj=adj, weights=H, kappa=kappa, threshold=threshold, inspect=inspect_,
+                adj=adj_, weights=H_, kappa=kappa, threshold=threshold, inspect=inspect_,
                 inspection_cov=inspection_cov, tol=tol, strict=strict, validate=(k == 0))
             d_r = st.delta_r
             x_post, Pi, Gam, theta = st.x_post, st.Pi_post, st.Gamma_post, st.theta
@@ -474,6 +482,88 @@ estimate_figure(case_a, "fig4a_estimates_case_a", "Fig. 4(a): Case A, no attack"
 estimate_figure(case_b, "fig4b_estimates_case_b", "Fig. 4(b): Case B, attacks, with inspection (25)")
 estimate_figure(no_insp, "fig4c_estimates_no_inspection",
                 "Fig. 4(c): Case B, attacks, inspection removed")
+
+# %% [markdown]
+# ## How far the attack leaks into unattacked nodes (claims C2a, C2b)
+#
+# Comparing Figs. 4(a) and 4(b), the paper finds "no obvious effect on the filtering performance with or
+# without attacks". For the unattacked node 20 we read this as: its estimate is unaffected. The
+# injected data never leaves the attacked sensor. It still reaches other nodes in two ways. The
+# attacked node's estimate drifts during its six open-loop predictions, and the consensus term of
+# (7) passes that drift to its neighbours. Its bound $\Pi^+$ also grows while updates are skipped. That
+# bound enters the neighbours' $\tilde\Xi$ in (26), so their gains change. Each further hop
+# attenuates the effect again (the coupling $\kappa$ is weak, but it acts at every step). How much node 20 moves therefore depends on how far it is from
+# sensors 4 and 12 in Fig. 1, which we do not have.
+#
+# We measure the leak $\max_k\lVert\hat x^+_{i,k}(\text{B})-\hat x^+_{i,k}(\text{A})\rVert_\infty$ on ten
+# stand-in topologies: the first ten seeds from the default, 2020–2029 (`leak_topology_seeds`). The list
+# was fixed before the sweep ran; only seeds 2020 and 2021 had been looked at before (see the provenance
+# table). The default topology is the first. Each topology gets one Case A and one Case B run on the default channel and world.
+# We record node 20's leak with its hop distance to the nearest attacked sensor, and the leak of
+# every unattacked node against its hop distance.
+
+# %%
+leak_rows = []  # (topology seed, node (1-based), hops to the nearest attacked sensor, leak)
+for s_top in leak_topology_seeds:
+    adj_s = graphs.check_connected(graphs.random_geometric_graph(m, radius, s_top))
+    H_s = graphs.row_stochastic_weights(adj_s, self_weight=False)
+    pair = simulate(np.concatenate([world["xh0"]] * 2), np.concatenate([y_clean, y_attacked]),
+                    delta, net=(adj_s, H_s))
+    leak_s = np.abs(pair["x"][1] - pair["x"][0]).max(axis=(0, 2))
+    hops_s = dict(nx.all_pairs_shortest_path_length(nx.from_numpy_array(adj_s)))
+    for i in range(m):
+        h_i = min(hops_s[i][node - 1] for node in windows)
+        if h_i > 0:
+            leak_rows.append((s_top, i + 1, h_i, float(leak_s[i])))
+leak_tab = np.array(leak_rows)
+node20 = leak_tab[leak_tab[:, 1] == 20]
+print("node 20 per topology seed (hops, leak):",
+      ", ".join(f"{int(s_)}: ({int(h_)}, {v:.1e})" for s_, _, h_, v in node20))
+leak_stats = {}
+for h_ in np.unique(leak_tab[:, 2]).astype(int):
+    v = leak_tab[leak_tab[:, 2] == h_, 3]
+    leak_stats[str(h_)] = {"nodes": int(v.size), "min": float(v.min()), "median": float(np.median(v)),
+                           "max": float(v.max()), "fraction_le_1e-3": float(np.mean(v <= 1e-3))}
+    print(f"{h_} hop(s): {v.size:3d} node-topologies, leak min {v.min():.1e}, median {np.median(v):.1e}, "
+          f"max {v.max():.1e}, fraction <= 1e-3: {np.mean(v <= 1e-3):.2f}")
+
+# %%
+fig, ax = plt.subplots(figsize=(plotting.PAGE_WIDTH, 2.8))
+jitter = (np.arange(len(leak_tab)) % 9 - 4) * 0.03
+others = leak_tab[:, 1] != 20
+ax.scatter(leak_tab[others, 2] + jitter[others], leak_tab[others, 3], s=10, color="0.55",
+           label="other unattacked nodes (10 topologies)")
+is20 = ~others
+ax.scatter(leak_tab[is20, 2] + jitter[is20], leak_tab[is20, 3], s=30, color="tab:purple",
+           edgecolors="k", lw=0.4, label="node 20 (10 topologies)")
+dflt = is20 & (leak_tab[:, 0] == topology_seed)
+ax.scatter(leak_tab[dflt, 2], leak_tab[dflt, 3], s=110, facecolors="none", edgecolors="tab:red",
+           lw=1.4, label=f"node 20, default topology (seed {topology_seed})")
+hop_axis = np.array([int(h_) for h_ in leak_stats])
+ax.plot(hop_axis, [leak_stats[str(h_)]["median"] for h_ in hop_axis], color="k", marker="_",
+        ms=14, lw=1.0, label="median over nodes and topologies")
+ax.axhline(1e-3, color="tab:red", ls="--", lw=0.8, label="C2a limit $10^{-3}$")
+ax.set_yscale("log")
+ax.set_xticks(hop_axis)
+ax.set_xlabel("hop distance to the nearest attacked sensor (4 or 12)")
+ax.set_ylabel(r"leak $\max_k \|\hat x^+_B - \hat x^+_A\|_\infty$ [state units]")
+ax.set_title("Extra: leak of the attack into unattacked nodes, Case B vs Case A")
+ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7)
+plotting.save_figure(fig, FIG_DIR, "extra_leak_by_hop",
+                     data={"topology_seed": leak_tab[:, 0].astype(int), "node": leak_tab[:, 1].astype(int),
+                           "hops": leak_tab[:, 2].astype(int), "leak": leak_tab[:, 3]})
+plt.show()
+
+# %% [markdown]
+# **What holds and what does not.** The leak decays geometrically with the hop distance. Its
+# median over nodes and topologies falls by more than a factor of ten per hop (printed above). Direct
+# neighbours of an attacked sensor are clearly affected, by a few $10^{-3}$ up to about $0.2$
+# in our runs, next to a position RMSE of about $0.3$–$0.5$ (P11). Two hops away the leak is around
+# $10^{-3}$. From three hops on it is at most about $10^{-3}$, and mostly far below. Node 20 is unaffected
+# in the paper's sense ($\le10^{-3}$) only in the topologies where it is at least two hops from
+# sensors 4 and 12, and not in all of those. In our default topology it is a direct neighbour of
+# sensor 12 (C2a does not hold). Its shift is still far too small to see at the scale of Fig. 4,
+# which is all the paper's figure can show.
 
 # %% [markdown]
 # ## Figs. 5 and 6 — the constant-gain comparison filter
@@ -715,7 +805,7 @@ for form, v in thm4.items():
 # every $p,q\in[0,1]$ and $\kappa\ge0$. $\zeta\ge2-\sigma$ whatever $\nu\ge 0$, and $\bar\alpha^2=1.073$. So
 # $\xi_q,\xi_p\ge\zeta\bar\alpha^2>2$. The condition would need $\lVert A\rVert^2<\approx0.5$, i.e. a
 # strongly stable plant, and the paper's own target is marginally unstable. Theorem 4 therefore says nothing about the
-# example. We show boundedness empirically instead (C8): a long Case A run with its own channel chain.
+# example. We show boundedness empirically instead (C8b): a long Case A run with its own channel chain.
 
 # %%
 delta_long = channels.gilbert_elliott(p, q, L_LONG + 1, rng_long, initial=delta0).astype(float)
@@ -732,7 +822,7 @@ print(f"{L_LONG} steps: max_i tr Pi+ in [100, {split}] = {early:.3f}, in [{split
 fig, ax = plt.subplots(figsize=(plotting.PAGE_WIDTH, 2.2))
 ax.plot(np.arange(L_LONG + 1), tr_pi_max, color="tab:blue", lw=0.7,
         label=r"$\max_i \mathrm{tr}\,\Pi^+_{i,k}$")
-ax.axhline(1.5 * early, color="k", ls="--", lw=0.8, label="1.5 × max over the first half (C8 limit)")
+ax.axhline(1.5 * early, color="k", ls="--", lw=0.8, label="1.5 × max over the first half (C8b limit)")
 ax.set_yscale("log")
 ax.set_xlabel("time step k")
 ax.set_ylabel(r"$\max_i \mathrm{tr}\,\Pi^+_{i,k}$ [mixed units]")
@@ -831,24 +921,48 @@ claims["C1"] = results.claim(
     holds=bool(c1_default and min(c1_rates.values()) >= 0.99),
 )
 
-# C2: unattacked node 20 unaffected
+# C2a: the paper's statement about node 20, over the ten stand-in topologies
 diff20 = float(np.abs(case_b["x"][0, :, 19] - case_a["x"][0, :, 19]).max())
-leak_by_hop = {}
+leak_by_hop_default = {}
 for i in unattacked:
     h_min = min(hops[i][a] for a in att_idx.values())
     leak = float(np.abs(case_b["x"][0, :, i] - case_a["x"][0, :, i]).max())
-    leak_by_hop[h_min] = max(leak_by_hop.get(h_min, 0.0), leak)
-claims["C2"] = results.claim(
-    paper="Sec. V: Figs. 4(a) and 4(b) show no obvious difference; unattacked nodes are unaffected",
-    check="max_k ||x_hat_B - x_hat_A||_inf at sensor 20 <= 1e-3 (the attack reaches other nodes "
-    "only through the consensus term and the neighbours' bounds Pi in Xi); "
-    "also reported: largest leak at unattacked nodes by hop distance from the attacked sensors",
-    measured={"sensor20": diff20, "hops_sensor20": [hops[19][a] for a in att_idx.values()],
-              "max_leak_by_hop": {str(h): v for h, v in sorted(leak_by_hop.items())}},
+    leak_by_hop_default[h_min] = max(leak_by_hop_default.get(h_min, 0.0), leak)
+per_seed20 = {str(int(s_)): {"hops": int(h_), "leak": float(v)} for s_, _, h_, v in node20}
+claims["C2a"] = results.claim(
+    paper="Sec. V, Figs. 4(a)-(b): 'there is no obvious effect on the filtering performance with or "
+    "without attacks'; for the unattacked node 20 (brief's reading): its estimate is unaffected "
+    "by the attacks on sensors 4 and 12",
+    check="leak = max_k ||x_hat_B - x_hat_A||_inf at sensor 20 <= 1e-3 in every one of the ten stand-in "
+    f"topologies (seeds {leak_topology_seeds[0]}..{leak_topology_seeds[-1]}, fixed in advance; the "
+    f"default topology is seed {topology_seed}); node 20's hop distance to the nearest attacked "
+    "sensor is reported with each leak",
+    measured={"default_topology_seed": topology_seed, "sensor20_default": diff20,
+              "hops_sensor20_default": [hops[19][a] for a in att_idx.values()],
+              "sensor20_by_topology": per_seed20,
+              "topologies_sensor20_le_1e-3": int(sum(v["leak"] <= 1e-3 for v in per_seed20.values())),
+              "topologies": len(per_seed20),
+              "default_max_leak_by_hop": {str(h): v for h, v in sorted(leak_by_hop_default.items())}},
     threshold=1e-3,
-    holds=diff20 <= 1e-3,
+    holds=bool(all(v["leak"] <= 1e-3 for v in per_seed20.values())),
 )
-print("leak at unattacked nodes by hop distance:", {h: f"{v:.2g}" for h, v in sorted(leak_by_hop.items())})
+
+# C2b: how the leak decays with the hop distance (our criterion)
+hop_keys = sorted(leak_stats, key=int)
+med_ratio_hop = [leak_stats[a]["median"] / leak_stats[b]["median"]
+                 for a, b in zip(hop_keys[:-1], hop_keys[1:], strict=True)]
+claims["C2b"] = results.claim(
+    paper="(ours, quantifying C2a; no paper statement) the attack reaches unattacked nodes only "
+    "through the consensus term and the neighbours' bounds, so its effect decays with the hop "
+    "distance from the attacked sensors",
+    check="criterion (ours): over all unattacked nodes of the ten stand-in topologies, the median "
+    "leak max_k ||x_hat_B - x_hat_A||_inf falls by at least a factor of 10 per hop; min, median, "
+    "max and the fraction <= 1e-3 reported per hop distance",
+    measured={"by_hops": leak_stats, "median_ratio_per_hop": med_ratio_hop},
+    threshold={"median_ratio_per_hop": 10.0},
+    holds=bool(len(med_ratio_hop) > 0 and min(med_ratio_hop) >= 10.0),
+)
+print("leak by hop, median ratio per hop:", [f"{r:.1f}" for r in med_ratio_hop])
 
 # C3: mild effect with detection
 max_err_b = {f"sensor{node}": float(np.abs(err["B"][0, ks, node - 1]).max()) for node, ks in windows.items()}
@@ -920,16 +1034,27 @@ claims["C6"] = results.claim(
                and abs(frac1 - stationary) <= 0.005),
 )
 
-# C8: Theorem 4 and empirical boundedness
+# C8a: Theorem 4's sufficient condition for the example
 thm4_holds = all(v["xi_q"] < 1 and v["xi_p"] < 1 for v in thm4.values())
-claims["C8"] = results.claim(
-    paper="Theorem 4: sum_i ||E Pi+_{i,k}|| stays bounded if xi_q < 1 and xi_p < 1 (42)-(43)",
-    check="(a) xi_q, xi_p for the example (printed form and factor-2 form of (45)); (b) empirical: "
+claims["C8a"] = results.claim(
+    paper="Theorem 4, (42)-(43): the mean upper bound sum_i ||E Pi+_{i,k}|| stays bounded if "
+    "xi_q < 1 and xi_p < 1; Sec. V applies the scheme to the example",
+    check="xi_q < 1 and xi_p < 1 for the example's values (p, q, kappa, A, C_i, threshold 25, "
+    "nu = 0, N_bar = 1 + max degree), in the printed form of (42)-(43) and in the factor-2 form "
+    "of the proof's (45)",
+    measured={"xi": thm4, "N_bar": int(N_bar), "zeta_alpha2": float(zeta * alpha_bar**2)},
+    threshold={"xi": 1.0},
+    holds=bool(thm4_holds),
+)
+
+# C8b: Pi bounded over a long run (empirical)
+claims["C8b"] = results.claim(
+    paper="Theorem 4 / problem R2: Pi+_{i,k} stays bounded as k grows",
+    check=f"empirical, one Case A run of {L_LONG} steps with its own channel chain: "
     f"max_i tr Pi+ over k in [{split}, {L_LONG}] <= 1.5 x its max over k in [100, {split}]",
-    measured={"xi": thm4, "N_bar": int(N_bar), "condition_42_43_holds": thm4_holds,
-              "max_trPi_first_half": early, "max_trPi_second_half": late, "steps": L_LONG,
+    measured={"max_trPi_first_half": early, "max_trPi_second_half": late, "steps": L_LONG,
               "rejections": long_rejections},
-    threshold={"xi": 1.0, "growth_factor": 1.5},
+    threshold={"growth_factor": 1.5},
     holds=bool(late <= 1.5 * early),
 )
 
@@ -975,13 +1100,20 @@ claims["X1"] = results.claim(
 )
 
 # X2: ablation with Pi_eta (ours)
+x2_lock = max(mc_stats[n]["Pi_test_locked_at_end"] for n in windows)
+x2_rate = min(mc_stats[n]["Pi_test_reject_rate_window"] for n in windows)
 claims["X2"] = results.claim(
-    paper="(ablation, not in the paper) normalising the test by Pi_eta instead of Gamma_eta",
-    check="rejection rate inside the windows (paper scheme: >= 0.99) and lockout rate at k = 150",
-    measured={f"sensor{n}": {"reject_rate_window": mc_stats[n]["Pi_test_reject_rate_window"],
-                             "locked_at_end": mc_stats[n]["Pi_test_locked_at_end"]} for n in windows},
-    threshold={"reject_rate_window": 0.99},
-    holds=bool(min(mc_stats[n]["Pi_test_reject_rate_window"] for n in windows) >= 0.99),
+    paper="(ours, no paper statement) question: does normalising the test by Pi_eta instead of "
+    "Gamma_eta fix the chi-square lockout (X1) without giving up detection?",
+    check="criterion (ours): a fix needs, at both attacked sensors over the Monte Carlo runs, "
+    "(i) lockout rate at k = 150 equal to 0 and (ii) rejection rate inside the windows >= 0.99, "
+    "the detection level C1 requires of the paper's test; holds = (i) and (ii)",
+    measured={**{f"sensor{n}": {"reject_rate_window": mc_stats[n]["Pi_test_reject_rate_window"],
+                                "locked_at_end": mc_stats[n]["Pi_test_locked_at_end"]} for n in windows},
+              "removes_lockout": bool(x2_lock == 0.0), "keeps_detection": bool(x2_rate >= 0.99),
+              "mc_runs": R_MC},
+    threshold={"locked_at_end": 0.0, "reject_rate_window": 0.99},
+    holds=bool(x2_lock == 0.0 and x2_rate >= 0.99),
 )
 
 results.write_claims(results_path, claims)
@@ -994,17 +1126,19 @@ for cid, c in claims.items():
 # | id | paper | verdict |
 # |---|---|---|
 # | C1 | the detector catches the injections | holds: every attacked sample is rejected, and there are no false alarms in the default run |
-# | C2 | unattacked nodes unaffected | holds for sensor 20 (two hops from sensor 12). Direct neighbours of an attacked sensor are affected more, up to about 0.1 in position here (see `max_leak_by_hop`). The effect comes through the consensus term and through the attacked node's inflated $\Pi^+$, which enters their $\tilde\Xi$ and changes their gains |
+# | C2a | the unattacked node 20 is unaffected ($\le10^{-3}$) | **does not hold** in general. Node 20's leak depends on its hop distance to sensors 4 and 12 in the unknown Fig. 1. Over the ten stand-in topologies it stays $\le10^{-3}$ only in some of those where it is at least two hops away. In the default topology it is a direct neighbour of sensor 12 and moves by about $10^{-2}$, which is invisible at the scale of Fig. 4 |
+# | C2b | (ours) the leak decays with the hop distance | holds: the median leak falls by more than 10× per hop. Direct neighbours move by a few $10^{-3}$ up to about 0.2, nodes two hops away by about $10^{-3}$. The effect comes through the consensus term and through the attacked node's inflated $\Pi^+$, which enters their $\tilde\Xi$ and changes their gains |
 # | C3 | mild effect with detection | holds (median ratio about 2: six open-loop predictions) |
 # | C4 | degradation without inspection | holds, by an order of magnitude |
 # | C5 | $\Gamma^+\preceq P^+\preceq\Pi^+$ | holds against the exact covariance (Case A) |
 # | C6 | channel follows $(p,q)$ | holds |
 # | C7 | Remark 4, cost per node independent of $m$ | timing: `make bench` |
-# | C8 | Theorem 4 | the *condition* fails for the example (and for any $(p,q,\kappa)$ with this plant); the *conclusion* (bounded $\Pi$) holds empirically; `holds` records the empirical part |
+# | C8a | Theorem 4's sufficient condition (42)–(43) for the example | **does not hold**: $\xi_q,\xi_p\approx2.46$ (2.56 with the proof's factor 2), and no $(p,q,\kappa)$ can satisfy it with this plant. Theorem 4 says nothing about the example |
+# | C8b | $\Pi^+$ stays bounded (Theorem 4's conclusion) | holds empirically over 2000 steps (Case A), although the condition fails |
 # | C9 | LMI filter similar without attack, worse with | holds with our stand-in structure of the comparison filter |
 # | C10 | per-node computation | vectorised and per-node steps agree to round-off |
 # | X1 | (ours) recovery after the attack | **does not hold**: χ² lockout in a sizeable fraction of runs |
-# | X2 | (ours) Π-normalised test | no lockout, but not all attacked samples rejected |
+# | X2 | (ours) does the Π-normalised test fix the lockout without giving up detection? | **no**, by our criterion (no lockout *and* ≥ 0.99 of attacked samples rejected): it removes the lockout but rejects only about 60 % of the attacked samples |
 
 # %% [markdown]
 # ## Deviations from the paper
@@ -1023,11 +1157,19 @@ for cid, c in claims.items():
 # | E10 | noise index in (10), (16) | $v_{i,k}$ | $v_{i,k+1}$ | typo |
 # | E11 | Remark 2 | $\sigma$ "detection probability" | false-alarm probability $5.73\cdot10^{-7}$ | threshold 25 is the $(1-\sigma)$-quantile |
 # | E12 | Lemma 1 / Thm 2 conditioning | conditional on the test outcome | bounds checked on Case A only (all accepted) | conditioning on $\vartheta$ truncates $\eta$ |
-# | — | Theorem 4 | claims boundedness under (42)–(43) | condition fails for the example; boundedness shown empirically | $\zeta\bar\alpha^2>2$ |
-# | — | Fig. 1 topology | a figure we do not have | random geometric graph, seed 2021 | see provenance; C2 depends on node 20's distance to the attacked nodes |
+# | — | Theorem 4 | claims boundedness under (42)–(43) | the condition fails for the example (C8a, recorded as not holding); boundedness is shown empirically (C8b) | $\zeta\bar\alpha^2>2$ |
+# | — | node 20 unaffected (Fig. 4(b)) | unattacked node 20 unchanged | measured over ten stand-in topologies. It fails where node 20 is a direct neighbour of an attacked sensor, including the default topology (C2a). The leak decays by more than 10× per hop (C2b, our criterion) | Fig. 1 not available |
+# | — | Π-normalised test (X2) | — | our ablation, judged by our own criterion: a fix must remove the lockout and keep ≥ 0.99 of attacked samples rejected | no paper statement |
+# | — | Fig. 1 topology | a figure we do not have | random geometric graph, $r=0.35$, seed 2020 (the first candidate) | C2a depends on node 20's hop distance to the attacked nodes, so C2 is measured over ten stand-in topologies (seeds 2020–2029, fixed in advance). An earlier version switched to seed 2021 after seeing seed 2020's result; that was dropped |
 # | — | comparison filter | LMI design of refs. [9], [13] | printed constant gains in structure (7) without detector | structure not given |
 # | — | Fig. 5 | measurements of the comparison run | identical to Fig. 3 (common random numbers), sensors 4, 12, 20 | same draws, as the paper states |
-# | — | initial values, seeds, $\Pi_0$, $\Gamma_0$ | "randomly produced" | see provenance | not given |
+# | — | initial values | "randomly produced" | $x_0$, $\hat x^+_{i,0}$ i.i.d. $\mathcal N(0, I_3)$, independent | zero mean keeps (9)–(10); non-zero estimates make (4) exact at $k=0$ (P3) |
+# | — | $\Pi^+_0$, $\Gamma^+_0$ | not given | $2I_3$, the exact initial error covariance | both bounds hold at $k=0$ |
+# | — | $\delta_0$ | not given | $\delta_0=1$ (`delta0`) | channel initially good |
+# | — | first measurement update | not stated | at $k=1$ (no update at $k=0$; the first measurement used is $y_{i,1}$) | (7) updates at $k+1$ |
+# | — | `tol`, `strict` | order relations of (17)–(19), (27) without a numerical tolerance | relative tolerance $10^{-10}$ for every $\succeq0$ / $\preceq$ test; non-strict reading of "$Y\prec X$" (`strict=False`) | round-off; the strict reading breaks (35) (E6) |
+# | — | Monte Carlo sizes | one run per figure | 300 runs (fast mode 100) for C1, C3, C4, C5, X1, X2; one 2000-step run (fast mode 600) for C8b; a $10^5$-step chain for C6; one Case A/B pair on each of ten topologies for C2 | the paper reports single runs |
+# | — | seeds and common random numbers | not given; the paper says the comparison uses the same parameters and channel | `SeedSequence(2020).spawn(5)` (channel, world, Monte Carlo, chain, long run). Cases A, B, no inspection and the comparison filter share $\delta$, $x_0$, $\hat x_0$, $w$, $v$; the Monte Carlo runs share the topology and $\delta$ of Fig. 2 and redraw $x_0$, $\hat x_0$, $w$, $v$ | comparable curves; common random numbers reduce the variance of the ratios |
 # | — | delivery of $\Pi^+_{j,k}$ | not stated | sent in the same packet as $\hat x^+_{j,k}$, lost with it | (26) needs the neighbours' bounds only when $\delta^r=1$ |
 # | — | Monte Carlo cross-check of C5 | — | uses the Case A runs without any rejection (a rare false alarm changes that run's gains) | the exact covariance is computed for the all-accepted gains |
 # | — | Remark 4 timing (C7) | cost per node independent of $m$ | not measured here | timings belong to `make bench` |

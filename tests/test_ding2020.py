@@ -1,8 +1,7 @@
 """ding2020: papermill fast-mode execution, claims asserted against the paper and the brief.
 
 Thresholds are those of the reproduction brief (shared/briefs/ding2020.md, section 6). A claim
-that does not hold in our reproduction (X1, X2 and the Theorem 4 condition) is asserted as
-measured-false.
+that does not hold in our reproduction (C2a, C8a, X1, X2) is asserted as measured-false.
 """
 
 from __future__ import annotations
@@ -34,14 +33,36 @@ def test_c1_every_attacked_sample_rejected_and_no_false_alarm(claims) -> None:
     assert claims["C1"]["holds"] is True
 
 
-def test_c2_unattacked_node20_unaffected(claims) -> None:
-    c = claims["C2"]["measured"]
-    assert c["sensor20"] <= 1e-3
-    assert min(c["hops_sensor20"]) >= 2
-    # the leak decays with the hop distance from the attacked sensors
-    leaks = [c["max_leak_by_hop"][h] for h in sorted(c["max_leak_by_hop"], key=int)]
-    assert leaks == sorted(leaks, reverse=True)
-    assert claims["C2"]["holds"] is True
+def test_c2a_node20_leak_reported_over_topologies(claims) -> None:
+    c = claims["C2a"]["measured"]
+    by_top = c["sensor20_by_topology"]
+    assert len(by_top) == c["topologies"] >= 10
+    assert str(c["default_topology_seed"]) in by_top
+    assert by_top[str(c["default_topology_seed"])]["leak"] == pytest.approx(c["sensor20_default"])
+    assert min(c["hops_sensor20_default"]) == by_top[str(c["default_topology_seed"])]["hops"]
+    assert all(v["hops"] >= 1 for v in by_top.values())
+    # a direct neighbour of an attacked sensor is never unaffected in the 1e-3 sense
+    assert all(v["leak"] > 1e-3 for v in by_top.values() if v["hops"] == 1)
+    n_ok = sum(v["leak"] <= 1e-3 for v in by_top.values())
+    assert c["topologies_sensor20_le_1e-3"] == n_ok
+    # the paper's statement holds only if node 20 stays below 1e-3 in every stand-in topology
+    assert claims["C2a"]["holds"] is (n_ok == len(by_top))
+    assert claims["C2a"]["holds"] is False  # measured-false: node 20 is a direct neighbour in some
+
+
+def test_c2b_leak_decays_with_hop_distance(claims) -> None:
+    by_hops = claims["C2b"]["measured"]["by_hops"]
+    keys = sorted(by_hops, key=int)
+    assert keys[0] == "1" and len(keys) >= 3
+    medians = [by_hops[h]["median"] for h in keys]
+    maxima = [by_hops[h]["max"] for h in keys]
+    assert all(a >= 10 * b for a, b in zip(medians[:-1], medians[1:], strict=True))  # our criterion: 10x per hop
+    assert maxima == sorted(maxima, reverse=True)
+    assert by_hops["1"]["min"] > 1e-3  # every direct neighbour is affected
+    assert 0.03 <= by_hops["1"]["max"] <= 1.0  # ... by up to a sizeable fraction of the RMSE
+    assert all(by_hops[h]["max"] <= 2e-3 for h in keys if int(h) >= 3)
+    assert all(by_hops[h]["fraction_le_1e-3"] == 1.0 for h in keys if int(h) >= 4)
+    assert claims["C2b"]["holds"] is True
 
 
 def test_c3_mild_effect_with_detection(claims) -> None:
@@ -78,8 +99,8 @@ def test_c6_channel_rates(claims) -> None:
     assert claims["C6"]["holds"] is True
 
 
-def test_c8_theorem4_condition_fails_but_pi_bounded(claims) -> None:
-    c = claims["C8"]["measured"]
+def test_c8a_theorem4_condition_fails_for_the_example(claims) -> None:
+    c = claims["C8a"]["measured"]
     # independent evaluation of (42)-(43) for the example
     T = 0.05
     A = np.array([[1, T, T**2 / 2], [0, 1, T], [0, 0, 1.0]])
@@ -88,15 +109,21 @@ def test_c8_theorem4_condition_fails_but_pi_bounded(claims) -> None:
     sigma = stats.chi2.sf(25.0, 1)
     zeta = (c_lo2 + c_hi2 * (1 - sigma)) / c_lo2
     assert zeta * alpha2 == pytest.approx(2.35948, abs=1e-5)
+    assert c["zeta_alpha2"] == pytest.approx(zeta * alpha2)
     kappa, p, q, n_bar = 0.004, 0.1, 0.92, c["N_bar"]
     for form, f in (("printed", 1.0), ("factor2", 2.0)):
         bracket = (1 + kappa) * (1 + f * kappa * n_bar)
         assert c["xi"][form]["xi_q"] == pytest.approx(zeta * alpha2 * (1 - q + q * bracket))
         assert c["xi"][form]["xi_p"] == pytest.approx(zeta * alpha2 * (p + (1 - p) * bracket))
         assert c["xi"][form]["xi_q"] > 1 and c["xi"][form]["xi_p"] > 1
-    assert c["condition_42_43_holds"] is False
+    assert claims["C8a"]["holds"] is False  # measured-false: the sufficient condition fails
+
+
+def test_c8b_pi_bounded_over_long_run(claims) -> None:
+    c = claims["C8b"]["measured"]
+    assert c["steps"] >= 600
     assert c["max_trPi_second_half"] <= 1.5 * c["max_trPi_first_half"]
-    assert claims["C8"]["holds"] is True
+    assert claims["C8b"]["holds"] is True
 
 
 def test_c9_constant_gain_comparison(claims) -> None:
@@ -121,10 +148,15 @@ def test_x1_lockout_is_reported_and_does_not_hold(claims) -> None:
     assert claims["X1"]["holds"] is False
 
 
-def test_x2_pi_ablation_trades_lockout_for_missed_attacks(claims) -> None:
+def test_x2_pi_ablation_is_not_a_fix_by_our_criterion(claims) -> None:
     c = claims["X2"]["measured"]
-    assert all(c[s]["locked_at_end"] == 0.0 for s in ATTACKED)
-    assert min(c[s]["reject_rate_window"] for s in ATTACKED) < 0.99
+    locked = max(c[s]["locked_at_end"] for s in ATTACKED)
+    rate = min(c[s]["reject_rate_window"] for s in ATTACKED)
+    assert c["removes_lockout"] is (locked == 0.0)
+    assert c["keeps_detection"] is (rate >= 0.99)
+    assert claims["X2"]["holds"] is (locked == 0.0 and rate >= 0.99)
+    assert locked == 0.0  # the Pi-normalised test does not lock out ...
+    assert rate < 0.99  # ... but lets attacked samples through
     assert claims["X2"]["holds"] is False
 
 
@@ -134,7 +166,8 @@ def test_figures_and_data_written(claims) -> None:
                  "fig4a_estimates_case_a", "fig4b_estimates_case_b",
                  "fig4c_estimates_no_inspection", "fig5_measurements_comparison",
                  "fig6a_constant_gain_case_a", "fig6b_constant_gain_case_b",
-                 "extra_bound_consistency", "extra_lockout_rate", "extra_pi_long_run"):
+                 "extra_bound_consistency", "extra_lockout_rate", "extra_pi_long_run",
+                 "extra_leak_by_hop"):
         assert (fig_dir / f"{name}.png").stat().st_size > 10_000, name
         assert (fig_dir / f"{name}.csv").exists(), name
     header = (fig_dir / "fig4b_estimates_case_b.csv").read_text().splitlines()[0]
