@@ -25,13 +25,16 @@
 # constrained trace-optimal gain. Theorem 2: bounded mean-square error under collective
 # observability.
 #
-# **Verdict: [Re].** Every claim the paper makes that numbers can check holds with the
+# **Verdict: [Re, partial].** The theoretical claims that numbers can check hold with the
 # corrected equations: the fused pair is consistent (exact joint covariance, Monte Carlo, ANEES),
 # the estimates are unbiased and exactly decoupled from $d_k$ and $a_k$, $\bar P$ stays bounded,
-# and the gain (28) is the constrained minimiser of Lemmas 1-2. Figures 1-2 are reproduced in
-# kind only: the paper's $d_k$ and $a_k$ exist only as curves in its Fig. 1, so ours are chosen
-# signals (parameters below). Algorithm 1 is garbled in print and several equations carry
-# typos; the corrections are derived and checked below, and one statement of Section V is
+# and the gain (28) is the constrained minimiser of Lemmas 1-2 — the latter only on random
+# general instances, because on the paper's own example the gain is identically zero (E6). The
+# paper's numerical results, Figs. 1-2, are reproduced **in kind only**: its $d_k$ and $a_k$
+# exist only as curves in its Fig. 1, so ours are invented signals (parameters below), and the
+# accuracy ranges we check (X1) are a regression check against an earlier run with those same
+# signals, not a number from the paper. Algorithm 1 is garbled in print and several equations
+# carry typos; the corrections are derived and checked below, and one statement of Section V is
 # incomplete (node 4 is locally unobservable too).
 
 # %% tags=["parameters"]
@@ -860,8 +863,8 @@ plt.show()
 # | C3 | Theorem 2 / Lemma 3: bounded $\bar P^i_k$ and bounded mean-square error | $\max_{k\ge1}\operatorname{tr}\bar P\le\operatorname{tr}P_0$ and no growth (second-half max $\le$ first-half max); exact MSE second half $\le$ first half; Monte Carlo MSE second half $\le1.1\times$ first half |
 # | C4 | Sec. V: nodes 2 and 3 are locally unobservable, the network is collectively observable | window ranks per node and collective; solvability of (13) |
 # | C5 | Lemmas 1-2: (28) satisfies $KU_1=0$ and minimises $\operatorname{tr}\bar P^{i,i}$; (29) | random instances: $\|KU_1\|<10^{-10}$, $|\operatorname{tr}(28)-\operatorname{tr}(\text{KKT, cvxpy, Lemma 1})|\le10^{-9}\operatorname{tr}$, $|(29)-(25)|<10^{-10}$ |
-# | C6 | Sec. V: the estimates "track the actual unknown inputs, deception attacks and states well" | Monte Carlo RMSE within the brief's sanity ranges: state 0.018-0.032, $\hat d$ 0.07-0.34, $\hat a$ 0.04-0.17 |
-# | C7 | Sec. III structure: $\bar G_1=0$ (so $\hat A=A$, $\hat Q=Q$), (10), $\sum_jW^{i,j}=I$ | max deviations $<10^{-12}$ |
+# | C6 | Sec. III structure: $\bar G_1=0$ (so $\hat A=A$, $\hat Q=Q$), (10), $\sum_jW^{i,j}=I$ | max deviations $<10^{-12}$ |
+# | X1 | ours, **regression check, not a paper claim**: the Monte Carlo RMSE with our chosen $d_k$, $a_k$ stays in the ranges of an earlier run with the same signals (the paper's "track well", Sec. V / Figs. 1-2, gives no numbers and uses other, unknown signals) | state 0.018-0.032, $\hat d$ 0.07-0.34, $\hat a$ 0.04-0.17 |
 
 # %%
 claims = {}
@@ -951,11 +954,12 @@ claims["C5"] = results.claim(
                and np.abs(col("d_L1")).max() <= lemma_tol and col("eq29").max() < 1e-10),
 )
 ranges = {"state": (0.018, 0.032), "d": (0.07, 0.34), "a": (0.04, 0.17)}
-claims["C6"] = results.claim(
-    paper="Sec. V: the estimates track the unknown inputs, the attacks and the states well "
-    "(Figs. 1-2; no numbers given)",
-    check="Monte Carlo RMSE per node within the brief's sanity ranges "
-    "(state 0.018-0.032, d_hat 0.07-0.34, a_hat 0.04-0.17)",
+claims["X1"] = results.claim(
+    paper="(ours) regression check, not a paper claim: the paper only says (Sec. V, Figs. 1-2, "
+    "no numbers) that the estimates track d_k, a_k and x_k well, with signals we do not have",
+    check="Monte Carlo RMSE per node within the ranges of an earlier run with the same chosen "
+    "d_k, a_k (state 0.018-0.032, d_hat 0.07-0.34, a_hat 0.04-0.17); guards against regressions "
+    "of this implementation, says nothing about the paper's figures",
     measured={"state": rmse_x, "d": rmse_d, "a": rmse_a, "state_run0": rmse_x_run0},
     threshold=ranges,
     holds=bool(all(np.all((v >= ranges[n][0]) & (v <= ranges[n][1]))
@@ -964,7 +968,7 @@ claims["C6"] = results.claim(
 c7 = {"max_abs_G1": max(s.G1 for s in est.steps), "max_M2B2_minus_I": max(s.M2B2 for s in est.steps),
       "max_sumW_minus_I": max(s.Wsum for s in est.steps), **structure, "A_expm": A_expm_err,
       "fusion_vs_information_fusion": fusion_gap}
-claims["C7"] = results.claim(
+claims["C6"] = results.claim(
     paper="Sec. III: G_bar_1 M_1 T_1 = 0 so A_hat = A, Q_hat = Q; unbiasedness conditions (10); "
     "fusion weights (20) with rows of Pi summing to 1",
     check="max |G_bar_1|, |M_bar_2 C_2 G_bar_2 - I|, |sum_j W^ij - I|, |T_1 R U_2| < 1e-12",
@@ -990,10 +994,13 @@ for cid, c in claims.items():
 # | E7 | Algorithm 1 | lines 5-6 ($\bar{\mathcal G}$ printed as $\bar G$), 9 (covariance terms in $\hat x^*$), 10 (truncated), 11 ($\bar U_2\bar K$...), 13 (transpose on $\bar G_2$), 14 (closing factor lost), 17 ($\bar P^{i,j}$), 19 | the table of the estimator section | reconstructed from (13), (14), (24), (26), (28)-(30) |
 # | E8 | OCR slips | "$\mathcal A_{1,k}$" in (10), "$V_1=\mathbb R^{\dots}$", (12), "$C^{a,i}_k=\dots$" in Sec. V | $M_{1,k}$, $V_1\in\mathbb R^{\dots}$, $M_2=\mathcal G\bar G_2^TC_2^T\Xi_2^{-1}$, $y^{a,i}_k=\dots$ | typesetting |
 # | E9 | Sec. V observability | "nodes 2 and 3" locally unobservable | nodes 2, 3 **and 4** | node 4 never sees $x_3$ (C4) |
-# | M1 | $d_k$, $a_k$ | only plotted in Fig. 1 | `d_amp`·sin(`d_freq`·k); pulse + ramp | Fig. 1 is not available to us; the signals of ref. [30] could not be retrieved. Figs. 1-2 are therefore reproduced in kind, not curve for curve |
+# | M1 | $d_k$, $a_k$ | only plotted in Fig. 1 | `d_amp`·sin(`d_freq`·k); pulse + ramp | Fig. 1 is not available to us; the signals of ref. [30] could not be retrieved. Figs. 1-2 are therefore reproduced in kind, not curve for curve (verdict [Re, partial]) |
 # | M2 | horizon, $x_0$, noise, seeds, Monte Carlo | not stated | 200 steps, $x_0\sim\mathcal N(\hat x_0,P_0)$, `SeedSequence(2023)`, 500 runs | see the provenance table |
 # | M3 | Theorem 2 bound (34) | constants $\eta,\rho,\underline p,\bar p$ | boundedness only (C3) | the constants cannot be computed from the paper |
-# | X1 | consistency checks | Theorem 1 only | exact joint covariance + Monte Carlo + ANEES; extra figure | a numerical check of Theorem 1 the paper does not make |
+# | M4 | estimates shown in Fig. 1 | not stated which node(s) | all four nodes' $\hat d_k$, $\hat a_k$ (and all four in Fig. 2) | shows the node-to-node spread (node 3 noisiest) |
+# | M5 | rank of $\bar H^i_k$ in the SVD (5) | exact rank | numerical rank: singular values $\sigma>10^{-10}\sigma_{\max}$ count (the observability ranks of C4 use $10^{-9}$) | floating-point rank decision; the example's ranks are far from both tolerances |
+# | A1 | consistency checks | Theorem 1 only | exact joint covariance + Monte Carlo + ANEES; extra figure | a numerical check of Theorem 1 the paper does not make |
+# | A2 | accuracy of Figs. 1-2 | "track well", no numbers | RMSE ranges as a regression check (X1), not a paper claim | our $d_k$, $a_k$ are invented, so no paper number can be compared |
 
 # %%
 manifest_path = run.finish(solver="CLARABEL (cvxpy) for the Lemma 1-2 cross-check")

@@ -28,14 +28,20 @@
 #
 # **Verdict: [Re, partial].** The bound claim is reproduced *after correcting the bound's
 # coefficients*: with the coefficients re-derived from the paper's own proof, $\mathrm{MSE}_i(k)$
-# stays below the bound at every step (Fig. 7), whereas the coefficients as printed in (18) /
-# Theorem 2 are not a bound (the trace-minimising weights give a "bound" 140–8000× below the
-# MSE). The RRL-MAP fairness, the attack statistics, "ZOH is not better" (Fig. 6) and the
-# Theorem 3 envelope (Fig. 8, after making Lemma 3 / (56) consistent and with data-driven
-# constants; it reaches 1e13–1e17, so it holds trivially) hold. The tracking claim of Figs 2–4 ("estimates well match the real trajectories") is
-# **not** reproduced: the trace-optimal gains are nearly zero for targets 2 and 3 (open-loop
-# prediction), and target 1's estimate is biased by the replacement attack — a bias that one
-# factor $\check\psi_i$ in the innovation removes (our extra, last section).
+# stays below the bound at every step (Fig. 7) — an empirical result, because our gain depends
+# on the run's data while the derivation assumes a deterministic gain (the ensemble variant gives
+# the same) — whereas the coefficients as printed in (18) / Theorem 2 are not a bound (the
+# trace-minimising weights give a "bound" 140–8000× below the MSE). The RRL-MAP fairness and the
+# attack statistics hold; "ZOH is not better" (Fig. 6) holds, but with the grid weights only
+# target 1 is informative (gains ≈ 0 for targets 2, 3); with an interior weight set ZOH is worse
+# for every target. Theorem 3 is **not** reproduced: its condition $\eta^*\le\phi^*$ cannot be met
+# on the example, and Fig. 8's inequality holds only for an envelope built from the data
+# (1e13–1e17, i.e. vacuous). The tracking claim of Figs 2–4 ("estimates well match the real
+# trajectories") is **not** reproduced, neither with the trace-optimal weights (gains ≈ 0 for
+# targets 2 and 3: open-loop prediction; target 1 biased by the replacement attack) nor with an
+# interior weight set (non-zero gains pull targets 2 and 3 toward the attack signal; relative
+# RMS errors 0.30–0.63). One factor $\check\psi_i$ in the innovation removes target 1's bias (our
+# extra, last section).
 
 # %% tags=["parameters"]
 mode = "paper"  # "paper": full run incl. the Remark-4 grid; "fast": weights from the table below
@@ -63,6 +69,10 @@ weights_corrected = [[1e-3, 1.0, 1e-2, 0.1, 0.1], [1e-2, 1.0, 1e-4, 1e-4, 0.3], 
 weights_paper = [[1e-3, 3.0, 1e-2, 1.0, 0.1], [1e-1, 10.0, 1e-4, 1.0, 0.03], [1e-1, 10.0, 1e-4, 1.0, 0.03]]
 # printed coefficients, grid restricted to alpha2 > alpha3 (the condition of Theorem 3)
 weights_paper_thm3 = [[1e-3, 1.0, 1e-3, 1e-4, 0.3], [1e-2, 1.0, 1e-3, 1e-4, 0.3], [1e-2, 1.0, 1e-3, 1e-4, 0.1]]
+# (lambda, alpha1..alpha4) for every target in the sensitivity runs of C2 / C7: an interior
+# point of the grid, away from the alpha2 = alpha3 = 1e-4 edge where the gain is ~0 (ours)
+weights_interior = [0.01, 1.0, 0.01, 0.1, 0.1]
+phi_scan = [-12.0, 12.0, 241]  # log10 range and size of the (phi_*, phi^*) scan of Theorem 3 (ours)
 plot_run = 0  # Monte Carlo run shown in the single-run figures (MISSING)
 fig_dir = "figures/li2025"
 results_path = "figures/li2025/claims.json"
@@ -99,6 +109,11 @@ WEIGHT_TABLE = {
 }
 if any(np.shape(t) != (N, 5) for t in WEIGHT_TABLE.values()):
     raise ValueError("weights_* must hold 5 weights (lambda, alpha1..alpha4) for each of 3 targets")
+if np.shape(weights_interior) != (5,) or min(weights_interior) <= 0:
+    raise ValueError(f"weights_interior must hold 5 positive weights, found {weights_interior!r}")
+W_INTERIOR = [tuple(map(float, weights_interior))] * N
+if len(phi_scan) != 3 or not phi_scan[0] < 0 < phi_scan[1] or int(phi_scan[2]) < 3:
+    raise ValueError(f"phi_scan must be [log10 min < 0, log10 max > 0, size >= 3], found {phi_scan!r}")
 
 # %% [markdown]
 # ## Parameter provenance
@@ -123,6 +138,8 @@ if any(np.shape(t) != (N, 5) for t in WEIGHT_TABLE.values()):
 # | $\lambda,\alpha_1..\alpha_4$ | grid minimiser of the bound's mean trace | MISSING | Remark 4 suggests minimising the bound; a documented grid (below) |
 # | `grid_*`, `grid_pilot_runs` | 3·4·5·5·3 = 900 candidates, 10 pilot runs | MISSING | spans the stable range; larger $\lambda$ or $\alpha_2+\alpha_3$ make the bound explode |
 # | `weights_corrected`, `weights_paper`, `weights_paper_thm3` | the grid's results | MISSING | used in fast mode (grid skipped); paper mode re-runs the grid and prints whether it agrees |
+# | `weights_interior` | (0.01, 1, 0.01, 0.1, 0.1) for every target | MISSING (ours) | sensitivity of C2 / C7 to the weight choice: an interior grid point, so that targets 2, 3 get a non-negligible gain |
+# | `phi_scan` | $10^{-12}..10^{12}$, 241 points per axis | ours | scan for a pair $(\phi_*,\phi^*)$ meeting Theorem 3's conditions |
 # | $\alpha_5..\alpha_7$, $\phi_*,\phi^*$, Assumption-1 constants | data-driven (Theorem 3 section) | MISSING | the paper gives none; the literal constants degenerate on the example |
 # | ZOH variant | hold buffer, gain with $\Phi=I$ | MISSING | the paper gives no details of its Fig. 6 |
 # | `plot_run` | 0 | MISSING | the paper shows single trajectories |
@@ -539,6 +556,11 @@ out_debiased = simulate(DRAWS, W_MAIN, variant=coef, moment=xhat_moment, estimat
                         k_factor=coupling_factor)
 open_loop = simulate(DRAWS, W_MAIN, variant=coef, moment=xhat_moment, estimator="open_loop",
                      k_factor=coupling_factor)
+# sensitivity of C2 / C7 to the weights: one interior weight set for every target
+out_interior = simulate(DRAWS, W_INTERIOR, variant=coef, moment=xhat_moment,
+                        k_factor=coupling_factor)
+out_interior_zoh = simulate(DRAWS, W_INTERIOR, variant=coef, moment=xhat_moment, estimator="zoh",
+                            k_factor=coupling_factor)
 MSE, TRS = mse(out), mean_trace(out)
 MSE_C, TRS_C = mse(out_corr), mean_trace(out_corr)
 # the vectorised pass equals a loop over runs (first 5 runs; the benchmark times all 100)
@@ -555,7 +577,8 @@ kk = np.arange(T + 1)
 for name, o in (("zero-input", out), ("ZOH", out_zoh), ("printed coef.", out_printed),
                 ("printed, a2>a3", out_printed_thm3),
                 ("other E[xx^T]", out_other_moment), ("debiased (ours)", out_debiased),
-                ("open loop", open_loop)):
+                ("open loop", open_loop), ("interior weights", out_interior),
+                ("interior, ZOH", out_interior_zoh)):
     print(f"{name:>16}: time-averaged MSE = {np.round(mse(o)[1:].mean(axis=0), 2)}, "
           f"mean tr S = {np.round(mean_trace(o)[1:].mean(axis=0), 2)}")
 
@@ -662,6 +685,52 @@ fig7(out_printed, None, "Fig. 7 with the printed coefficients: the 'bound' is be
      "extra_fig7_printed_coefficients")
 
 # %% [markdown]
+# ### What C1 shows, and what it does not
+#
+# With `xhat_moment="run"` the surrogate of $\mathbb E\{\hat x\hat x^T\}$ in (18), (28) is the run's own
+# $\hat x_i(k|k-1)\hat x_i^T(k|k-1)$, so the gain $L_i(k)$ is a function of that run's measurements.
+# The derivation of (21) takes $L_i(k)$ out of the expectation, i.e. it treats the gain as
+# deterministic; with a data-dependent gain the expectations $\mathbb E\{L e e^TL^T\}$ do not factor
+# that way, and the corrected Theorem 1 no longer implies $\mathrm{MSE}_i(k)\le\mathrm{tr}\,\mathfrak S_i(k|k)$.
+# **C1 is therefore an empirical result of our runs, not a consequence of the corrected theorem.**
+# The ensemble variant (`xhat_moment="ensemble"`: the Monte Carlo mean of $\hat x\hat x^T$, hence the
+# same gain in every run — still data-dependent through the ensemble, deterministic only as
+# $F\to\infty$) is closer to the derivation's assumption; it gives the same verdict (below,
+# and in C1's `measured`).
+#
+# ### ZOH against zero-input (Fig. 6, C2): only target 1 is informative
+#
+# For targets 2 and 3 the grid-chosen gain is ~0 ($\kappa_x\approx5000$–$7000$), so both
+# estimators are essentially the open-loop prediction and their MSE ratio is ≈ 1 whatever the
+# update does; target 3's ratio is even slightly below 1 (ZOH marginally better) and passes only
+# through our 0.95 tolerance. Only target 1 (gain ≈ 0.36) supports "ZOH does not improve". With
+# the interior weight set `weights_interior` every target has a non-negligible gain; the
+# ratios for that run are printed below and recorded in C2.
+
+# %%
+def frac_below(o):
+    return np.mean(mse(o)[1:] <= mean_trace(o)[1:], axis=0)
+
+
+def time_avg_ratio(o_num, o_den):
+    return mse(o_num)[1:].mean(axis=0) / mse(o_den)[1:].mean(axis=0)
+
+
+max_gain = {name: np.abs(o["L"]).max(axis=(0, 1, 3, 4)) for name, o in
+            (("grid", out), ("interior", out_interior))}
+print(f"{'target':>6} | C1 frac (run) | C1 frac (ensemble) | min gap (run / ensemble) | "
+      "ZOH/zero (grid w.) | ZOH/zero (interior w.) | max|L| grid / interior")
+run_o, ens_o = ((out_corr, out_other_moment) if xhat_moment == "run"
+                else (out_other_moment, out_corr))
+for i in range(N):
+    gap_r = (mean_trace(run_o) - mse(run_o))[1:, i].min()
+    gap_e = (mean_trace(ens_o) - mse(ens_o))[1:, i].min()
+    print(f"{i + 1:>6} | {frac_below(run_o)[i]:13.3f} | {frac_below(ens_o)[i]:18.3f} | "
+          f"{gap_r:10.4f} / {gap_e:10.4f} | {time_avg_ratio(out_zoh, out)[i]:18.4f} | "
+          f"{time_avg_ratio(out_interior_zoh, out_interior)[i]:22.4f} | "
+          f"{max_gain['grid'][i]:.3g} / {max_gain['interior'][i]:.3g}")
+
+# %% [markdown]
 # With the grid restricted to $\alpha_2>\alpha_3$ (Theorem 3's condition) the printed recursion
 # stays above the MSE in our runs (C1b, reported), but its minimiser then drives every gain to ~0:
 # target 1's MSE becomes that of the open-loop prediction. Either way the printed coefficients
@@ -728,7 +797,114 @@ for v, o in (("corrected", out_corr), ("paper", out_printed)):
 # $\mu_2=\Lambda\bar t/\phi_*$ with $\Lambda=\max\|L_i\|_2^2$ (52) and
 # $\bar t=\check\psi n_y\mathcal V+(1-\check\psi)\big(\sqrt{\xi^*}+\|CH_\epsilon\|_2\sqrt{\max_k\mathbb E\|x_i\|^2}\big)^2$
 # ((50) with $(1-\check\psi)$ instead of $(\check\psi-1)$ and the missing $\check\psi\,\mathrm{tr}\mathcal V$ term);
-# $\mathbb E\|e_i(0|0)\|^2=0$ here. Valid in spirit, and very loose.
+# $\mathbb E\|e_i(0|0)\|^2=0$ here. This recipe reads $\phi_*,\phi^*,\Lambda$ and $\mathbb E\|x_i\|^2$ off the
+# very trajectories it is then compared with, so $\|e_i(k|k)\|^2\le UB_i(k)$ is **not a test of
+# Theorem 3**: it only shows the envelope the theorem's form gives with constants taken from the
+# data. Whether the theorem's own conditions hold is checked first.
+#
+# ### Theorem 3's own conditions on the example (C3a)
+#
+# Besides Assumption 1 and $\mathbb E\{x_ix_i^T\}\le(X^*)^2I$, Theorem 3 requires, for
+# $\phi_*I\le\mathfrak S_i(0|0)=I\le\phi^*I$: (a) $1+\alpha_5+\alpha_6\le1-(\alpha_3-\alpha_2)(1-\check\psi_i)$
+# for some positive $\alpha_5,\alpha_6$, i.e. a printed $c_0>1$; (b) $\eta_*\ge\phi_*$; (c) $\eta^*\le\phi^*$,
+# where $\eta_*,\eta^*$ are the printed functions of $(\phi_*,\phi^*)$ through $\varpi_*,\varpi^*,\pi_*,\pi^*,\Gamma_*,\Gamma^*$.
+# We evaluate them with the literal Assumption-1 constants of the example: $a_*^2,(a^*)^2$ the
+# extreme eigenvalues of $A_i(k)A_i^T(k)$, $h_*=\epsilon$, $h^*=1$, $c_*=c^*=1$, $e_*=0$,
+# $(e^*)^2=\max_k\|E_i(k)\|^2$, $b_*,b^*$ from $\sum_jB_{i,j}$, $q=\mathcal W$, $r=\mathcal V$,
+# $\wp_i=\lambda_{\min}(H_\epsilon C_i^TC_iH_\epsilon)=\epsilon^2$; $(X^*)^2$ the smallest admissible value,
+# $\max_k\lambda_{\max}$ of the Monte Carlo $\mathbb E\{x_ix_i^T\}$; "tr" in $\Gamma^*$ read as the
+# scalar itself. Weights: those in use, once with the printed coefficients (the theorem as stated)
+# and once with the corrected ones substituted; and the $\alpha_2>\alpha_3$ weights (`paper_thm3`),
+# the only grid result for which (a) can hold with the printed $c_0$. (b) and (c) are evaluated
+# at the data-driven $(\phi_*,\phi^*)$ of the envelope below and on a log grid of all pairs
+# $\phi_*\le1\le\phi^*$ (`phi_scan`). Independently, (36) claims $\Gamma_*I\le L_i\Phi_{o(k)}C_iH_\epsilon$
+# with $\Gamma_*>0$; that matrix has rank at most $m=2<4$, so this lower bound cannot hold (the
+# rank is recorded).
+
+
+# %%
+def theorem3_conditions(o, weights, variant):
+    """Theorem 3's conditions (a)-(c) with the printed eta_*, eta^* and literal Assumption-1
+    constants; `variant` selects the coefficients c0, kappa_x substituted into them."""
+    aat = np.linalg.eigvalsh(A_ALL[:T] @ np.swapaxes(A_ALL[:T], -1, -2))
+    a_lo2, a_hi2 = aat.min(), aat.max()
+    h_lo, h_hi, c2 = epsilon, 1.0, np.linalg.eigvalsh(C_MAT @ C_MAT.T)  # c2 = [1, 1, 1, 1]
+    ee = np.linalg.eigvalsh(E_ALL[:T, :, None] * E_ALL[:T, None, :])
+    e_lo2, e_hi2 = max(ee.min(), 0.0), ee.max()
+    wp = np.linalg.eigvalsh(H_EPS @ C_MAT.T @ C_MAT @ H_EPS).min()
+    axis = np.logspace(phi_scan[0], phi_scan[1], int(phi_scan[2]))
+    lo_g, hi_g = np.meshgrid(axis[axis <= 1], axis[axis >= 1], indexing="ij")
+    rows = []
+    for i in range(N):
+        lam_, a1_, a2_, a3_, a4_ = weights[i]
+        ps = PSI[i]
+        c0_, kx_, _ = bound_coefficients(ps, a2_, a3_, a4_, variant)
+        tail = (1 + 1 / a2_ + 1 / a4_) * (1 - ps)  # printed factor of xi^* (and of Gamma^2)
+        bsum = sum((B_MAT[(i, j)] for j in K_SETS[i]), np.zeros((NX, NX)))
+        bb = np.linalg.eigvalsh(bsum @ bsum.T)
+        b_lo2, b_hi2 = max(bb.min(), 0.0), bb.max()
+        exx = np.einsum("fkr,fkc->krc", o["x"][:, 1:, i], o["x"][:, 1:, i]) / o["x"].shape[0]
+        x2 = np.linalg.eigvalsh(exx).max()
+
+        def eta(p_lo, p_hi, lam_=lam_, a1_=a1_, c0_=c0_, kx_=kx_, tail=tail, ps=ps,
+                b_lo2=b_lo2, b_hi2=b_hi2, x2=x2):
+            w_lo = ((1 + lam_) * h_lo**2 * a_lo2 + (1 + 1 / lam_) * h_lo**2 * b_lo2) * p_lo + e_lo2 * W
+            w_hi = ((1 + lam_) * h_hi**2 * a_hi2 + (1 + 1 / lam_) * h_hi**2 * b_hi2) * p_hi + e_hi2 * W
+            pi_lo = (c0_ + (1 + a1_) * kx_) * c2.min() * w_lo + tail * xi_star + ps * V
+            pi_hi = ((c0_ + (1 + a1_) * kx_ + kx_ * (1 + 1 / a1_) ** 2) * c2.max() * w_hi
+                     + kx_ * (1 + 1 / a1_) * (1 + a1_) * x2 * c2.max() + tail * xi_star + ps * V)
+            g_lo = c0_ * w_lo * wp / pi_hi  # Gamma_*
+            g_hi = c0_ * w_hi * h_hi**2 * c2.max() / pi_lo  # Gamma^*
+            eta_lo = (c0_ * w_lo * (1 - g_hi) ** 2 + (1 + a1_) * kx_ * w_lo * g_lo**2
+                      + (tail + ps * V) * g_lo**2)
+            eta_hi = (c0_ * w_hi * (1 - g_hi) ** 2 + (1 + a1_) * kx_ * w_hi * g_hi**2
+                      + (1 + 1 / a1_) * kx_ * ((1 + a1_) * x2 + (1 + 1 / a1_) * w_hi) * g_hi**2
+                      + (tail + ps * V) * g_hi**2)
+            return eta_lo, eta_hi
+
+        ev = np.linalg.eigvalsh(o["S"][:, :, i])
+        phi_lo, phi_hi = float(ev.min()), float(ev.max())
+        eta_lo, eta_hi = eta(phi_lo, phi_hi)
+        eta_lo_g, eta_hi_g = eta(lo_g, hi_g)
+        rows.append({
+            "c0": float(c0_), "a_alpha56_exist": bool(c0_ > 1), "X_star_sq": float(x2),
+            "phi_lower": phi_lo, "phi_upper": phi_hi, "eta_lower": float(eta_lo),
+            "eta_upper": float(eta_hi), "b_at_data": bool(eta_lo >= phi_lo),
+            "c_at_data": bool(eta_hi <= phi_hi),
+            "b_any_on_grid": bool(np.any(eta_lo_g >= lo_g)),
+            "c_any_on_grid": bool(np.any(eta_hi_g <= hi_g)),
+            "bc_pair_on_grid": bool(np.any((eta_lo_g >= lo_g) & (eta_hi_g <= hi_g))),
+            "min_eta_upper_over_phi_upper": float(np.min(eta_hi_g / hi_g)),
+        })
+    return rows
+
+
+THM3_COND = {
+    "printed, weights in use": theorem3_conditions(out_corr, WEIGHTS["corrected"], "paper"),
+    "corrected, weights in use": theorem3_conditions(out_corr, WEIGHTS["corrected"], "corrected"),
+    "printed, alpha2 > alpha3 weights": theorem3_conditions(out_printed_thm3,
+                                                            WEIGHTS["paper_thm3"], "paper"),
+}
+THM3_RANK = max(int(np.linalg.matrix_rank(out_corr["L"][f, k, i] @ CH))
+                for f in range(out_corr["L"].shape[0]) for k in range(1, T + 1) for i in range(N))
+for name, rows_ in THM3_COND.items():
+    for i, r in enumerate(rows_):
+        print(f"{name:>32} target {i + 1}: c0 = {r['c0']:.5g} (a) {r['a_alpha56_exist']}; "
+              f"at data phi = ({r['phi_lower']:.3g}, {r['phi_upper']:.4g}): eta_* = "
+              f"{r['eta_lower']:.3g} (b) {r['b_at_data']}, eta^* = {r['eta_upper']:.3g} "
+              f"(c) {r['c_at_data']}; grid: (b) {r['b_any_on_grid']}, (c) {r['c_any_on_grid']}, "
+              f"both {r['bc_pair_on_grid']}, min eta^*/phi^* = "
+              f"{r['min_eta_upper_over_phi_upper']:.3g}")
+print(f"max rank of L_i(k) Phi C_i H_eps over runs, k, i: {THM3_RANK} (n_x = {NX})")
+
+# %% [markdown]
+# Condition (c) fails everywhere: $\eta^*$ grows like $(\phi^*)^3$ for large $\phi^*$ (through
+# $\varpi^*\Gamma^{*2}$) and carries $(X^*)^2\Gamma^{*2}$ with $(X^*)^2$ in the hundreds to tens of thousands, so no pair
+# $\phi_*\le1\le\phi^*$ on the grid satisfies $\eta^*\le\phi^*$ (the smallest ratio $\eta^*/\phi^*$ is
+# printed above), with the printed or the corrected coefficients, and (a) fails for the weights
+# in use with the printed $c_0\le1$. **Theorem 3's premise is not met on the paper's own example**,
+# so the theorem supplies no envelope there (C3a). The $UB_i(k)$ below is the data-driven one.
+
 
 # %%
 def theorem3_envelope(o, weights, variant):
@@ -778,12 +954,19 @@ for i, ax in enumerate(axes):
     ax.set_xlabel("time step k [–]")
 axes[0].set_ylabel("squared error [m², m²/s²]")
 axes[0].legend(loc="center right", fontsize=7)
-fig.suptitle("Fig. 8: $\\|e_i(k|k)\\|^2$ and the Theorem 3 envelope $UB_i(k)$ (corrected)")
+fig.suptitle("Fig. 8: $\\|e_i(k|k)\\|^2$ and the data-driven envelope $UB_i(k)$ "
+             "(Theorem 3's conditions fail)")
 plotting.save_figure(fig, FIG_DIR, "fig8_error_and_envelope",
                      data={"k": kk[1:], "UB": UB[1:], "err2_run": ERR2[plot_run, 1:]})
 plt.show()
+print("UB_i(T) / max_k MSE_i(k):", np.round(UB[-1] / mse(out_corr)[1:].max(axis=0), -6))
 
 # %% [markdown]
+# Every $\|e_i(k|k)\|^2$ stays below $UB_i(k)$ — but $UB_i(T)$ is $10^{13}$–$10^{17}$, more than
+# $10^{11}$ times the largest MSE (ratio printed above): with constants taken from the data the
+# inequality is vacuous, and since the conditions of Theorem 3 fail (C3a) it is not evidence for the
+# theorem (C3b records it as measured, no more).
+#
 # ## Kalman limit (C6)
 #
 # With no attack ($\check\psi_i=1$, all $\psi_i(k)=1$), no coupling ($K_i=\emptyset$) and
@@ -832,6 +1015,13 @@ print(f"printed coefficients at psi = 1, alpha = 1: c0 = {c0_p}, kappa_x = {kx_p
 # the prediction error is unbiased, but with $F=100$ runs its sample mean is of the order of
 # $\sqrt{\mathrm{MSE}/F}\approx2$–3 m) plus the small bias that the tiny gains still pick up. This
 # estimator is ours, not the paper's, and its $\mathfrak S$ is not claimed to be a bound.
+#
+# **Is the open-loop behaviour of targets 2, 3 an artefact of the grid edge?** Only partly: with
+# the interior weight set `weights_interior` (gains up to ~1 for targets 2, 3) their estimates get
+# *worse*, not better (time-averaged MSE and relative RMS in the printout of the Monte Carlo
+# section and in C7): with attack probabilities 0.5 and 0.7 a non-zero gain pulls the estimate
+# toward $\xi\approx0$ in most steps. "Tracking does not match" therefore holds for a
+# non-degenerate gain too; target 1 is nearly unchanged.
 
 # %%
 ERR_MEAN = (out["x"] - out["xhat"]).mean(axis=0)  # (T+1, N, 4)
@@ -868,14 +1058,15 @@ plt.show()
 #
 # | id | paper | what we measure |
 # |---|---|---|
-# | C1 | Fig. 7: MSE$_i(k)$ always below the minimum upper bound | MSE$_i(k)\le$ mean$_f$ tr $\mathfrak S^{(f)}_i(k\|k)$ for all $k=1..T$, corrected coefficients |
+# | C1 | Fig. 7: MSE$_i(k)$ always below the minimum upper bound | MSE$_i(k)\le$ mean$_f$ tr $\mathfrak S^{(f)}_i(k\|k)$ for all $k=1..T$, corrected coefficients; an empirical result (the gain depends on the run's data), the ensemble variant reported next to it |
 # | C1b | the same with the coefficients as printed (Theorem 2) | fraction of $k$ where it holds, grid-chosen weights; plus the one-step exact counterexample |
-# | C2 | Fig. 6 / Remark 2: ZOH does not improve on zero-input | $r_i$ = time-averaged MSE (ZOH) / time-averaged MSE (zero-input) ≥ 0.95 |
-# | C3 | Theorem 3 / Fig. 8: errors below $UB_i(k)$ | $\|e_i(k\|k)\|^2\le UB_i(k)$ for every run and $k$, and MSE$_i(k)\le UB_i(k)$ |
+# | C2 | Fig. 6 / Remark 2: ZOH does not improve on zero-input | $r_i$ = time-averaged MSE (ZOH) / time-averaged MSE (zero-input) ≥ 0.95; only target 1 is informative (gain ≈ 0 for 2, 3); ratios with `weights_interior` reported |
+# | C3a | Theorem 3: its conditions (a) $1+\alpha_5+\alpha_6\le c_0$, (b) $\eta_*\ge\phi_*$, (c) $\eta^*\le\phi^*$ | evaluated with the literal Assumption-1 constants at the data-driven $\phi$'s and on a $(\phi_*,\phi^*)$ grid; holds if all three can be met for every target |
+# | C3b | Fig. 8: $\|e_i(k\|k)\|^2$ below $UB_i(k)$ | with the **data-driven** envelope: $\|e_i(k\|k)\|^2\le UB_i(k)$ for every run and $k$, MSE$_i(k)\le UB_i(k)$; the envelope ($10^{13}$–$10^{17}$) makes this vacuous |
 # | C4 | Remark 1: RRL-MAP fairness | every sensor served lcm$(m,n_y)/n_y$ times in every window of $U$ steps, $\|\varepsilon(k)\|=m$ |
 # | C5 | (6): $\Pr\{\psi_i=0\}=1-\check\psi_i$ | empirical attack frequency within 4 binomial standard errors |
 # | C6 | (sanity) corrected (17)–(18)–(28) at $\check\psi=1$, $K_i=\emptyset$, $\lambda=0$ is the Kalman filter | max relative deviation from the textbook Riccati recursion ≤ 1e−10 |
-# | C7 | Figs. 2–4: "estimated positions and velocities well match" the true ones | relative RMS error $\sqrt{\sum_k\mathrm{MSE}_i}/\sqrt{\sum_k\mathbb E\|x_i\|^2}\le0.1$ (our threshold), with the open-loop ratio reported |
+# | C7 | Figs. 2–4: "estimated positions and velocities well match" the true ones | relative RMS error $\sqrt{\sum_k\mathrm{MSE}_i}/\sqrt{\sum_k\mathbb E\|x_i\|^2}\le0.1$ (our threshold) with the grid weights **or** with `weights_interior`; the open-loop ratio reported |
 # | X1 | ours: the debiased innovation removes the bias | time-averaged MSE of target 1 reduced by ≥ 25 % and $\|$mean error of $X^p_1(T)\|$ reduced |
 # | X2 | ours: vectorised Monte Carlo = loop over runs | max deviation of $\hat x$, $\mathfrak S$ over 5 runs ≤ 1e−9 |
 
@@ -885,11 +1076,15 @@ frac_c1 = np.mean(MSE_C[1:] <= TRS_C[1:], axis=0)
 claims["C1"] = results.claim(
     paper="Fig. 7: MSE_i(k) is always below its minimum upper bound tr S_i(k|k) (Theorems 1-2)",
     check="fraction of k = 1..T with MSE_i(k) <= mean_f tr S_i(k|k) (corrected coefficients), "
-    "per target; holds if 1 for every target. Also min_k(tr S - MSE), and the fraction with the "
-    "other E[xhat xhat^T] surrogate (reported, not part of the verdict).",
+    "per target; holds if 1 for every target. Also min_k(tr S - MSE), and the fraction and gap "
+    "with the other E[xhat xhat^T] surrogate (reported, not part of the verdict). EMPIRICAL: with "
+    "xhat_moment = 'run' the gain depends on the run's data, while (21) assumes a deterministic "
+    "gain, so this is a measured result, not a consequence of the corrected Theorem 1.",
     measured={"fraction": frac_c1, "min_gap": (TRS_C[1:] - MSE_C[1:]).min(axis=0),
-              "fraction_other_xhat_moment": np.mean(
-                  mse(out_other_moment)[1:] <= mean_trace(out_other_moment)[1:], axis=0)},
+              "xhat_moment": xhat_moment,
+              "fraction_other_xhat_moment": frac_below(out_other_moment),
+              "min_gap_other_xhat_moment": (mean_trace(out_other_moment)
+                                            - mse(out_other_moment))[1:].min(axis=0)},
     threshold=1.0,
     holds=bool(np.all(frac_c1 == 1.0)),
 )
@@ -913,18 +1108,52 @@ claims["C1b"] = results.claim(
 ratio = mse(out_zoh)[1:].mean(axis=0) / MSE[1:].mean(axis=0)
 claims["C2"] = results.claim(
     paper="Fig. 6 / Remark 2: ZOH does not improve the estimation performance over zero-input",
-    check="r_i = time-averaged MSE under ZOH / time-averaged MSE under zero-input >= 0.95",
-    measured=ratio, threshold=0.95, holds=bool(np.all(ratio >= 0.95)),
+    check="r_i = time-averaged MSE under ZOH / time-averaged MSE under zero-input >= 0.95 "
+    "(grid weights). Only target 1 is informative: targets 2, 3 have gains ~0, so r_2, r_3 ~ 1 "
+    "whatever the update (r_3 < 1 passes through the tolerance). Reported: r_i with "
+    "weights_interior (non-negligible gains for every target).",
+    measured={"ratio": ratio, "ratio_interior_weights": time_avg_ratio(out_interior_zoh,
+                                                                       out_interior),
+              "max_abs_gain": max_gain["grid"],
+              "max_abs_gain_interior_weights": max_gain["interior"]},
+    threshold=0.95, holds=bool(np.all(ratio >= 0.95)),
 )
 frac_ub_err = np.mean(ERR2[:, 1:] <= UB[None, 1:], axis=(0, 1))
 frac_ub_mse = np.mean(mse(out_corr)[1:] <= UB[1:], axis=0)
-claims["C3"] = results.claim(
-    paper="Theorem 3 / Fig. 8: ||e_i(k|k)||^2 stays below UB_i(k) (mean-square exponential "
-    "boundedness)",
-    check="fraction of (run, k) with ||e_i(k|k)||^2 <= UB_i(k) and of k with MSE_i(k) <= UB_i(k) "
-    "(consistent Lemma 3, data-driven constants); UB_i(T) and max MSE reported",
+
+def cond_summary(rows_):
+    return {key: [r[key] for r in rows_] for key in rows_[0]}
+
+
+cond_main = THM3_COND["printed, weights in use"]
+claims["C3a"] = results.claim(
+    paper="Theorem 3: if 1 + alpha5 + alpha6 <= 1 - (alpha3 - alpha2)(1 - psi_check), "
+    "eta_* >= phi_*, eta^* <= phi^* (phi_* I <= S(0|0) <= phi^* I) and E[x x^T] <= X*^2 I, the "
+    "error is exponentially bounded in mean square",
+    check="conditions with the literal Assumption-1 constants of the example, X*^2 = max_k "
+    "lambda_max(MC E[x x^T]), weights in use, printed coefficients: (a) c0 > 1 (positive "
+    "alpha5, alpha6 exist); (b), (c) at the data-driven (phi_*, phi^*) and for some pair "
+    "phi_* <= 1 <= phi^* on a log grid (phi_scan). holds if (a) and a grid pair meeting (b) "
+    "and (c) exist for every target. Reported: the same with the corrected coefficients and "
+    "with the alpha2 > alpha3 weights; max rank of L Phi C H (36 needs full rank 4)",
+    measured={"printed_weights_in_use": cond_summary(cond_main),
+              "corrected_weights_in_use": cond_summary(THM3_COND["corrected, weights in use"]),
+              "printed_alpha2_gt_alpha3_weights": cond_summary(
+                  THM3_COND["printed, alpha2 > alpha3 weights"]),
+              "max_rank_L_Phi_C_H": THM3_RANK},
+    threshold={"c0": 1.0, "grid_log10": phi_scan, "rank_needed": NX},
+    holds=bool(all(r["a_alpha56_exist"] and r["bc_pair_on_grid"] for r in cond_main)),
+)
+claims["C3b"] = results.claim(
+    paper="Fig. 8: ||e_i(k|k)||^2 stays below UB_i(k)",
+    check="DATA-DRIVEN envelope (consistent Lemma 3; phi_*, phi^*, Lambda, E||x||^2 read off the "
+    "same runs, since Theorem 3's conditions fail, C3a): fraction of (run, k) with "
+    "||e_i(k|k)||^2 <= UB_i(k) and of k with MSE_i(k) <= UB_i(k). The envelope reaches "
+    "1e13-1e17 (UB_T / max MSE reported), which makes the inequality vacuous: holds records the "
+    "measurement, it is not evidence for Theorem 3",
     measured={"fraction_err": frac_ub_err, "fraction_mse": frac_ub_mse, "UB_T": UB[-1],
               "max_mse": mse(out_corr)[1:].max(axis=0),
+              "UB_T_over_max_mse": UB[-1] / mse(out_corr)[1:].max(axis=0),
               "phi_lower": [UB_INFO[i]["phi_lower"] for i in range(N)],
               "phi_upper": [UB_INFO[i]["phi_upper"] for i in range(N)],
               "rho": [UB_INFO[i]["rho"] for i in range(N)]},
@@ -963,14 +1192,20 @@ claims["C6"] = results.claim(
 sig2 = np.mean(np.sum(out["x"] ** 2, axis=-1), axis=0)
 rel_rms = np.sqrt(MSE[1:].sum(axis=0) / sig2[1:].sum(axis=0))
 rel_rms_ol = np.sqrt(mse(open_loop)[1:].sum(axis=0) / sig2[1:].sum(axis=0))
+rel_rms_int = np.sqrt(mse(out_interior)[1:].sum(axis=0) / sig2[1:].sum(axis=0))
 claims["C7"] = results.claim(
     paper="Figs. 2-4: each target's estimated positions and velocities well match the real ones",
     check="relative RMS error sqrt(sum_k MSE_i) / sqrt(sum_k E||x_i||^2) <= 0.1 (our threshold "
-    "for 'well match'); the open-loop prediction's value is reported for comparison",
-    measured={"relative_rms": rel_rms, "relative_rms_open_loop": rel_rms_ol,
+    "for 'well match') for every target, with the grid weights (gains ~0 for targets 2, 3) or "
+    "with weights_interior (non-degenerate gains); holds if either weight set tracks. The "
+    "open-loop prediction's value is reported for comparison",
+    measured={"relative_rms": rel_rms, "relative_rms_interior_weights": rel_rms_int,
+              "relative_rms_open_loop": rel_rms_ol,
+              "weights_interior": weights_interior,
               "time_avg_mse": MSE[1:].mean(axis=0),
+              "time_avg_mse_interior_weights": mse(out_interior)[1:].mean(axis=0),
               "time_avg_mse_open_loop": mse(open_loop)[1:].mean(axis=0)},
-    threshold=0.1, holds=bool(np.all(rel_rms <= 0.1)),
+    threshold=0.1, holds=bool(np.all(rel_rms <= 0.1) or np.all(rel_rms_int <= 0.1)),
 )
 mse_db = mse(out_debiased)
 gain_db = 1 - mse_db[1:, 0].mean() / MSE[1:, 0].mean()
@@ -1003,14 +1238,16 @@ for cid, c in claims.items():
 # | (21) | $(\check\psi-1)L\Gamma\mathbb E\{xx^T\}\Gamma^TL^T$ | $(1-\check\psi)$ | sign error |
 # | (17), (20) | $(\sum_jBH)\mathfrak S_j(\sum_jH^TB^T)$; $e_je_l^T$ cross terms omitted; stray $H^T$ factors | $\|K_i\|\sum_jB_{i,j}H\mathfrak S_jH^TB_{i,j}^T$ | the printed form is undefined for $\|K_3\|=2$ and not a proven bound |
 # | (29), Lemma 2 | missing minus sign; garbled first identity | (28) used as printed, solved on the scheduled rows | (28) is the stationary point; $\Pi$ has rank $m$ |
-# | $\mathbb E\{\hat x\hat x^T\}$ in (18), (28) | not specified | the run's own $\hat x\hat x^T$ (`xhat_moment="ensemble"` as option; nearly identical numbers) | no closed form |
+# | $\mathbb E\{\hat x\hat x^T\}$ in (18), (28) | not specified | the run's own $\hat x\hat x^T$ (`xhat_moment="ensemble"` as option; nearly identical numbers) | no closed form; the gain then depends on the run's data while (21) assumes a deterministic gain, so C1 is an empirical result (the ensemble variant is reported next to it) |
 # | Lemma 3, (56), Fig. 8 text | rate and additive constant swapped; sum from $l=1$ | consistent form, sum from $l=0$ | re-derived from the iteration |
-# | Theorem 3 constants | Assumption-1 constants, $\pi_*$, (47), (48), (50) | data-driven recipe (Fig. 8 section) | literal constants are 0 / undefined on the example; (50) sign; (47), (48) use the wrong-side constants |
+# | Theorem 3 conditions | $1+\alpha_5+\alpha_6\le c_0$, $\eta_*\ge\phi_*$, $\eta^*\le\phi^*$ assumed | evaluated (C3a): $\eta^*\le\phi^*$ fails for every $\phi^*\ge1$ on a $10^{0}$–$10^{12}$ grid, printed or corrected coefficients; (a) fails with the printed $c_0$ at the weights in use; (36) needs $L\Phi CH$ of full rank, its rank is $m=2$ | the theorem's premise is not met on the example |
+# | Theorem 3 constants | Assumption-1 constants, $\pi_*$, (47), (48), (50) | data-driven recipe (Fig. 8 section); the envelope is 1e13–1e17 and vacuous (C3b) | literal constants are 0 / undefined on the example; (50) sign; (47), (48) use the wrong-side constants |
 # | Assumption 1 | $h_*^2\le H_\epsilon H_\epsilon^T$ | $h_*^2I\le H_\epsilon H_\epsilon^T$, $h_*=\epsilon$ | typo |
 # | weights $\lambda,\alpha_1..\alpha_4$ | "intelligent optimisation" suggested (Remark 4), values not given | documented grid, 10 pilot runs | see the Remark-4 section; the optimum for targets 2, 3 is at the grid edge ($L\to0$) |
 # | attack signal, horizon, seeds, $\sigma$ redraw, $\mathcal V$ as $0.03I$ | not given | parameter table | |
 # | ZOH variant (Fig. 6) | not specified | hold buffer + gain with $\Phi=I$ | the zero-input gain applied to held data is the zero-input estimator |
-# | Figs. 2–4 tracking | "well match" | not reproduced (C7): gains for targets 2, 3 are ~0 (open loop), target 1 is biased by the attack | see the last section; our debiased innovation (X1) removes target 1's bias |
+# | Figs. 2–4 tracking | "well match" | not reproduced (C7): with the grid weights the gains for targets 2, 3 are ~0 (open loop) and target 1 is biased by the attack; with `weights_interior` (non-degenerate gains) targets 2, 3 get worse (relative RMS 0.48, 0.63) | the conclusion does not depend on the grid-edge choice; our debiased innovation (X1) removes target 1's bias |
+# | Fig. 6 / C2 | "ZOH does not improve" | holds; with the grid weights only target 1 is informative (ratios ≈ 1 for targets 2, 3, target 3 passes through the 0.95 tolerance); with `weights_interior` all ratios > 1 | gains ≈ 0 for targets 2, 3 at the grid edge |
 # | figures | single trajectories, curves only | first Monte Carlo run; log axes from $k=1$ ($\mathrm{MSE}(1)\approx10^{-4}$ because $E_i(0)=0$) | |
 
 # %%

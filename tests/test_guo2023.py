@@ -17,7 +17,8 @@ def claims(run_notebook):
 
 
 def test_every_claim_recorded(claims) -> None:
-    assert {f"C{i}" for i in range(1, 8)} <= set(claims)
+    """Paper claims C1-C6; the accuracy ranges are ours (X1, a regression check)."""
+    assert {k for k in claims if not k.startswith("_")} == {f"C{i}" for i in range(1, 7)} | {"X1"}
 
 
 def test_c1_theorem1_consistency_exact_covariance(claims) -> None:
@@ -90,23 +91,26 @@ def test_c5_lemmas_against_independent_solvers(claims) -> None:
     assert claims["C5"]["holds"] is True
 
 
-def test_c6_accuracy_sanity_ranges(claims) -> None:
-    m = claims["C6"]["measured"]
+def test_x1_regression_ranges_not_a_paper_claim(claims) -> None:
+    """Regression check against an earlier run with the same chosen d_k, a_k (ours)."""
+    x1 = claims["X1"]
+    assert x1["paper"].startswith("(ours) regression check, not a paper claim")
+    m = x1["measured"]
     for name, (lo, hi) in (("state", (0.018, 0.032)), ("d", (0.07, 0.34)), ("a", (0.04, 0.17))):
         assert all(lo <= v <= hi for v in m[name]), (name, m[name])
     # the d_hat noise floor ~ sqrt(R_2) / |C_2 G|: node 3 worst, node 4 best
     assert int(np.argmax(m["d"])) == 2 and int(np.argmin(m["d"])) == 3
-    assert claims["C6"]["holds"] is True
+    assert x1["holds"] is True
 
 
-def test_c7_structure(claims) -> None:
-    m = claims["C7"]["measured"]
+def test_c6_structure(claims) -> None:
+    m = claims["C6"]["measured"]
     assert m["max_abs_G1"] < 1e-12
     assert m["max_M2B2_minus_I"] < 1e-12
     assert m["max_sumW_minus_I"] < 1e-12
     assert m["A_expm"] < 1e-14
     assert m["fusion_vs_information_fusion"] < 1e-12
-    assert claims["C7"]["holds"] is True
+    assert claims["C6"]["holds"] is True
 
 
 def test_figures_and_data_written(claims) -> None:
