@@ -34,6 +34,7 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
+import scipy.sparse as sp
 from numpy.typing import ArrayLike, NDArray
 
 from secest.validation import ValidationError, as_matrix
@@ -49,6 +50,31 @@ __all__ = [
 ]
 
 _INSPECTION = ("Gamma", "Pi")
+
+
+def _operator(name: str, W: ArrayLike, m: int) -> NDArray[np.float64] | sp.csr_array:
+    """``W`` as a node-mixing operator: CSR if given sparse, else a dense float array.
+
+    Large networks should pass ``adj`` / ``weights`` as scipy.sparse matrices: every
+    node-mixing product then costs O(edges) instead of O(m^2), which keeps the
+    per-node cost of a step independent of the network size (Remark 4).
+    """
+    op = sp.csr_array(W, dtype=float) if sp.issparse(W) else np.asarray(W, dtype=float)
+    if op.shape != (m, m):
+        raise ValidationError(f"Incompatible dimensions of {name}: expected {(m, m)}, found {op.shape}")
+    return op
+
+
+def _dense(W: ArrayLike) -> NDArray[np.float64]:
+    """Dense copy of a possibly sparse matrix, for validation only."""
+    return W.toarray() if sp.issparse(W) else np.asarray(W, dtype=float)
+
+
+def _mix(W: NDArray[np.float64] | sp.csr_array, X: NDArray[np.float64], axis: int) -> NDArray:
+    """``sum_j W[i, j] X[..., j, ...]`` over the node axis ``axis`` of ``X``."""
+    Xm = np.moveaxis(X, axis, 0)
+    out = W @ Xm.reshape(Xm.shape[0], -1)
+    return np.moveaxis(np.asarray(out).reshape(Xm.shape), 0, axis)
 
 
 def _sym(X: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -164,7 +190,7 @@ def received_indicator(
         Posterior estimates ``x_{j,k}^+``.
     delta : scalar or (...) array_like of {0, 1}
         Channel state ``delta_k`` (shared by all links), broadcast over batch axes.
-    adj : (m, m) array_like
+    adj : (m, m) array_like or scipy.sparse matrix
         0/1 adjacency, ``adj[i, j] = 1`` if node ``i`` receives from ``j``.
 
     Returns
@@ -176,17 +202,13 @@ def received_indicator(
     """
     x = np.asarray(x_post, dtype=float)
     d = np.asarray(delta, dtype=float)
-    a = np.asarray(adj, dtype=float)
     if x.ndim < 2:
         raise ValidationError(f"x_post must have shape (..., m, n), found {x.shape}")
-    if a.shape != (x.shape[-2],) * 2:
-        raise ValidationError(
-            f"Incompatible dimensions of adj: expected {(x.shape[-2],) * 2}, found {a.shape}"
-        )
+    a = _operator("adj", adj, x.shape[-2])
     if not np.all((d == 0) | (d == 1)):
         raise ValidationError("delta must contain only 0 and 1")
     xr = d[..., None, None] * x
-    heard = np.linalg.norm(xr, axis=-1) @ a.T
+    heard = _mix(a, np.linalg.norm(xr, axis=-1), -1)
     return xr, (heard > 0).astype(float)
 
 
@@ -211,7 +233,7 @@ def consensus_prediction(
         Posterior estimates ``x_{i,k}^+``.
     delta : scalar or (...) array_like of {0, 1}
         Channel state ``delta_k``.
-    adj, weights : (m, m) array_like
+    adj, weights : (m, m) array_like or scipy.sparse matrices
         0/1 adjacency (``adj[i, j] = 1`` iff ``j in N_i``) and weights ``h_ij``.
     A : (n, n) array_like
         System matrix.
@@ -235,10 +257,11 @@ def consensus_prediction(
         if x.ndim < 2:
             raise ValidationError(f"x_post must have shape (..., m, n), found {x.shape}")
         as_matrix("A", A, (x.shape[-1], x.shape[-1]))
-        as_matrix("weights", weights, (x.shape[-2], x.shape[-2]))
-    H = np.asarray(weights, dtype=float)
+        as_matrix("weights", _dense(weights), (x.shape[-2], x.shape[-2]))
+    H = _operator("weights", weights, x.shape[-2])
     xr, dr = received_indicator(x, delta, adj)
-    xi = np.einsum("ij,...jn->...in", H, xr) - dr[..., None] * H.sum(axis=1)[:, None] * x
+    row_sums = np.asarray(H.sum(axis=1)).ravel()
+    xi = _mix(H, xr, -2) - dr[..., None] * row_sums[:, None] * x
     return (x + kappa * xi) @ np.asarray(A, dtype=float).T, dr
 
 
@@ -307,10 +330,10 @@ def _validate_step(x_post, Pi_post, Gamma_post, delta, y, A, BBt, C, DDt, adj, w
         raise ValidationError(
             f"Incompatible dimensions of delta: expected a scalar or {batch}, found {d.shape}"
         )
-    a = as_matrix("adj", adj, (m, m))
+    a = as_matrix("adj", _dense(adj), (m, m))
     if not np.all((a == 0) | (a == 1)) or np.any(np.diag(a) != 0):
         raise ValidationError("adj must be a 0/1 matrix with zero diagonal")
-    h = as_matrix("weights", weights, (m, m))
+    h = as_matrix("weights", _dense(weights), (m, m))
     if np.any((h > 0) != (a > 0)) or np.any(h < 0):
         raise ValidationError(
             "weights must be positive exactly on the edges of adj (h_ij > 0 iff (i, j) in E)"
@@ -360,9 +383,9 @@ def secure_filter_step(
         Measurement matrices ``C_i`` of (2).
     DDt : (ny, ny) array_like
         Measurement-noise covariance ``D D^T``.
-    adj : (m, m) array_like
+    adj : (m, m) array_like or scipy.sparse matrix (sparse: O(edges) per step)
         0/1 adjacency, ``adj[i, j] = 1`` iff ``j in N_i`` (``i`` receives from ``j``).
-    weights : (m, m) array_like
+    weights : (m, m) array_like or scipy.sparse matrix
         ``H = [h_ij]``, positive exactly on the edges.
     kappa : float
         Coupling strength ``kappa >= 0``.
@@ -400,8 +423,9 @@ def secure_filter_step(
     BBt = np.asarray(BBt, dtype=float)
     C = np.asarray(C, dtype=float)
     DDt = np.asarray(DDt, dtype=float)
-    adj = np.asarray(adj, dtype=float)
-    H = np.asarray(weights, dtype=float)
+    m = x.shape[-2]
+    adj = _operator("adj", adj, m)
+    H = _operator("weights", weights, m)
     n = x.shape[-1]
     Ct = np.swapaxes(C, -1, -2)
 
@@ -409,7 +433,7 @@ def secure_filter_step(
     x_prior, dr = consensus_prediction(x, delta, adj, H, A, kappa, validate=False)
     d = dr[..., None, None]
     # (19): Xi_i = 2 sum_{j in N_i u {i}} Pi_j^+
-    AXiA = A @ (2.0 * (Pi + np.einsum("ij,...jab->...iab", adj, Pi))) @ A.T
+    AXiA = A @ (2.0 * (Pi + _mix(adj, Pi, -3))) @ A.T
     # (26): upper prediction bound
     Pi_prior = _sym((1 + kappa * d) * (A @ Pi @ A.T) + BBt + d * kappa * (1 + kappa) * AXiA)
     # (32): gain K = Pi^- C^T Pi_eta^{-1}

@@ -277,3 +277,27 @@ def test_node_step_bad_input() -> None:
         secure_filter_node_step(x, P, P, xs, Ps, hs, 3, np.zeros(1), **kw)
     with pytest.raises(ValidationError, match=r"Incompatible dimensions of y_i"):
         secure_filter_node_step(x, P, P, xs, Ps, hs, 1, np.zeros(2), **kw)
+
+
+def test_sparse_and_dense_network_give_identical_steps() -> None:
+    """adj / weights as scipy.sparse (large networks) compute exactly the dense result."""
+    import scipy.sparse as sp
+
+    from secest import graphs
+
+    rng = np.random.default_rng(11)
+    m, n = 12, 3
+    adj = graphs.random_geometric_graph(m, 0.5, seed=3)
+    H = graphs.row_stochastic_weights(adj, self_weight=False)
+    A = np.array([[1.0, 0.05, 0.00125], [0.0, 1.0, 0.05], [0.0, 0.0, 1.0]])
+    C = rng.standard_normal((m, 1, n))
+    P = np.broadcast_to(np.stack([np.eye(n) * (1 + i) for i in range(m)]), (2, m, n, n)).copy()
+    common = dict(A=A, BBt=0.04 * np.eye(n), C=C, DDt=np.eye(1) * 0.0025, kappa=0.004, threshold=25.0)
+    x = rng.standard_normal((2, m, n))
+    y = rng.standard_normal((2, m, 1))
+    dense = secure_filter_step(x, P, P, 1, y, adj=adj, weights=H, **common)
+    sparse = secure_filter_step(x, P, P, 1, y, adj=sp.csr_array(adj), weights=sp.csr_array(H), **common)
+    for a, b in zip(dense, sparse, strict=True):
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-14)
+    with pytest.raises(ValidationError, match=r"Incompatible dimensions of adj: expected \(12, 12\), found \(3, 3\)"):
+        secure_filter_step(x, P, P, 1, y, adj=sp.eye_array(3), weights=H, **common, validate=False)
