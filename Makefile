@@ -37,11 +37,11 @@ $(addprefix figures-,$(KEYS)): figures-%: $(STAMP)
 
 ## test: unit tests + papermill-executed notebook tests (fast mode) + lint
 test: $(STAMP)
-	$(PY) -m ruff check secest tests notebooks
+	$(PY) -m ruff check secest tests notebooks benchmarks
 	$(PY) -m pytest -n 2 --dist loadgroup
 
 bench: $(STAMP)
-	$(PY) -m pytest benchmarks -q -s -p no:xdist
+	$(PY) benchmarks/bench.py
 
 ## lock: regenerate environment.lock (pinned with hashes) from pyproject.toml
 lock:
