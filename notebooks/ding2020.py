@@ -156,27 +156,11 @@ print("every (A, C_i) observable:", all(np.linalg.matrix_rank(
 # The paper's "Laplacian" $\mathcal G=H-\mathrm{diag}(H\mathbf 1)=H-I$ has the opposite sign to the
 # usual $D-A$. It only enters the proof of Lemma 1, so the code never forms it.
 # An undirected connected graph is strongly connected as a digraph, as Section II assumes.
-# `secest.graphs.random_geometric_graph` returns only the adjacency, so we redraw the same
-# positions from the same seed for the plot and check that they give the same graph.
 
 # %%
-adj = graphs.check_connected(graphs.random_geometric_graph(m, radius, topology_seed))
+adj, positions = graphs.random_geometric_graph(m, radius, topology_seed, return_positions=True)
+adj = graphs.check_connected(adj)
 H = graphs.check_row_stochastic(graphs.row_stochastic_weights(adj, self_weight=False))
-
-
-def deployment(n: int, r: float, seed_: int) -> np.ndarray:
-    """Node positions of graphs.random_geometric_graph(n, r, seed_) (same draws)."""
-    rng = np.random.default_rng(seed_)
-    while True:
-        pos = rng.random((n, 2))
-        g = nx.random_geometric_graph(n, r, pos={i: tuple(v) for i, v in enumerate(pos)})
-        if nx.is_connected(g):
-            return pos
-
-
-positions = deployment(m, radius, topology_seed)
-assert np.array_equal(graphs.adjacency(nx.random_geometric_graph(
-    m, radius, pos={i: tuple(v) for i, v in enumerate(positions)})), adj)
 degree = adj.sum(axis=1).astype(int)
 G_nx = nx.from_numpy_array(adj)
 hops = dict(nx.all_pairs_shortest_path_length(G_nx))

@@ -66,13 +66,20 @@ def complete_graph(n: int) -> NDArray[np.float64]:
 
 
 def random_geometric_graph(
-    n: int, radius: float, seed: int, *, max_tries: int = 1000
-) -> NDArray[np.float64]:
+    n: int, radius: float, seed: int, *, max_tries: int = 1000, return_positions: bool = False
+) -> NDArray[np.float64] | tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Connected random geometric graph on the unit square.
 
     Nodes are placed uniformly at random and joined when closer than
     ``radius``; placements are redrawn (deterministically from ``seed``) until
     the graph is connected.
+
+    Returns
+    -------
+    adj : (n, n) ndarray
+        0/1 adjacency.
+    positions : (n, 2) ndarray
+        Node positions, only if ``return_positions`` (for plotting the deployment).
 
     Raises
     ------
@@ -84,10 +91,10 @@ def random_geometric_graph(
         raise ValidationError(f"radius must be positive, found {radius!r}")
     rng = np.random.default_rng(seed)
     for _ in range(max_tries):
-        pos = {i: tuple(p) for i, p in enumerate(rng.random((n, 2)))}
-        g = nx.random_geometric_graph(n, radius, pos=pos)
+        xy = rng.random((n, 2))
+        g = nx.random_geometric_graph(n, radius, pos={i: tuple(p) for i, p in enumerate(xy)})
         if nx.is_connected(g):
-            return adjacency(g)
+            return (adjacency(g), xy) if return_positions else adjacency(g)
     raise ValidationError(f"radius={radius} gave no connected graph on n={n} nodes in {max_tries} draws")
 
 

@@ -76,8 +76,10 @@ def test_adjacency_of_digraph_lists_in_neighbours() -> None:
 
 def test_random_geometric_graph_is_connected_and_seeded() -> None:
     a = graphs.random_geometric_graph(20, 0.35, seed=4)
-    b = graphs.random_geometric_graph(20, 0.35, seed=4)
-    assert np.array_equal(a, b)
+    b, xy = graphs.random_geometric_graph(20, 0.35, seed=4, return_positions=True)
+    assert np.array_equal(a, b) and xy.shape == (20, 2)
+    dist = np.linalg.norm(xy[:, None] - xy[None], axis=-1)
+    assert np.array_equal(a, ((dist <= 0.35) & ~np.eye(20, dtype=bool)).astype(float))
     graphs.check_connected(a)
     with pytest.raises(ValidationError, match="radius=0.01 gave no connected graph on n=20"):
         graphs.random_geometric_graph(20, 0.01, seed=0, max_tries=5)
