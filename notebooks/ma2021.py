@@ -1117,10 +1117,10 @@ ax.legend(fontsize=7)
 ax = axs[1, 2]
 ax.plot(k_axis[1:], p_op3[1:], "o-", ms=2.5, label=f"OP3, $\\mathfrak{{B}}={op3_scale:g}I$")
 ax.axhline(p, color="k", ls="--", lw=0.8, label=f"p = {p} (OP2)")
-ax.axhline(0.0, color="r", lw=0.8, ls=":", label=r"$p_k\leq0$: $\rho_k\geq1$, bound void")
+ax.axhline(0.0, color="r", lw=0.8, ls=":", label=r"$\rho_k\geq1$: void")
 ax.set_title(r"(f) guaranteed $p_k = 1-\rho_k$ (corrected OP3)")
 ax.set_ylim(min(0.0, float(np.nanmin(p_op3))) - 0.1, 1)
-ax.legend(fontsize=6.5, loc="upper right")
+ax.legend(fontsize=6.5, loc="upper right", bbox_to_anchor=(1.0, 0.76))
 for ax in axs.flat:
     ax.set_xlabel("time step $k$")
 axs[0, 0].set_ylabel("value [–]")
