@@ -47,7 +47,7 @@ bench: $(STAMP)
 lock:
 	python3 -m venv build/lockenv
 	build/lockenv/bin/python -m pip install --quiet uv==0.13.9
-	build/lockenv/bin/uv pip compile pyproject.toml --extra dev --extra bench --generate-hashes \
+	build/lockenv/bin/uv pip compile pyproject.toml --extra all --generate-hashes \
 	    --universal --python-version 3.11 --no-header -o environment.lock
 
 ## html: render the executed notebooks to build/html/ (not committed)
