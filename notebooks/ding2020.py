@@ -65,6 +65,7 @@ cmp_form = "corrector"  # structure of the comparison filter: "corrector" | "pre
 mc_runs = 300  # Monte Carlo runs (fast mode: at most 100) (MISSING)
 long_steps = 2000  # steps of the long run for Pi's boundedness (fast mode: 600) (MISSING)
 chain_steps = 100000  # length of the chain for estimating p, q (MISSING)
+figures = True  # False: no figure or data file is made (robustness sweep points) (ours)
 fig_dir = "figures/ding2020"
 results_path = "figures/ding2020/claims.json"
 
@@ -89,7 +90,7 @@ L_LONG = long_steps if mode == "paper" else min(long_steps, 600)
 N = int(horizon)
 FIG_DIR = results.resolve(fig_dir)
 rng_channel, rng_world, rng_mc, rng_chain, rng_long = montecarlo.spawn_rngs(seed, 5)
-plotting.use_style()
+plotting.setup(enabled=figures)
 PLOT = [i - 1 for i in plot_nodes]  # 0-based indices of the plotted nodes (P1)
 
 # %% [markdown]

@@ -50,6 +50,7 @@ a_ramp = [130, 180]  # ramp a_ramp_slope * (k - a_ramp[0]) on steps a_ramp[0] to
 a_ramp_slope = 0.02  # (MISSING)
 n_lemma = 30  # random general instances for the Lemma 1-2 checks (ours)
 lemma_seed = 7  # seed of those instances (ours)
+figures = True  # False: no figure or data file is made (robustness sweep points) (ours)
 fig_dir = "figures/guo2023"
 results_path = "figures/guo2023/claims.json"
 
@@ -80,7 +81,7 @@ n_lemma_used = n_lemma if mode == "paper" else min(n_lemma, 10)
 if n_steps < max(a_ramp[1], 12):
     raise ValueError(f"n_steps must cover the attack window and the observability window, found {n_steps}")
 FIG_DIR = results.resolve(fig_dir)
-plotting.use_style()
+plotting.setup(enabled=figures)
 
 # %% [markdown]
 # ## Parameter provenance

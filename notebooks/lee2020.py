@@ -75,6 +75,7 @@ accuracy_T = 20.0  # horizon of the integrator comparison [s] (ours)
 accuracy_ref_dt = 1e-4  # step of the reference solution [s] (ours)
 tanh_eps = [1e-3, 1e-2]  # widths of the smoothed sign for RK45 (ours)
 stall_T = 0.002  # horizon of the exact-sign RK45 demonstration [s] (ours)
+figures = True  # False: no figure or data file is made (robustness sweep points) (ours)
 fig_dir = "figures/lee2020"
 results_path = "figures/lee2020/claims.json"
 
@@ -102,7 +103,7 @@ stall_T = stall_T if mode == "paper" else min(stall_T, 5e-4)
 z_vals, s_vals, x_init = np.asarray(z, float), np.asarray(s, float), np.asarray(x0, float)
 N = z_vals.size
 FIG_DIR = results.resolve(fig_dir)
-plotting.use_style()
+plotting.setup(enabled=figures)
 
 # %% [markdown]
 # ## Parameter provenance

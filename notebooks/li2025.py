@@ -74,6 +74,7 @@ weights_paper_thm3 = [[1e-3, 1.0, 1e-3, 1e-4, 0.3], [1e-2, 1.0, 1e-3, 1e-4, 0.3]
 weights_interior = [0.01, 1.0, 0.01, 0.1, 0.1]
 phi_scan = [-12.0, 12.0, 241]  # log10 range and size of the (phi_*, phi^*) scan of Theorem 3 (ours)
 plot_run = 0  # Monte Carlo run shown in the single-run figures (MISSING)
+figures = True  # False: no figure or data file is made (robustness sweep points) (ours)
 fig_dir = "figures/li2025"
 results_path = "figures/li2025/claims.json"
 
@@ -96,7 +97,7 @@ if coef not in ("corrected", "paper"):
 if xhat_moment not in ("run", "ensemble"):
     raise ValueError(f"xhat_moment must be 'run' or 'ensemble', found {xhat_moment!r}")
 FIG_DIR = results.resolve(fig_dir)
-plotting.use_style()
+plotting.setup(enabled=figures)
 N, NX = 3, 4  # targets, states per target
 PSI = np.asarray(psi_check, float)
 if PSI.shape != (N,):

@@ -87,6 +87,7 @@ fallback_solver = "SCS"  # visible fallback
 op3_scale = 2.0  # fixed ellipsoid B is op3_scale times I for the OP3 run (MISSING)
 settle_k = 10  # C1: errors measured from this step on
 track_tol = 0.2  # C1: |error| bound read from the Fig. 3-4 data range
+figures = True  # False: no figure or data file is made (robustness sweep points) (ours)
 fig_dir = "figures/ma2021"
 results_path = "figures/ma2021/claims.json"
 
@@ -119,7 +120,7 @@ for _name, _val in (("L_scale", L_scale), ("aleph_scale", aleph_scale)):
 T_run = int(T) if mode == "paper" else min(int(T), 8)
 n_extra = int(extra_seeds) if mode == "paper" else 1
 FIG_DIR = results.resolve(fig_dir)
-plotting.use_style()
+plotting.setup(enabled=figures)
 CLARABEL_OPTS = {"tol_feas": 1e-7, "tol_gap_abs": 1e-7, "tol_gap_rel": 1e-7}
 SCS_OPTS = {"max_iters": 20000}  # bounds the cost of a fallback (a few seconds)
 warnings.filterwarnings("ignore", message="Solution may be inaccurate")  # status is checked

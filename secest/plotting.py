@@ -3,6 +3,11 @@
 Every figure is written as ``<fig_dir>/<name>.png`` next to ``<name>.csv``
 holding the plotted numbers, so readers and tests compare numbers, not pixels.
 PNGs carry no software/version metadata and are byte-identical across runs.
+Inside a notebook the saved PNG is also displayed inline, right under the code
+that made it (the rendered notebooks and the site show exactly the committed file).
+
+:func:`setup` turns all of this off for robustness sweeps (``figures = False``):
+a sweep point measures claims only, so it neither renders nor writes figures.
 """
 
 from __future__ import annotations
@@ -18,7 +23,15 @@ from numpy.typing import ArrayLike
 
 from secest.validation import ValidationError
 
-__all__ = ["COLUMN_WIDTH", "PAGE_WIDTH", "save_data", "save_figure", "use_style"]
+__all__ = [
+    "COLUMN_WIDTH",
+    "PAGE_WIDTH",
+    "figures_enabled",
+    "save_data",
+    "save_figure",
+    "setup",
+    "use_style",
+]
 
 COLUMN_WIDTH = 3.5
 """Width of one IEEE column in inches."""
@@ -45,9 +58,32 @@ _STYLE = {
 }
 
 
+_STATE = {"enabled": True}
+
+
 def use_style() -> None:
     """Apply the house style (font sizes readable at IEEE column width, grid, fixed dpi)."""
     mpl.rcParams.update(_STYLE)
+
+
+def setup(*, enabled: bool = True) -> None:
+    """Apply the house style and switch figure making on or off.
+
+    Parameters
+    ----------
+    enabled : bool, default True
+        ``False`` (a robustness sweep point) makes :func:`save_figure` and
+        :func:`save_data` close the figure and write nothing.
+    """
+    if not isinstance(enabled, bool):
+        raise ValidationError(f"enabled must be a bool, found {enabled!r}")
+    use_style()
+    _STATE["enabled"] = enabled
+
+
+def figures_enabled() -> bool:
+    """Whether figures and their data are being written (see :func:`setup`)."""
+    return _STATE["enabled"]
 
 
 def _columns(data: Mapping[str, ArrayLike]) -> tuple[list[str], list[np.ndarray]]:
@@ -82,14 +118,17 @@ def _fmt(value: object) -> str:
     return str(value)
 
 
-def save_data(fig_dir: str | Path, name: str, data: Mapping[str, ArrayLike]) -> Path:
+def save_data(fig_dir: str | Path, name: str, data: Mapping[str, ArrayLike]) -> Path | None:
     """Write equal-length columns to ``<fig_dir>/<name>.csv`` (2-D arrays become ``key[j]``).
 
     Floats are written with 10 significant digits, so files are deterministic.
+    Returns ``None`` (and writes nothing) when figures are switched off by :func:`setup`.
     """
     if not data:
         raise ValidationError("data must hold at least one column")
     names, cols = _columns(data)
+    if not _STATE["enabled"]:
+        return None
     path = Path(fig_dir) / f"{name}.csv"
     path.parent.mkdir(parents=True, exist_ok=True)
     with path.open("w", newline="") as fh:
@@ -105,8 +144,13 @@ def save_figure(
     fig_dir: str | Path,
     name: str,
     data: Mapping[str, ArrayLike] | None = None,
-) -> Path:
+) -> Path | None:
     """Save ``fig`` as a deterministic PNG ``<fig_dir>/<name>.png`` (+ ``<name>.csv`` of ``data``).
+
+    In a notebook the PNG is then displayed inline (at half its pixel size, i.e.
+    100 dpi on screen, sharp on high-density displays) with output metadata
+    ``{"secest": {"figure": name}}``, and the figure is closed so that no backend
+    shows it a second time.
 
     Parameters
     ----------
@@ -120,13 +164,35 @@ def save_figure(
 
     Returns
     -------
-    Path of the PNG.
+    Path of the PNG, or ``None`` when figures are switched off by :func:`setup`.
     """
+    import matplotlib.pyplot as plt
+
     if not name or "/" in name or name.endswith(".png"):
         raise ValidationError(f"name must be a bare file stem like 'fig1_states', found {name!r}")
+    if data is not None:
+        _columns(data)  # validate before anything is written
+    if not _STATE["enabled"]:
+        plt.close(fig)
+        return None
     path = Path(fig_dir) / f"{name}.png"
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, metadata={"Software": None})
     if data is not None:
         save_data(fig_dir, name, data)
+    plt.close(fig)
+    _display_inline(path, name)
     return path
+
+
+def _display_inline(path: Path, name: str) -> None:
+    """Show the saved PNG in the running notebook kernel (no-op outside IPython kernels)."""
+    try:
+        from IPython import get_ipython
+        from IPython.display import Image, display
+    except ImportError:  # core install without IPython: nothing to display into
+        return
+    shell = get_ipython()
+    if shell is None or not hasattr(shell, "kernel"):
+        return
+    display(Image(filename=str(path), retina=True), metadata={"secest": {"figure": name}})

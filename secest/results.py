@@ -1,10 +1,25 @@
 """Claims JSON, run manifests and papermill parameter validation.
 
 Every notebook ends by writing its claims to ``results_path`` (default
-``figures/<key>/claims.json``): one entry per claim id with the keys
-``paper``, ``check``, ``measured``, ``threshold`` and ``holds``. Every execution
-also writes a run manifest ``build/runs/<key>.json`` (not committed) with
-package versions, solver, git commit, parameters and wall time.
+``figures/<key>/claims.json``): one entry per claim id (``C<n>`` the paper's,
+``X<n>`` ours) built by :func:`claim`, with the keys
+
+``paper``      what the paper states, in its words;
+``source``     where: section, figure, equation of the paper, or ``"ours"``;
+``check``      what we measure, against what, by which rule;
+``measured``   the measured value(s); ``key`` names the headline entry of a dict;
+``interval``   optional confidence interval of a Monte Carlo value (with its level and method);
+``threshold``  the value the measurement is compared with;
+``holds``      whether the statement holds at this run's parameters;
+``premise``    optional: the theorem's own assumption and whether it holds here;
+``verdict``    ``holds`` / ``fails`` / ``fails-premise`` at this point, or, once the
+               declared space has been swept (``make robustness``), over that space:
+               ``undetermined`` when it holds in part of it, with ``robustness``
+               giving the fraction, its interval and the region;
+``tolerance``  how closely a re-run on another machine must reproduce ``measured``.
+
+Every execution also writes a run manifest ``build/runs/<key>.json`` (not
+committed) with package versions, solver, git commit, parameters and wall time.
 """
 
 from __future__ import annotations
@@ -14,7 +29,8 @@ import math
 import platform
 import subprocess
 import time
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from importlib import metadata
 from pathlib import Path
 from typing import Any
@@ -24,8 +40,14 @@ import numpy as np
 from secest.validation import ValidationError
 
 __all__ = [
+    "DETERMINISTIC",
+    "VERDICTS",
     "Run",
+    "Tolerance",
     "claim",
+    "headline_value",
+    "interval",
+    "point_verdict",
     "declared_parameters",
     "environment_summary",
     "notebook_path",
@@ -35,7 +57,9 @@ __all__ = [
     "write_claims",
 ]
 
-CLAIM_KEYS = ("paper", "check", "measured", "threshold", "holds")
+CLAIM_KEYS = ("paper", "source", "check", "measured", "threshold", "holds", "verdict", "tolerance")
+VERDICTS = ("holds", "fails", "undetermined", "fails-premise")
+"""``undetermined`` only comes from a sweep of the declared space (``secest.sweep``)."""
 _PACKAGES = ("numpy", "scipy", "networkx", "cvxpy", "clarabel", "scs", "control", "matplotlib")
 
 
@@ -130,7 +154,7 @@ def validate_parameters(key: str, parameters: Mapping[str, Any]) -> None:
 
 
 def _plain(value: Any) -> Any:
-    """Convert numpy scalars / arrays to JSON-ready Python values; reject NaN."""
+    """Convert numpy scalars / arrays to JSON-ready Python values; reject NaN and infinity."""
     if isinstance(value, Mapping):
         return {str(k): _plain(v) for k, v in value.items()}
     if isinstance(value, list | tuple):
@@ -143,57 +167,223 @@ def _plain(value: Any) -> Any:
         return int(value)
     if isinstance(value, np.floating | float):
         v = float(value)
-        if math.isnan(v):
-            raise ValidationError("claim values must not be NaN")
+        if not math.isfinite(v):
+            raise ValidationError(
+                f"claim values must be finite (JSON has no NaN or Infinity), found {v}; "
+                "record a missing or unbounded value as None with the reason in 'check'"
+            )
         return v
     return value
 
 
-def claim(
-    paper: str, check: str, measured: Any, threshold: Any, holds: bool | np.bool_
-) -> dict[str, Any]:
-    """One claims-JSON entry.
+@dataclass(frozen=True)
+class Tolerance:
+    """How closely a re-run on another machine must reproduce a quantity.
+
+    A fresh value ``b`` reproduces the committed ``a`` when
+    ``|b - a| <= atol + rtol * |a|`` (elementwise), the rule of ``numpy.isclose``.
 
     Parameters
     ----------
-    paper : what the paper states (with its equation / figure reference).
-    check : what we measure and against what.
-    measured : the measured value(s).
-    threshold : the value the measurement is compared with.
-    holds : whether the paper's statement holds in our reproduction.
+    rtol, atol : float
+        Relative and absolute tolerance, both >= 0.
+    reason : str
+        Why this tolerance: what makes the last digits machine-dependent.
+    """
+
+    rtol: float
+    atol: float
+    reason: str
+
+    def __post_init__(self) -> None:
+        for name in ("rtol", "atol"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int | float) or not value >= 0:
+                raise ValidationError(f"{name} must be a real number >= 0, found {value!r}")
+            if not math.isfinite(value):
+                raise ValidationError(f"{name} must be finite, found {value!r}")
+        if not isinstance(self.reason, str) or not self.reason.strip():
+            raise ValidationError("reason must be a non-empty string")
+
+    def as_dict(self) -> dict[str, Any]:
+        """The JSON form ``{"rtol": ..., "atol": ..., "reason": ...}``."""
+        return {"rtol": float(self.rtol), "atol": float(self.atol), "reason": self.reason}
+
+
+DETERMINISTIC = Tolerance(
+    rtol=1e-9,
+    atol=1e-12,
+    reason="deterministic floating point: another CPU or BLAS build may reorder sums "
+    "and change the last bits",
+)
+"""Default tolerance of a claim: deterministic linear algebra."""
+
+
+def interval(low: float, high: float, *, level: float = 0.95, method: str) -> dict[str, Any]:
+    """A confidence interval entry for :func:`claim` (``method``: e.g. ``"wilson"``, ``"t"``)."""
+    lo, hi = float(low), float(high)
+    if not (math.isfinite(lo) and math.isfinite(hi)) or lo > hi:
+        raise ValidationError(f"interval must be finite with low <= high, found ({low}, {high})")
+    if not 0.0 < float(level) < 1.0:
+        raise ValidationError(f"level must lie in (0, 1), found {level!r}")
+    if not isinstance(method, str) or not method.strip():
+        raise ValidationError("method must be a non-empty string naming the interval's method")
+    return {"low": lo, "high": hi, "level": float(level), "method": method}
+
+
+def _check_text(name: str, text: Any) -> str:
+    if not isinstance(text, str) or not text.strip():
+        raise ValidationError(f"{name} must be a non-empty string, found {text!r}")
+    return text
+
+
+def claim(
+    paper: str,
+    check: str,
+    measured: Any,
+    threshold: Any,
+    holds: bool | np.bool_,
+    *,
+    source: str | None = None,
+    interval: Mapping[str, Any] | None = None,
+    premise: tuple[str, bool | np.bool_] | None = None,
+    key: str | None = None,
+    tolerance: Tolerance | None = None,
+    section: str | None = None,
+) -> dict[str, Any]:
+    """One claims-JSON entry (see the module docstring for the keys).
+
+    Parameters
+    ----------
+    paper : str
+        What the paper states, in its own words where possible.
+    check : str
+        What we measure, against what, and the decision rule (for Monte Carlo
+        values: the rule on the confidence interval).
+    measured : number, sequence or mapping
+        The measured value(s); finite numbers only.
+    threshold : number, sequence, mapping or None
+        The value the measurement is compared with.
+    holds : bool
+        Whether the statement holds at this run's parameters.
+    source : str
+        The paper's place (``"Sec. V, Fig. 4"``, ``"Theorem 2, (34)"``) or ``"ours"``.
+    interval : mapping, optional
+        Confidence interval of ``measured`` (or of its ``key`` entry) from :func:`interval`.
+    premise : (str, bool), optional
+        The theorem's own assumption and whether it holds at this run; when it
+        does not, the verdict is ``fails-premise`` whatever ``holds`` says.
+    key : str, optional
+        The entry of a mapping ``measured`` that the robustness table records.
+    tolerance : Tolerance, optional
+        Reproduction tolerance of ``measured`` across machines (default :data:`DETERMINISTIC`).
+    section : str, optional
+        Heading of the notebook section that measures the claim (for links).
     """
     if not isinstance(holds, bool | np.bool_):
         raise ValidationError(f"holds must be a bool, found {type(holds).__name__}")
-    for name, text in (("paper", paper), ("check", check)):
-        if not isinstance(text, str) or not text.strip():
-            raise ValidationError(f"{name} must be a non-empty string")
-    return {
+    _check_text("paper", paper)
+    _check_text("check", check)
+    entry: dict[str, Any] = {
         "paper": paper,
         "check": check,
         "measured": _plain(measured),
         "threshold": _plain(threshold),
         "holds": bool(holds),
     }
+    if source is not None:
+        entry["source"] = _check_text("source", source)
+    if interval is not None:
+        if not isinstance(interval, Mapping) or not {"low", "high", "level", "method"} <= set(interval):
+            raise ValidationError("interval must come from results.interval(low, high, level=, method=)")
+        entry["interval"] = _plain(dict(interval))
+    if key is not None:
+        if not isinstance(entry["measured"], dict) or key not in entry["measured"]:
+            raise ValidationError(f"key {key!r} must name an entry of the measured mapping")
+        entry["key"] = key
+    if premise is not None:
+        if (
+            not isinstance(premise, Sequence)
+            or len(premise) != 2
+            or not isinstance(premise[1], bool | np.bool_)
+        ):
+            raise ValidationError("premise must be a (statement, holds) pair with a bool")
+        entry["premise"] = {"statement": _check_text("premise", premise[0]), "holds": bool(premise[1])}
+    tol = DETERMINISTIC if tolerance is None else tolerance
+    if not isinstance(tol, Tolerance):
+        raise ValidationError(f"tolerance must be a results.Tolerance, found {type(tol).__name__}")
+    entry["tolerance"] = tol.as_dict()
+    if section is not None:
+        entry["section"] = _check_text("section", section)
+    entry["verdict"] = point_verdict(entry)
+    return entry
 
 
-def write_claims(path: str | Path, claims: Mapping[str, Mapping[str, Any]]) -> Path:
+def point_verdict(entry: Mapping[str, Any]) -> str:
+    """``fails-premise`` if the claim's premise fails, else ``holds`` or ``fails``."""
+    premise = entry.get("premise")
+    if premise is not None and not premise["holds"]:
+        return "fails-premise"
+    return "holds" if entry["holds"] else "fails"
+
+
+def headline_value(entry: Mapping[str, Any]) -> float | None:
+    """The number a robustness table records for a claim: ``measured`` or ``measured[key]``."""
+    value = entry.get("measured")
+    if isinstance(value, Mapping):
+        value = value.get(entry["key"]) if "key" in entry else None
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        return None
+    return float(value)
+
+
+REQUIRED_KEYS = ("paper", "check", "measured", "threshold", "holds", "verdict", "tolerance")
+
+
+def write_claims(
+    path: str | Path,
+    claims: Mapping[str, Mapping[str, Any]],
+    *,
+    robustness: str | Path | None = None,
+) -> Path:
     """Write ``claims`` (id -> :func:`claim` entry) as sorted, indented JSON.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output file, resolved from the repository root.
+    claims : mapping
+        Claim id -> :func:`claim` entry.
+    robustness : str or Path, optional
+        The sweep summary ``figures/<key>/robustness.json`` written by ``make
+        robustness``. Where it covers a claim, the claim's ``verdict`` becomes the
+        verdict over the declared space and ``robustness`` holds the fraction of
+        the design where it holds, its interval and the region. A missing file
+        leaves the point verdicts.
 
     Raises
     ------
     ValidationError
         If an id is not of the form ``C<number>`` or ``X<number>`` (ours), or an
-        entry lacks one of ``paper, check, measured, threshold, holds``.
+        entry lacks one of the keys of :data:`REQUIRED_KEYS`.
     """
     for cid, entry in claims.items():
         if not (cid[:1] in "CX" and cid[1:].replace("_", "").isalnum() and len(cid) > 1):
             raise ValidationError(f"claim id {cid!r} must look like 'C1' (paper) or 'X1' (ours)")
-        missing = [k for k in CLAIM_KEYS if k not in entry]
+        missing = [k for k in REQUIRED_KEYS if k not in entry]
         if missing:
             raise ValidationError(f"claim {cid} lacks keys {missing}")
+    merged = {cid: dict(entry) for cid, entry in claims.items()}
+    summary_path = resolve(robustness) if robustness is not None else None
+    if summary_path is not None and summary_path.exists():
+        summary = json.loads(summary_path.read_text())
+        for cid, entry in merged.items():
+            if cid in summary:
+                entry["verdict"] = summary[cid]["verdict"]
+                entry["robustness"] = summary[cid]
     out = resolve(path)
     out.parent.mkdir(parents=True, exist_ok=True)
-    text = json.dumps(_plain(dict(claims)), indent=2, sort_keys=True) + "\n"
+    text = json.dumps(_plain(merged), indent=2, sort_keys=True) + "\n"
     out.write_text(text)
     return out
 

@@ -10,7 +10,13 @@ import jupytext
 import nbformat
 import pytest
 
-from secest.results import CLAIM_KEYS, declared_parameters, repo_root, validate_parameters
+from secest.results import (
+    REQUIRED_KEYS,
+    VERDICTS,
+    declared_parameters,
+    repo_root,
+    validate_parameters,
+)
 from secest.run import execute_notebook
 from secest.validation import ValidationError
 
@@ -56,8 +62,33 @@ def test_committed_claims_are_well_formed(key: str) -> None:
     assert claims, "no claims recorded"
     for cid, entry in claims.items():
         assert cid[0] in "CX" and cid[1:].replace("_", "").isalnum()
-        assert set(CLAIM_KEYS) <= set(entry)
+        assert set(REQUIRED_KEYS) <= set(entry)
         assert isinstance(entry["holds"], bool)
+        assert entry["verdict"] in VERDICTS
+
+
+def _manifest_pngs(key: str) -> list[str]:
+    manifest = tomllib.loads((ROOT / "figures" / "manifest.toml").read_text())
+    return sorted(
+        Path(name).stem
+        for fig in manifest[key].get("figures", [])
+        for name in fig["files"]
+        if name.endswith(".png")
+    )
+
+
+@pytest.mark.parametrize("key", KEYS)
+def test_every_saved_figure_is_shown_inline(key: str) -> None:
+    """One image/png output per PNG the manifest lists, each tagged with its file stem."""
+    nb = nbformat.read(ROOT / "notebooks" / f"{key}.ipynb", as_version=4)
+    shown = sorted(
+        out["metadata"]["secest"]["figure"]
+        for cell in nb.cells
+        if cell.cell_type == "code"
+        for out in cell.outputs
+        if "image/png" in out.get("data", {})
+    )
+    assert shown == _manifest_pngs(key)
 
 
 def test_unknown_parameter_is_rejected(tmp_path: Path) -> None:

@@ -390,11 +390,42 @@ def test_save_figure_bad_input(tmp_path) -> None:
 
 
 def test_claim_and_write_claims(tmp_path) -> None:
-    c = results.claim("Thm 1", "dist <= bound", np.array([0.1, 0.2]), np.float64(1.0), np.bool_(True))
+    c = results.claim("Thm 1", "dist <= bound", np.array([0.1, 0.2]), np.float64(1.0), np.bool_(True),
+                      source="Theorem 1")
     assert c == {"paper": "Thm 1", "check": "dist <= bound", "measured": [0.1, 0.2],
-                 "threshold": 1.0, "holds": True}
+                 "threshold": 1.0, "holds": True, "source": "Theorem 1", "verdict": "holds",
+                 "tolerance": results.DETERMINISTIC.as_dict()}
     path = results.write_claims(tmp_path / "claims.json", {"C1": c, "X1": c})
     assert json.loads(path.read_text())["C1"]["holds"] is True
+
+
+def test_claim_optional_fields() -> None:
+    ci = results.interval(0.1, 0.3, method="wilson")
+    tol = results.Tolerance(rtol=0.0, atol=0.05, reason="Monte Carlo")
+    c = results.claim("p", "c", {"rate": 0.2, "n": 100}, 0.5, False, source="ours", interval=ci,
+                      key="rate", tolerance=tol, section="Claims")
+    assert c["interval"] == {"low": 0.1, "high": 0.3, "level": 0.95, "method": "wilson"}
+    assert c["key"] == "rate" and results.headline_value(c) == 0.2
+    assert c["tolerance"] == {"rtol": 0.0, "atol": 0.05, "reason": "Monte Carlo"}
+    assert c["verdict"] == "fails" and c["section"] == "Claims"
+    # a claim whose premise fails is not reported as holding, whatever it measured
+    d = results.claim("p", "c", 1.0, 1.0, True, premise=("Assumption 3 at x0", False))
+    assert d["premise"] == {"statement": "Assumption 3 at x0", "holds": False}
+    assert d["verdict"] == "fails-premise" and d["holds"] is True
+    assert results.headline_value(results.claim("p", "c", [1.0], 1.0, True)) is None
+
+
+def test_write_claims_merges_the_sweep_verdict(tmp_path) -> None:
+    c = results.claim("p", "c", 1.0, 1.0, True, source="ours")
+    summary = {"C1": {"verdict": "undetermined", "fraction_holds": 0.5, "points": 4}}
+    (tmp_path / "robustness.json").write_text(json.dumps(summary))
+    path = results.write_claims(tmp_path / "claims.json", {"C1": c, "C2": c},
+                                robustness=tmp_path / "robustness.json")
+    out = json.loads(path.read_text())
+    assert out["C1"]["verdict"] == "undetermined" and out["C1"]["robustness"]["points"] == 4
+    assert out["C2"]["verdict"] == "holds" and "robustness" not in out["C2"]
+    missing = results.write_claims(tmp_path / "c2.json", {"C1": c}, robustness=tmp_path / "none.json")
+    assert json.loads(missing.read_text())["C1"]["verdict"] == "holds"
 
 
 def test_claim_bad_input(tmp_path) -> None:
@@ -402,13 +433,31 @@ def test_claim_bad_input(tmp_path) -> None:
         results.claim("p", "c", 1.0, 1.0, 1)
     with pytest.raises(ValidationError, match="paper must be a non-empty string"):
         results.claim("", "c", 1.0, 1.0, True)
-    with pytest.raises(ValidationError, match="claim values must not be NaN"):
+    with pytest.raises(ValidationError, match="claim values must be finite"):
         results.claim("p", "c", float("nan"), 1.0, True)
+    with pytest.raises(ValidationError, match="claim values must be finite"):
+        results.claim("p", "c", float("inf"), 1.0, True)
+    with pytest.raises(ValidationError, match="source must be a non-empty string"):
+        results.claim("p", "c", 1.0, 1.0, True, source="")
+    with pytest.raises(ValidationError, match="key 'x' must name an entry"):
+        results.claim("p", "c", {"y": 1.0}, 1.0, True, key="x")
+    with pytest.raises(ValidationError, match="premise must be a"):
+        results.claim("p", "c", 1.0, 1.0, True, premise=("a", "yes"))
+    with pytest.raises(ValidationError, match="interval must come from results.interval"):
+        results.claim("p", "c", 1.0, 1.0, True, interval={"low": 0})
+    with pytest.raises(ValidationError, match="tolerance must be a results.Tolerance"):
+        results.claim("p", "c", 1.0, 1.0, True, tolerance=1e-3)
+    with pytest.raises(ValidationError, match="rtol must be a real number >= 0"):
+        results.Tolerance(rtol=-1.0, atol=0.0, reason="x")
+    with pytest.raises(ValidationError, match="reason must be a non-empty string"):
+        results.Tolerance(rtol=0.0, atol=0.0, reason=" ")
+    with pytest.raises(ValidationError, match="interval must be finite with low <= high"):
+        results.interval(1.0, 0.0, method="t")
     good = results.claim("p", "c", 1.0, 1.0, True)
     with pytest.raises(ValidationError, match="claim id 'claim1' must look like 'C1'"):
         results.write_claims(tmp_path / "c.json", {"claim1": good})
-    with pytest.raises(ValidationError, match=r"claim C2 lacks keys \['holds'\]"):
-        results.write_claims(tmp_path / "c.json", {"C2": {k: 1 for k in results.CLAIM_KEYS[:-1]}})
+    with pytest.raises(ValidationError, match=r"claim C2 lacks keys \['tolerance'\]"):
+        results.write_claims(tmp_path / "c.json", {"C2": {k: 1 for k in results.REQUIRED_KEYS[:-1]}})
 
 
 def test_resolve_and_declared_parameters() -> None:
@@ -511,3 +560,57 @@ def test_run_cli_parses_literals(monkeypatch) -> None:
     monkeypatch.setattr(run, "execute_notebook", lambda key, params, out: seen.update(key=key, params=params, out=out))
     run.main(["lee2020", "-p", "gamma", "2.5", "-p", "mode", "fast", "-p", "z", "[1, 2]"])
     assert seen == {"key": "lee2020", "params": {"gamma": 2.5, "mode": "fast", "z": [1, 2]}, "out": None}
+
+
+# ---------------------------------------------------------------- confidence intervals
+
+
+def test_wilson_interval_known_values() -> None:
+    lo, hi = montecarlo.wilson_interval(0, 300)
+    assert lo == 0.0 and hi == pytest.approx(0.01263, abs=2e-5)
+    lo, hi = montecarlo.wilson_interval(45, 300)  # 15 %
+    assert lo == pytest.approx(0.1141, abs=1e-3) and hi == pytest.approx(0.1951, abs=1e-3)
+    lo, hi = montecarlo.wilson_interval(10, 10)
+    assert hi == 1.0 and lo == pytest.approx(0.7225, abs=1e-3)
+
+
+def test_mean_and_bootstrap_intervals_cover_the_mean() -> None:
+    rng = np.random.default_rng(1)
+    x = rng.normal(2.0, 1.0, 400)
+    lo, hi = montecarlo.mean_interval(x)
+    assert lo < x.mean() < hi and hi - lo == pytest.approx(2 * 1.966 * x.std(ddof=1) / 20, rel=1e-3)
+    blo, bhi = montecarlo.bootstrap_interval(x)
+    assert blo < x.mean() < bhi and abs((bhi - blo) - (hi - lo)) < 0.05
+    pairs = np.column_stack([2 * x, x])
+    rlo, rhi = montecarlo.bootstrap_interval(pairs)
+    assert rlo == pytest.approx(2.0) and rhi == pytest.approx(2.0)
+
+
+def test_interval_bad_input() -> None:
+    with pytest.raises(ValidationError, match=r"successes must lie in \[0, n\]"):
+        montecarlo.wilson_interval(5, 3)
+    with pytest.raises(ValidationError, match="successes must be an integer"):
+        montecarlo.wilson_interval(0.5, 3)
+    with pytest.raises(ValidationError, match="samples must hold at least 2 finite values"):
+        montecarlo.mean_interval([1.0])
+    with pytest.raises(ValidationError, match="statistic must be 'mean' or 'median'"):
+        montecarlo.bootstrap_interval([1.0, 2.0], "max")
+    with pytest.raises(ValidationError, match=r"samples must have shape \(runs,\) or \(runs, 2\)"):
+        montecarlo.bootstrap_interval(np.ones((3, 3)))
+
+
+def test_figures_switched_off_write_nothing(tmp_path) -> None:
+    plotting.setup(enabled=False)
+    try:
+        fig, ax = plt.subplots()
+        ax.plot([0, 1], [0, 1])
+        assert plotting.save_figure(fig, tmp_path, "fig1_demo", data={"t": [0, 1]}) is None
+        assert plotting.save_data(tmp_path, "tbl", {"t": [0, 1]}) is None
+        assert not plt.fignum_exists(fig.number) and not any(tmp_path.iterdir())
+        with pytest.raises(ValidationError, match=r"data\['y'\] has 1 rows"):  # still validated
+            plotting.save_figure(plt.figure(), tmp_path, "f", data={"x": [1, 2], "y": [1]})
+    finally:
+        plotting.setup(enabled=True)
+    with pytest.raises(ValidationError, match="enabled must be a bool"):
+        plotting.setup(enabled="no")
+    plt.close("all")
