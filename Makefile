@@ -13,7 +13,7 @@ export OPENBLAS_NUM_THREADS := 1
 export MPLBACKEND := Agg
 export PYDEVD_DISABLE_FILE_VALIDATION := 1
 
-.PHONY: venv figures test lint bench lock html clean $(addprefix figures-,$(KEYS))
+.PHONY: venv figures test lint bench lock html clean robustness $(addprefix figures-,$(KEYS))
 
 venv: $(STAMP)
 
@@ -32,13 +32,18 @@ figures: $(addprefix figures-,$(NB))
 $(addprefix figures-,$(KEYS)): figures-%: $(STAMP)
 	$(PY) -m secest.build ipynb $*
 	$(PY) -m secest.build prepare $*
-	$(PY) -m secest.run $*
+	$(PY) -m secest.run $* --in-place
 	$(PY) -m secest.build strip $*
 
 ## test: unit tests + papermill-executed notebook tests (fast mode) + lint
 test: $(STAMP)
 	$(PY) -m ruff check secest tests notebooks benchmarks
 	$(PY) -m pytest -n 2 --dist loadgroup
+
+## robustness: sweep each notebook's declared space on Dask (a LocalCluster sized to the machine;
+## SCHEDULER=tcp://host:port sends it to an existing cluster). Writes figures/<key>/robustness.*
+robustness: $(STAMP)
+	$(PY) -m secest.sweep $(NB) $(if $(SCHEDULER),--scheduler $(SCHEDULER))
 
 bench: $(STAMP)
 	$(PY) benchmarks/bench.py

@@ -8,7 +8,7 @@ section FAILED in the table, prints the traceback and makes the exit status 1.
 Prints one table and writes ``build/bench.json`` (machine-dependent, not committed).
 
 Usage: ``python benchmarks/bench.py [--only KEY[,KEY]] [--repeats N] [--json PATH]``
-with KEY among ding2020, guo2023, li2025, lee2020, ma2021, runs.
+with KEY among ding2020, guo2023, li2025, lee2020, ma2021, sweep, runs.
 """
 
 from __future__ import annotations
@@ -467,12 +467,60 @@ def bench_runs(repeats: int) -> list[Row]:
     return rows
 
 
+# ---------------------------------------------------------------------------- sweeps on Dask
+def bench_sweep(repeats: int) -> list[Row]:
+    """The same robustness sweep on a Dask LocalCluster of two workers against one worker.
+
+    Six points of guo2023 in fast mode, each a papermill execution (kernel start
+    included); both clusters are started before timing and reused; every timed
+    sweep starts from an empty point cache. The two tables must be identical.
+    Two alternating repeats per side (a sweep takes tens of seconds).
+    """
+    import shutil
+    import tempfile
+
+    from dask.distributed import LocalCluster
+
+    from secest import sweep
+
+    points = {"guo2023": [{"seed": s} for s in range(101, 107)]}
+    base = {"guo2023": {"mode": "fast"}}
+    tmp = Path(tempfile.mkdtemp(prefix="bench-sweep-"))
+    clusters = {
+        n: LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None)
+        for n in (1, 2)
+    }
+    times: dict[int, list[float]] = {1: [], 2: []}
+    tables: dict[int, str] = {}
+    try:
+        for rep in range(2):
+            for n, cluster in clusters.items():
+                out = tmp / f"w{n}-{rep}"
+                t0 = time.perf_counter()
+                sweep.run_sweep(["guo2023"], scheduler=cluster.scheduler_address, build=out / "build",
+                                out=out / "out", points=points, base=base, fresh=True, progress=False)
+                times[n].append(time.perf_counter() - t0)
+                tables[n] = (out / "out" / "guo2023" / "robustness.csv").read_text()
+    finally:
+        for cluster in clusters.values():
+            cluster.close()
+        shutil.rmtree(tmp, ignore_errors=True)
+    if tables[1] != tables[2]:
+        raise AssertionError("the 1-worker and 2-worker sweeps wrote different tables")
+    one, two = float(np.median(times[1])), float(np.median(times[2]))
+    return [Row(
+        "sweep engine: 6 guo2023 points (fast mode) on a Dask LocalCluster, 2 workers vs 1",
+        "2 workers", "1 worker", two, one, one / two, "robustness.csv identical", ">= 1.7x on 2 cores",
+        one / two >= 1.7, "sweep", 2)]
+
+
 SECTIONS: dict[str, Callable[[int], list[Row]]] = {
     "ding2020": bench_ding2020,
     "guo2023": bench_guo2023,
     "li2025": bench_li2025,
     "lee2020": bench_lee2020,
     "ma2021": bench_ma2021,
+    "sweep": bench_sweep,
     "runs": bench_runs,
 }
 

@@ -24,7 +24,13 @@ import nbformat
 from secest.results import repo_root
 from secest.validation import ValidationError
 
-__all__ = ["build_ipynb", "check_manifest", "prepare_figures", "strip_notebook"]
+__all__ = [
+    "build_ipynb",
+    "check_manifest",
+    "notebook_from_source",
+    "prepare_figures",
+    "strip_notebook",
+]
 
 _CELL_KEYS_DROPPED = ("papermill", "execution", "ExecuteTime", "collapsed", "scrolled")
 _NB_KEYS_DROPPED = ("papermill", "widgets")
@@ -45,13 +51,18 @@ def _without_ids(nb: nbformat.NotebookNode) -> nbformat.NotebookNode:
     return nb
 
 
-def build_ipynb(key: str) -> Path:
-    """Write ``notebooks/<key>.ipynb`` from ``notebooks/<key>.py`` (outputs empty)."""
-    src, dst = _paths(key)
+def notebook_from_source(key: str, dst: Path) -> Path:
+    """Write the notebook of ``notebooks/<key>.py`` (outputs empty, no cell ids) to ``dst``."""
+    src, _ = _paths(key)
     nb = jupytext.read(src)
     nb.metadata.pop("jupytext", None)
     jupytext.write(_without_ids(nb), dst, fmt="ipynb")
     return dst
+
+
+def build_ipynb(key: str) -> Path:
+    """Write ``notebooks/<key>.ipynb`` from ``notebooks/<key>.py`` (outputs empty)."""
+    return notebook_from_source(key, _paths(key)[1])
 
 
 def strip_notebook(key: str) -> Path:
@@ -93,9 +104,13 @@ def _manifest() -> dict:
 
 
 def prepare_figures(key: str) -> list[Path]:
-    """Delete the PNG and CSV files in ``figures/<key>/`` so stale figures cannot survive a run."""
+    """Delete the PNG and CSV files in ``figures/<key>/`` so stale figures cannot survive a run.
+
+    The outputs of ``make robustness`` (``robustness*``) are kept: the notebook reads them.
+    """
     folder = repo_root() / "figures" / key
-    removed = sorted([*folder.glob("*.png"), *folder.glob("*.csv")]) if folder.exists() else []
+    found = [*folder.glob("*.png"), *folder.glob("*.csv")] if folder.exists() else []
+    removed = sorted(p for p in found if not p.name.startswith("robustness"))
     for path in removed:
         path.unlink()
     return removed

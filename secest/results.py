@@ -137,20 +137,20 @@ def _parameter_cell_names(path: Path) -> set[str]:
     return names
 
 
-def validate_parameters(key: str, parameters: Mapping[str, Any]) -> None:
-    """Reject parameter names the notebook does not declare (papermill only warns).
+def validate_parameters(key: str, parameters: Mapping[str, Any]) -> dict[str, Any]:
+    """Check names and values of ``parameters`` against ``notebooks/<key>.toml``.
+
+    Papermill only warns about unknown names; this rejects them, and values of the
+    wrong type or outside their declared domain (see :mod:`secest.spaces`).
 
     Raises
     ------
     ValidationError
-        Listing the unknown names and the declared ones.
+        Naming the first offending parameter and what it expects.
     """
-    declared = declared_parameters(key)
-    unknown = sorted(set(parameters) - set(declared))
-    if unknown:
-        raise ValidationError(
-            f"parameters {unknown} are not declared by notebook {key!r}; declared: {sorted(declared)}"
-        )
+    from secest import spaces
+
+    return spaces.validate(key, parameters)
 
 
 def _plain(value: Any) -> Any:
@@ -408,9 +408,11 @@ def _git_commit() -> str:
 class Run:
     """Run manifest of one notebook execution, written to ``build/runs/<key>.json``.
 
-    Create it right after the parameters cell with the notebook's parameters;
-    call :meth:`finish` at the end. Machine-dependent content (timings,
-    versions) lives only here, never in committed outputs.
+    Create it right after the parameters cell with the notebook's parameters: it
+    checks every value against the notebook's declared domain (so a run through
+    papermill directly is checked too); call :meth:`finish` at the end.
+    Machine-dependent content (timings, versions) lives only here, never in
+    committed outputs.
 
     Parameters
     ----------
@@ -419,9 +421,13 @@ class Run:
     """
 
     def __init__(self, key: str, namespace: Mapping[str, Any]) -> None:
-        declared = declared_parameters(key)
+        from secest import spaces
+
+        space = spaces.load(key)
         self.key = key
-        self.parameters = {name: _plain(namespace.get(name, declared[name])) for name in declared}
+        values = {name: namespace.get(name, p.default) for name, p in space.parameters.items()}
+        spaces.validate(space, values)
+        self.parameters = {name: _plain(v) for name, v in values.items()}
         self._start = time.perf_counter()
 
     def finish(self, *, solver: str | None = None, extra: Mapping[str, Any] | None = None) -> Path:

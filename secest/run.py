@@ -1,56 +1,76 @@
-"""Execute one notebook with papermill after validating its parameters.
+"""Execute one notebook with papermill after checking its parameters.
 
 Command line::
 
-    python -m secest.run lee2020 -p mode fast -p seed 3 [--output out.ipynb]
+    python -m secest.run lee2020 -p gamma_ex 3.0 -p T_ex 60   # -> build/run/lee2020/
+    python -m secest.run ding2020 --list                       # every parameter, its domain, tag
+    python -m secest.run lee2020 --in-place                    # what `make figures` does
 
-Without ``--output`` the notebook is executed in place (what ``make figures``
-does). Unknown parameter names are an error (papermill itself only warns).
-Values are parsed as Python literals when possible (``3``, ``0.5``, ``[1, 2]``),
-otherwise kept as strings.
+Every ``-p NAME VALUE`` is parsed by the declared type of NAME (booleans accept
+true/false, yes/no, 1/0; ``None`` is None) and checked against its domain in
+``notebooks/<key>.toml`` before any kernel starts: an unknown name, a value of
+the wrong type or outside its range stops with one line naming the parameter.
+
+Without ``--in-place`` the executed notebook, its figures and its claims go to
+``build/run/<key>/`` (or next to ``--output``), never over the committed files,
+unless ``fig_dir`` / ``results_path`` are given explicitly.
 """
 
 from __future__ import annotations
 
 import argparse
-import ast
 import os
+import sys
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from secest.results import notebook_path, repo_root, validate_parameters
+from secest import spaces
+from secest.results import notebook_path, repo_root
+from secest.validation import ValidationError
 
-__all__ = ["KERNEL", "execute_notebook", "main"]
+__all__ = ["KERNEL", "execute_notebook", "list_parameters", "main", "safe_outputs"]
 
 KERNEL = "python3"
 """Kernel name given to papermill; with JUPYTER_PREFER_ENV_PATH=1 it is the venv's."""
 
 
 def execute_notebook(
-    key: str, parameters: Mapping[str, Any] | None = None, output: str | Path | None = None
+    key: str,
+    parameters: Mapping[str, Any] | None = None,
+    output: str | Path | None = None,
+    *,
+    source: str | Path | None = None,
 ) -> Path:
-    """Validate ``parameters`` and execute ``notebooks/<key>.ipynb`` with papermill.
+    """Check ``parameters`` and execute ``notebooks/<key>.ipynb`` with papermill.
 
     Parameters
     ----------
-    key : paper key.
-    parameters : values injected after the ``parameters`` cell.
-    output : output notebook path; the input notebook itself when omitted.
+    key : str
+        Paper key.
+    parameters : mapping, optional
+        Values injected after the ``parameters`` cell; names and values are
+        checked against ``notebooks/<key>.toml`` first (:func:`secest.spaces.validate`).
+    output : str or Path, optional
+        Output notebook path; the input notebook itself when omitted.
+    source : str or Path, optional
+        Notebook to execute instead of ``notebooks/<key>.ipynb`` (e.g. one freshly
+        built from the ``.py`` by a sweep).
 
     Returns
     -------
-    Path of the executed notebook.
+    Path
+        The executed notebook.
     """
     import papermill
 
-    params = dict(parameters or {})
-    validate_parameters(key, params)
-    source = notebook_path(key)
-    target = Path(output) if output is not None else source
+    params = spaces.validate(key, dict(parameters or {}))
+    src = Path(source) if source is not None else notebook_path(key)
+    target = Path(output) if output is not None else src
+    target.parent.mkdir(parents=True, exist_ok=True)
     os.environ["JUPYTER_PREFER_ENV_PATH"] = "1"
     papermill.execute_notebook(
-        str(source),
+        str(src),
         str(target),
         parameters=params,
         kernel_name=KERNEL,
@@ -60,23 +80,89 @@ def execute_notebook(
     return target
 
 
-def _literal(text: str) -> Any:
-    try:
-        return ast.literal_eval(text)
-    except (ValueError, SyntaxError):
-        return text
+def safe_outputs(key: str, params: Mapping[str, Any], output: str | Path | None) -> tuple[Path, dict]:
+    """Where a run that is not ``--in-place`` writes: never over the committed outputs.
+
+    Returns the output notebook path and ``params`` completed with ``fig_dir`` and
+    ``results_path`` under the output's folder (``build/run/<key>/`` by default),
+    unless the caller gave them.
+    """
+    out = Path(output) if output is not None else repo_root() / "build" / "run" / key / f"{key}.ipynb"
+    folder = out.resolve().parent
+    completed = dict(params)
+    completed.setdefault("fig_dir", str(folder / "figures"))
+    completed.setdefault("results_path", str(folder / "claims.json"))
+    return out, completed
 
 
-def main(argv: list[str] | None = None) -> None:
+def list_parameters(key: str) -> str:
+    """One line per parameter: name, default, admissible values, tag, declared space, comment."""
+    space = spaces.load(key)
+    rows = [("name", "default", "admissible", "tag", "declared space", "comment")]
+    for p in space.parameters.values():
+        rows.append(
+            (
+                p.name,
+                spaces.format_value(p.default),
+                p.domain_text(),
+                p.tag or "-",
+                p.space_text(),
+                p.comment,
+            )
+        )
+    widths = [max(len(r[i]) for r in rows) for i in range(5)]
+    return "\n".join(
+        "  ".join(cell.ljust(w) for cell, w in zip(r[:5], widths, strict=True)) + "  " + r[5]
+        for r in rows
+    )
+
+
+def _parse(key: str, pairs: list[list[str]]) -> dict[str, Any]:
+    space = spaces.load(key)
+    params: dict[str, Any] = {}
+    for name, text in pairs:
+        if name not in space.parameters:
+            raise ValidationError(
+                f"parameter {name!r} is not declared by notebook {key!r}; "
+                f"declared: {', '.join(space.parameters)}"
+            )
+        params[name] = spaces.parse_value(space.parameters[name], text)
+    return params
+
+
+def main(argv: list[str] | None = None) -> int:
     """Command-line entry point (see the module docstring)."""
-    parser = argparse.ArgumentParser(prog="python -m secest.run", description=__doc__)
+    parser = argparse.ArgumentParser(
+        prog="python -m secest.run",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     parser.add_argument("key", help="paper key, e.g. lee2020")
     parser.add_argument("-p", nargs=2, action="append", default=[], metavar=("NAME", "VALUE"))
-    parser.add_argument("--output", default=None, help="output notebook (default: in place)")
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument(
+        "--output", default=None, help="output notebook (default build/run/<key>/<key>.ipynb)"
+    )
+    where.add_argument("--in-place", action="store_true", help="execute notebooks/<key>.ipynb in place")
+    parser.add_argument("--list", action="store_true", help="list the parameters and exit")
     args = parser.parse_args(argv)
-    params = {name: _literal(value) for name, value in args.p}
-    execute_notebook(args.key, params, args.output)
+    try:
+        if args.list:
+            print(list_parameters(args.key))
+            return 0
+        params = _parse(args.key, args.p)
+        if args.in_place:
+            target = execute_notebook(args.key, params)
+        else:
+            out, params = safe_outputs(args.key, params, args.output)
+            target = execute_notebook(args.key, params, out)
+            print(f"executed notebook: {target}")
+            print(f"figures: {params['fig_dir']}\nclaims: {params['results_path']}")
+    except ValidationError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -128,3 +128,36 @@ def test_committed_notebook_has_no_checkout_path(key: str) -> None:
     """Outputs must not depend on where the repository is checked out (determinism)."""
     text = (ROOT / "notebooks" / f"{key}.ipynb").read_text()
     assert str(ROOT) not in text
+
+
+def _perturbation_cases() -> list[tuple[str, int]]:
+    from secest import spaces
+
+    cases = []
+    for key in KEYS:
+        space = spaces.load(key)
+        if space.axes:
+            cases += [(key, i) for i in range(len(spaces.perturbation_points(space)))]
+    return cases
+
+
+@pytest.mark.notebook
+@pytest.mark.xdist_group("notebooks")
+@pytest.mark.parametrize(("key", "index"), _perturbation_cases())
+def test_notebook_runs_off_its_default_point(key: str, index: int, tmp_path: Path) -> None:
+    """Fast mode at a point of the declared space other than the default (edges included)."""
+    from secest import spaces
+
+    point = spaces.perturbation_points(spaces.load(key))[index]
+    fig_dir = tmp_path / "figures"
+    params = {"mode": "fast", "fig_dir": str(fig_dir), "results_path": str(tmp_path / "claims.json")}
+    execute_notebook(key, params | point, tmp_path / f"{key}.ipynb")
+    claims = json.loads((tmp_path / "claims.json").read_text())  # strict JSON: no NaN, no Infinity
+    assert claims
+    for cid, entry in claims.items():
+        assert set(REQUIRED_KEYS) <= set(entry), cid
+        assert entry["verdict"] in VERDICTS and isinstance(entry["holds"], bool), cid
+    manifest = tomllib.loads((ROOT / "figures" / "manifest.toml").read_text())
+    expected = {Path(n).name for fig in manifest[key].get("figures", []) for n in fig["files"]}
+    made = {p.name for p in fig_dir.iterdir()} if fig_dir.exists() else set()
+    assert expected <= made, f"not produced at {point}: {sorted(expected - made)}"

@@ -467,16 +467,21 @@ def test_resolve_and_declared_parameters() -> None:
     assert declared["mode"] == '"paper"'
 
 
-def test_run_manifest_written(tmp_path, monkeypatch) -> None:
-    monkeypatch.setattr(results, "repo_root", lambda: tmp_path)
-    monkeypatch.setattr(results, "declared_parameters", lambda key: {"mode": '"fast"', "T": "1.0"})
-    run = results.Run("demo", {"mode": "fast", "T": 2.5})
+def test_run_manifest_written(toy, monkeypatch) -> None:
+    from secest import spaces
+
+    monkeypatch.setattr(results, "repo_root", lambda: toy)
+    monkeypatch.setattr(spaces, "_root", lambda: toy)
+    run = results.Run("toy", {"mode": "fast", "T": 25})
     path = run.finish(solver="CLARABEL", extra={"steps": np.int64(3)})
     manifest = json.loads(path.read_text())
-    assert path.name == "demo.fast.json"
-    assert manifest["parameters"] == {"mode": "fast", "T": 2.5}
+    assert path.name == "toy.fast.json"
+    assert manifest["parameters"]["mode"] == "fast" and manifest["parameters"]["T"] == 25
+    assert manifest["parameters"]["scale"] == 0.15  # defaults recorded too
     assert manifest["solver"] == "CLARABEL" and manifest["extra"] == {"steps": 3}
     assert manifest["wall_time_s"] >= 0 and "numpy" in manifest["versions"]
+    with pytest.raises(ValidationError, match="parameter T must be an integer >= 1, found 0"):
+        results.Run("toy", {"T": 0})  # a notebook run by papermill directly is checked too
 
 
 def test_parameter_cell_parse_failure_is_an_error(tmp_path, monkeypatch) -> None:
@@ -553,13 +558,18 @@ def test_build_steps(tmp_path, monkeypatch) -> None:
     assert build.main(["manifest", "k"]) == 1 and build.main(["bogus"]) == 2
 
 
-def test_run_cli_parses_literals(monkeypatch) -> None:
+def test_run_cli_parses_values_by_declared_type(monkeypatch) -> None:
     from secest import run
 
     seen = {}
-    monkeypatch.setattr(run, "execute_notebook", lambda key, params, out: seen.update(key=key, params=params, out=out))
-    run.main(["lee2020", "-p", "gamma", "2.5", "-p", "mode", "fast", "-p", "z", "[1, 2]"])
+    monkeypatch.setattr(run, "execute_notebook",
+                        lambda key, params, out=None: seen.update(key=key, params=params, out=out))
+    assert run.main(["lee2020", "-p", "gamma", "2.5", "-p", "mode", "fast", "-p", "z", "[1, 2]",
+                     "--in-place"]) == 0
     assert seen == {"key": "lee2020", "params": {"gamma": 2.5, "mode": "fast", "z": [1, 2]}, "out": None}
+    assert run.main(["ding2020", "-p", "strict", "false", "--output", "/tmp/x/d.ipynb"]) == 0
+    assert seen["params"]["strict"] is False and str(seen["out"]) == "/tmp/x/d.ipynb"
+    assert seen["params"]["fig_dir"] == "/tmp/x/figures"  # never over the committed figures
 
 
 # ---------------------------------------------------------------- confidence intervals

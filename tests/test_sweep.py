@@ -1,0 +1,175 @@
+"""The robustness sweep engine: tables, verdicts over a space, regions, Dask execution."""
+
+from __future__ import annotations
+
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from secest import spaces, sweep
+from secest.results import repo_root
+
+ROOT = repo_root()
+
+
+def _space(root: Path) -> spaces.Space:
+    return spaces.load("toy", root)
+
+
+def _results(points: list[dict], rule) -> tuple[list, dict]:
+    swept, results = [], {}
+    for i, p in enumerate(points):
+        pid = f"p{i}"
+        swept.append((pid, p))
+        holds = rule(p)
+        results[pid] = {
+            "status": "ok",
+            "claims": {
+                "C1": {"holds": holds, "verdict": "holds" if holds else "fails", "measured": p["scale"]},
+                "C2": {"holds": True, "verdict": "holds", "measured": {"r": 1.0}, "key": "r"},
+                "X1": {"holds": True, "premise": {"statement": "A3", "holds": False}, "measured": 0.0},
+            },
+        }
+    return swept, results
+
+
+def test_summary_maps_where_a_claim_holds(toy: Path) -> None:
+    space = _space(toy)
+    points = spaces.design(space)
+    swept, results = _results(points, lambda p: p["scale"] < 0.2)
+    rows = sweep.tabulate(space, swept, results)
+    assert rows[0]["alpha"] == "OCR" and rows[0]["C1.outcome"] == "holds" and rows[0]["C2.value"] == 1.0
+    summary = sweep.summarise(space, rows, points)
+    n = len(points)
+    held = sum(p["scale"] < 0.2 for p in points)
+    c1 = summary["C1"]
+    assert c1["verdict"] == "undetermined" and c1["points"] == n and c1["outcomes"]["holds"] == held
+    assert c1["fraction_holds"] == pytest.approx(held / n)
+    assert c1["interval"]["low"] < held / n < c1["interval"]["high"]
+    assert c1["region"].startswith("holds exactly where scale <= ")
+    assert summary["C2"]["verdict"] == "holds" and summary["C2"]["region"].startswith("holds at all")
+    assert summary["X1"]["verdict"] == "fails-premise"
+
+
+def test_region_without_a_single_separating_axis(toy: Path) -> None:
+    space = _space(toy)
+    points = spaces.design(space)
+    # holds where both the scale is small and the seed is 0: no one-axis rule is exact
+    swept, results = _results(points, lambda p: p["scale"] < 0.2 and p["seed"] == 0)
+    rows = sweep.tabulate(space, swept, results)
+    region = sweep.summarise(space, rows, points)["C1"]["region"]
+    assert "no single axis separates it" in region and "holding per level: alpha (brief:" in region
+
+
+def test_failed_points_are_counted_and_reported(toy: Path) -> None:
+    space = _space(toy)
+    points = spaces.design(space)[:3]
+    swept, results = _results(points, lambda p: True)
+    results["p1"] = {"status": "failed", "error": "ValidationError: bad"}
+    rows = sweep.tabulate(space, swept, results)
+    assert rows[1]["status"] == "failed" and rows[1]["error"] == "ValidationError: bad"
+    assert rows[1]["C1.outcome"] == "error"
+    summary = sweep.summarise(space, rows, points)
+    assert summary["C1"]["points"] == 2 and summary["C1"]["failed_points"] == 1
+
+
+def test_plot_of_an_undetermined_claim(toy: Path, tmp_path: Path) -> None:
+    space = _space(toy)
+    points = spaces.design(space)
+    swept, results = _results(points, lambda p: p["scale"] < 0.2)
+    rows = sweep.tabulate(space, swept, results)
+    entry = sweep.summarise(space, rows, points)["C1"]
+    a = sweep.plot_claim(space, "C1", rows, points, entry, tmp_path / "a.png")
+    b = sweep.plot_claim(space, "C1", rows, points, entry, tmp_path / "b.png")
+    assert a.read_bytes() == b.read_bytes() and a.stat().st_size > 10_000
+
+
+def test_last_line_of_an_error() -> None:
+    class Exec(Exception):
+        ename, evalue = "ValidationError", "parameter T must be an integer"
+
+    assert sweep._last_line(Exec()) == "ValidationError: parameter T must be an integer"
+    assert sweep._last_line(RuntimeError("a\nb\n")) == "RuntimeError: b"
+
+
+# ---------------------------------------------------------------------------- a real cluster
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _wait_for_workers(address: str, n: int, timeout: float = 60.0) -> None:
+    from dask.distributed import Client
+
+    with Client(address, timeout=timeout) as client:
+        client.wait_for_workers(n, timeout=timeout)
+
+
+@pytest.mark.xdist_group("notebooks")
+def test_a_remote_cluster_gives_the_same_table_as_a_local_one(tmp_path: Path) -> None:
+    """A scheduler and two workers started as separate processes on 127.0.0.1."""
+    points = {"guo2023": [{"seed": 5}, {"seed": 6, "n_mc": 20}]}
+    base = {"guo2023": {"mode": "fast", "n_mc": 50}}
+    local = sweep.run_sweep(
+        ["guo2023"],
+        workers=2,
+        build=tmp_path / "b1",
+        out=tmp_path / "o1",
+        points=points,
+        base=base,
+        progress=False,
+    )
+    address = f"tcp://127.0.0.1:{_free_port()}"
+    dask = [sys.executable, "-m", "distributed.cli.dask_scheduler"]
+    procs = [
+        subprocess.Popen(
+            [*dask, "--host", "127.0.0.1", "--port", address.rsplit(":", 1)[1], "--no-dashboard"],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
+    ]
+    try:
+        time.sleep(1.0)
+        for _ in range(2):
+            procs.append(
+                subprocess.Popen(
+                    [
+                        sys.executable,
+                        "-m",
+                        "distributed.cli.dask_worker",
+                        address,
+                        "--nthreads",
+                        "1",
+                        "--no-dashboard",
+                    ],
+                    stdout=subprocess.DEVNULL,
+                    stderr=subprocess.DEVNULL,
+                    cwd=ROOT,
+                )
+            )
+        _wait_for_workers(address, 2)
+        remote = sweep.run_sweep(
+            ["guo2023"],
+            scheduler=address,
+            build=tmp_path / "b2",
+            out=tmp_path / "o2",
+            points=points,
+            base=base,
+            progress=False,
+        )
+    finally:
+        for proc in reversed(procs):
+            proc.terminate()
+        for proc in procs:
+            proc.wait(timeout=30)
+    assert local["guo2023"]["failed"] == remote["guo2023"]["failed"] == 0
+    table = (tmp_path / "o1" / "guo2023" / "robustness.csv").read_text()
+    assert table == (tmp_path / "o2" / "guo2023" / "robustness.csv").read_text()
+    assert table.count("\n") == 3 and ",ok," in table
