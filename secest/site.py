@@ -421,6 +421,9 @@ def _rewrite_links(text: str, root: Path, docdir: Path) -> str:
                     raise SiteError(f"link to {target}: notebook {key} has no heading {frag!r}")
                 return f"[{label}]({up}papers/{key}.ipynb#{anchor})"
             return f"[{label}]({up}papers/{key}.ipynb)"
+        if path.startswith("build/html/"):  # the site itself (README's link to the build)
+            page = path.removeprefix("build/html/").removesuffix(".html") or "index"
+            return f"[{label}]({up}{page}.md{'#' + frag if frag else ''})"
         fig = re.fullmatch(r"figures/(\w+)/?", path)
         if fig and (root / path).is_dir():
             return "{ref}`" + label.replace("`", "") + f" <gallery-{fig.group(1)}>`"

@@ -103,6 +103,7 @@ class NumberNotebookFigures(SphinxTransform):
         hashes = self.env.app.secest_figures.get(docname)  # type: ignore[attr-defined]
         if not hashes:
             return
+        self.env.note_dependency(str(ROOT / "figures" / "manifest.toml"))  # captions come from it
         seen: set[str] = set()
         for bundle in list(self.document.findall(nodes.container)):
             if bundle.get("nb_element") != "mime_bundle" or isinstance(bundle.parent, nodes.figure):
