@@ -323,6 +323,10 @@ def _interval(iv: Mapping[str, Any] | None) -> str:
 # ------------------------------------------------------------------------------------------
 
 
+def _capital(text: str) -> str:
+    return text[:1].upper() + text[1:]
+
+
 def _badge(text: str) -> str:
     return "{badge}`" + text.replace("`", "") + "`"
 
@@ -353,28 +357,28 @@ def verdict_table(root: Path = ROOT) -> str:
     lines = [
         ":::{list-table}",
         ":header-rows: 1",
-        ":widths: 24 16 40 11 9",
+        ":widths: 36 20 44",
         ":class: secest-verdicts",
         "",
         "* - Paper",
         "  - Verdict",
         "  - Why",
-        "  - Claims",
-        "  - Figures",
     ]
     for key in paper_keys(root):
         row = papers.get(key, {"paper": key, "verdict": "not yet", "why": "not in README's table"})
         doi = bib.get(key, {}).get("doi")
-        doi_md = f" [doi:{doi}](https://doi.org/{doi})" if doi else " (DOI not in the paper text)"
+        doi_md = f"[doi:{doi}](https://doi.org/{doi})" if doi else "DOI not in the paper text"
         claims = _claims(root, key)
         n_fig = len(manifest.get(key, {}).get("figures", []))
         lines += [
-            f"* - [**{key}**](papers/{key}.ipynb) {_rewrite_links(row['paper'], root, Path('.'))}"
-            f" {{cite:p}}`{key}`.{doi_md}",
+            f"* - [**{key}**](papers/{key}.ipynb): {_rewrite_links(row['paper'], root, Path('.'))}"
+            f" {{cite:p}}`{key}`. {doi_md}",
             f"  - {_badge(row['verdict'])}",
-            f"  - {_rewrite_links(row['why'], root, Path('.'))}",
-            f"  - {{ref}}`{len(claims)} claims <claims-{key}>`: {_counts(claims) or 'none yet'}",
-            f"  - {{ref}}`{n_fig} figures <gallery-{key}>`",
+            "",
+            f"    {{ref}}`{len(claims)} claims <claims-{key}>`: {_counts(claims) or 'none yet'}",
+            "",
+            f"    {{ref}}`{n_fig} figures <gallery-{key}>`",
+            f"  - {_capital(_rewrite_links(row['why'], root, Path('.')))}",
         ]
     lines.append(":::")
     return "\n".join(lines) + "\n"
@@ -442,7 +446,7 @@ def _rewrite_links(text: str, root: Path, docdir: Path) -> str:
 def readme_markdown(root: Path = ROOT) -> str:
     """README.md with its links pointing at the site's pages and downloads."""
     text = _rewrite_links((root / "README.md").read_text(), root, Path("."))
-    text = re.sub(r"\A# (.*)", r"# README: \1", text)
+    text = re.sub(r"\A# .*", "# README", text)
     return "(readme)=\n" + text
 
 
@@ -634,11 +638,16 @@ def gallery_markdown(root: Path = ROOT) -> str:
 
 def lock_markdown(root: Path = ROOT) -> str:
     """The pinned versions of the packages a reader cares about, read from ``environment.lock``."""
-    pins = dict(
-        re.findall(
-            r"^([A-Za-z0-9_.\-]+)==([^\s;\\]+)", (root / "environment.lock").read_text(), flags=re.M
-        )
-    )
+    from packaging.markers import Marker
+
+    env = {"python_full_version": "3.11.0", "python_version": "3.11"}  # the lock is for Python 3.11
+    pins: dict[str, str] = {}
+    text = (root / "environment.lock").read_text()
+    for name, version, marker in re.findall(
+        r"^([A-Za-z0-9_.\-]+)==([^\s;\\]+)\s*(?:;\s*([^\\\n]*?))?\s*\\?$", text, flags=re.M
+    ):
+        if not marker or Marker(marker).evaluate(env):
+            pins[name] = version
     groups = {
         "numerics": ["numpy", "scipy", "networkx", "control", "cvxpy", "clarabel", "scs"],
         "notebooks": ["matplotlib", "jupytext", "papermill", "nbformat", "nbconvert", "ipykernel"],
@@ -657,7 +666,7 @@ def lock_markdown(root: Path = ROOT) -> str:
     for group, names in groups.items():
         found = [f"{lower[n][0]} {lower[n][1]}" for n in names if n in lower]
         lines += [f"* - {group}", f"  - {', '.join(found) or '—'}"]
-    lines += [":::", "", f"{len(pins)} packages are pinned in all, each with its hashes."]
+    lines += [":::", "", f"{len(pins)} packages are pinned for Python 3.11, each with its hashes."]
     return "\n".join(lines) + "\n"
 
 

@@ -48,8 +48,13 @@ CHROMIUM_FLAGS = [
     "--disable-component-update",
     "--disable-sync",
 ]
-# text that MathJax leaves behind when it did not typeset (outside code blocks)
-RAW_MATH = re.compile(r"\$\$|\\\(|\\\)|\\\[|\\\]|(?<![\w$])\$[^$\s][^$\n]*\$(?![\w$])")
+# what is left in the visible text (code blocks excluded) when maths was not typeset: display or
+# inline delimiters, a TeX command, a "$" opening a command, a lone "$" (e.g. a table cell cut
+# at a "|" inside $...$), or a $...$ pair
+RAW_MATH = re.compile(
+    r"\$\$|\\[()\[\]]|\\[A-Za-z]{2,}|\$\\|(?:^|\s)\$(?:\s|$)|(?<![\w$])\$[^$\s][^$\n]*?\$(?![\w$])",
+    flags=re.M,
+)
 
 
 # ------------------------------------------------------------------------------------------
