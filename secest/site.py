@@ -13,7 +13,8 @@ page                   generated from
                        papers (verdict), ``docs/references.bib`` (DOI),
                        ``figures/<key>/claims.json`` (counts) and the manifest
 ``papers/<key>``       the committed executed ``notebooks/<key>.ipynb``, copied
-                       with one header cell added (citation, DOI, downloads);
+                       with one header cell added (citation, DOI, downloads) and
+                       ``|`` inside maths in table rows read as Jupyter reads it;
                        figures are captioned and numbered by the Sphinx extension
                        ``docs/_ext/secest_sphinx.py`` from the manifest
 ``claims``             every ``figures/<key>/claims.json``
@@ -814,9 +815,48 @@ def paper_header_cell(key: str, root: Path = ROOT) -> dict[str, Any]:
     return {"cell_type": "markdown", "metadata": {"tags": ["secest-site"]}, "source": text}
 
 
+_INLINE_MATH = re.compile(r"(?<![\\$])\$(?![\s$])(.+?)(?<![\s\\])\$(?!\d)")
+
+
+def _cells(row: str) -> int:
+    return len(re.findall(r"(?<!\\)\|", row.strip())) - 1
+
+
+def protect_table_maths(markdown: str) -> str:
+    """Pipes inside ``$...$`` in a markdown table row, as ``\\vert``, where they split the row.
+
+    Jupyter takes the maths out before it parses a table, so ``| $|z|>3$ |`` is one cell
+    there; MyST (like GitHub) splits the row at every ``|``. A row is changed only when
+    it has more cells than the table's header and the change gives it the header's count.
+    """
+    lines = markdown.split("\n")
+    header: int | None = None
+    for i, line in enumerate(lines):
+        if not line.lstrip().startswith("|"):
+            header = None
+            continue
+        if header is None:
+            header = _cells(line)
+            continue
+        if _cells(line) > header:
+            fixed = _INLINE_MATH.sub(
+                lambda m: "$" + re.sub(r"(?<!\\)\|", r"\\vert ", m.group(1)) + "$", line
+            )
+            if _cells(fixed) == header:
+                lines[i] = fixed
+    return "\n".join(lines)
+
+
 def paper_notebook(key: str, root: Path = ROOT) -> str:
-    """The committed notebook with the header cell inserted after its title cell (cells unchanged)."""
+    """The committed notebook for its page: a header cell after the title cell; maths in
+    table rows protected as Jupyter does (:func:`protect_table_maths`); nothing else changes."""
     nb = read_notebook(root / "notebooks" / f"{key}.ipynb")
+    for cell in nb["cells"]:
+        if cell["cell_type"] == "markdown":
+            text = _source(cell)
+            fixed = protect_table_maths(text)
+            if fixed != text:
+                cell["source"] = fixed
     nb["cells"].insert(1, paper_header_cell(key, root))
     return json.dumps(nb, indent=1, ensure_ascii=False) + "\n"
 

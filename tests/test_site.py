@@ -18,6 +18,7 @@ import subprocess
 import sys
 import tempfile
 import threading
+import time
 from collections.abc import Iterator
 from functools import partial
 from html.parser import HTMLParser
@@ -161,7 +162,16 @@ def _name(page: Path) -> str:
 
 def test_site_lists_every_page(pages: list[Path]) -> None:
     names = {_name(p) for p in pages}
-    expected = {"index", "claims", "gallery", "errata", "environment", "readme", "references", "api/index"}
+    expected = {
+        "index",
+        "claims",
+        "gallery",
+        "errata",
+        "environment",
+        "readme",
+        "references",
+        "api/index",
+    }
     expected |= {f"papers/{key}" for key in paper_keys(ROOT)}
     assert expected <= names, f"pages not reachable from index.html: {sorted(expected - names)}"
     built = {_name(p) for p in HTML.rglob("*.html") if "_static" not in p.parts}
@@ -333,7 +343,10 @@ def _open(context: Any, url: str) -> tuple[Any, list[str], list[str]]:
 
     def request(req: Any) -> None:
         parts = urlsplit(req.url)
-        if parts.scheme not in ("file", "data", "blob") and parts.hostname not in ("127.0.0.1", "localhost"):
+        if parts.scheme not in ("file", "data", "blob") and parts.hostname not in (
+            "127.0.0.1",
+            "localhost",
+        ):
             outside.append(req.url)
 
     def response(resp: Any) -> None:
@@ -351,10 +364,9 @@ def _open(context: Any, url: str) -> tuple[Any, list[str], list[str]]:
 def _check_maths(page: Any, name: str) -> list[str]:
     info = page.evaluate(_TYPESET)
     problems = []
-    raw = RAW_MATH.search(info["text"])
-    if raw:
+    for raw in list(RAW_MATH.finditer(info["text"]))[:10]:
         start = max(raw.start() - 60, 0)
-        problems.append(f"{name}: raw maths left: …{info['text'][start : raw.end() + 60]!r}")
+        problems.append(f"{name}: raw maths left: …{info['text'][start : raw.end() + 40]!r}")
     if info["math"] and not (info["mathjax"] and info["typeset"]):
         problems.append(f"{name}: {info['math']} maths elements but MathJax typeset {info['typeset']}")
     return problems
@@ -362,41 +374,91 @@ def _check_maths(page: Any, name: str) -> list[str]:
 
 def _check_figures(page: Any, key: str) -> list[str]:
     """Every PNG the manifest lists for ``key`` is a loaded image in its numbered figure."""
+    ids = [
+        "fig-" + re.sub(r"[^a-z0-9]+", "-", f"{key}-{Path(f).stem}".lower())
+        for fig in load_manifest(ROOT).get(key, {}).get("figures", [])
+        for f in fig["files"]
+        if f.endswith(".png")
+    ]
+    found = page.evaluate(
+        """ids => ids.map(id => {
+             const imgs = document.querySelectorAll(`figure[id="${id}"] img`);
+             return [id, imgs.length, imgs.length ? (imgs[0].complete ? imgs[0].naturalWidth : 0) : 0];
+           })""",
+        ids,
+    )
     problems = []
-    for fig in load_manifest(ROOT).get(key, {}).get("figures", []):
-        for f in (f for f in fig["files"] if f.endswith(".png")):
-            fid = "fig-" + re.sub(r"[^a-z0-9]+", "-", f"{key}-{Path(f).stem}".lower())
-            img = page.locator(f"figure#{fid} img")
-            if img.count() != 1:
-                problems.append(f"{key}: {f}: {img.count()} images in figure#{fid}")
-                continue
+    for fid, count, width in found:
+        if count != 1:
+            problems.append(f"{key}: figure#{fid} holds {count} images")
+        elif not width:
+            img = page.locator(f"figure[id='{fid}'] img")
             img.scroll_into_view_if_needed()
             if not img.evaluate("i => i.complete ? i.naturalWidth : 0"):
-                problems.append(f"{key}: {f}: image not loaded (naturalWidth 0)")
+                problems.append(f"{key}: figure#{fid}: image not loaded (naturalWidth 0)")
     return problems
 
 
+def _errata_targets(html: Path) -> dict[str, list[str]]:
+    """Paper page -> the #fragments the errata page links to on it."""
+    targets: dict[str, list[str]] = {}
+    for href in parsed(html / "errata.html").links:
+        parts = urlsplit(href)
+        if parts.path.startswith("papers/") and parts.fragment:
+            targets.setdefault(parts.path.removesuffix(".html"), []).append(parts.fragment)
+    return targets
+
+
+def _land(page: Any, url: str, frag: str) -> dict[str, Any]:
+    """Follow ``url#frag`` (same document): the heading there and where it lands in the view."""
+    page.goto(f"{url}#{frag}")
+    page.wait_for_timeout(100)
+    return page.evaluate(
+        """frag => {
+             const e = document.getElementById(frag);
+             if (!e) return {heading: null, top: null};
+             const h = e.matches('h1,h2,h3,h4') ? e : e.querySelector('h1,h2,h3,h4');
+             return {heading: h ? h.innerText : null, top: (h || e).getBoundingClientRect().top};
+           }""",
+        frag,
+    )
+
+
 @pytest.fixture(scope="module")
-def browsed(browser_context: Any, server: str, pages: list[Path]) -> dict[str, dict[str, list[str]]]:
+def browsed(browser_context: Any, server: str, pages: list[Path]) -> dict[str, dict[str, Any]]:
     """Open every page once (served on 127.0.0.1): findings per page; a screenshot of each."""
     SHOTS.mkdir(parents=True, exist_ok=True)
     for old in SHOTS.glob("*.png"):
         old.unlink()
-    found: dict[str, dict[str, list[str]]] = {}
+    found: dict[str, dict[str, Any]] = {}
+    errata = _errata_targets(HTML)
     for path in pages:
         name = _name(path)
-        page, errors, outside = _open(browser_context, f"{server}/{path.relative_to(HTML).as_posix()}")
+        t0 = time.perf_counter()
+        url = f"{server}/{path.relative_to(HTML).as_posix()}"
+        page, errors, outside = _open(browser_context, url)
         maths = _check_maths(page, name)
         figures = _check_figures(page, name.split("/")[1]) if name.startswith("papers/") else []
         page.screenshot(path=str(SHOTS / (name.replace("/", "__") + ".png")), full_page=True)
+        landings = {frag: _land(page, url, frag) for frag in errata.get(name, [])}
         page.close()
-        found[name] = {"errors": errors, "outside": outside, "maths": maths, "figures": figures}
+        found[name] = {
+            "errors": errors,
+            "outside": outside,
+            "maths": maths,
+            "figures": figures,
+            "errata": landings,
+        }
+        if os.environ.get("SECEST_SITE_TIMING"):
+            print(f"{name}: {time.perf_counter() - t0:.1f} s", file=sys.stderr)
     return found
 
 
 def test_every_page_opens_without_error_or_outside_request(browsed: dict[str, Any]) -> None:
     problems = [f"{n}: {e}" for n, f in browsed.items() for e in f["errors"]]
-    problems += [f"{n}: request leaves the machine: {u}" for n, f in browsed.items() for u in f["outside"]]
+    problems += [
+        f"{n}: request leaves the machine: {u}" for n, f in browsed.items() for u in f["outside"]
+    ]
     assert not problems, "\n".join(problems)
 
 
@@ -417,20 +479,17 @@ def test_a_screenshot_of_every_page(browsed: dict[str, Any]) -> None:
     assert all(p.stat().st_size > 10_000 for p in SHOTS.glob("*.png"))
 
 
-def test_errata_links_land_on_deviations_in_browser(browser_context: Any, server: str) -> None:
-    page, _, _ = _open(browser_context, f"{server}/errata.html")
-    hrefs = page.eval_on_selector_all("main a[href*='papers/']", "as => as.map(a => a.href)")
-    page.close()
-    assert len({urldefrag(h)[0] for h in hrefs}) == len(paper_keys(ROOT))
-    for href in hrefs:
-        context_page, _, _ = _open(browser_context, href)
-        frag = urldefrag(href)[1]
-        target = context_page.locator(f"[id='{frag}']").first
-        heading = target.locator("h1, h2, h3").first.inner_text()
-        assert heading.startswith("Deviations from the paper"), (href, heading)
-        top = target.evaluate("e => e.getBoundingClientRect().top")
-        assert -5 <= top < 300, f"{href}: the deviations heading is not at the top of the view ({top} px)"
-        context_page.close()
+def test_errata_links_land_on_deviations_in_browser(browsed: dict[str, Any]) -> None:
+    """Following each ERRATA link puts its paper's "Deviations from the paper" heading in view."""
+    landings = {(n, frag): hit for n, f in browsed.items() for frag, hit in f["errata"].items()}
+    assert {n for n, _ in landings} == {f"papers/{key}" for key in paper_keys(ROOT)}
+    for (name, frag), hit in landings.items():
+        assert hit["heading"] and hit["heading"].startswith("Deviations from the paper"), (
+            name,
+            frag,
+            hit,
+        )
+        assert -5 <= hit["top"] < 300, f"{name}#{frag}: the heading lands {hit['top']} px from the top"
 
 
 @pytest.mark.parametrize("name", ["index", "papers/lee2020"])
