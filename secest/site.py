@@ -556,8 +556,11 @@ def _claim_row(
         frac = rob.get("fraction_holds")
         if isinstance(frac, int | float):
             first.append(f"holds in {100 * frac:.0f} % of the declared space")
-        if rob.get("interval"):
-            first.append(f"interval {escape_md(format_value(rob['interval']))}")
+        iv = rob.get("interval")
+        if isinstance(iv, Mapping) and {"low", "high"} <= set(iv):
+            first.append(escape_md(_interval(iv)))
+        elif iv:
+            first.append(f"interval {escape_md(format_value(iv))}")
         if rob.get("region"):
             first.append(f"where: {escape_md(format_value(rob['region']))}")
         if rob.get("points"):

@@ -516,3 +516,98 @@ def test_opens_from_disk_without_network(browser_context: Any, site: Path, name:
     finally:
         browser_context.unroute(remote)
     assert not problems, "\n".join(problems)
+
+
+# ------------------------------------------------------------------------------------------
+# the generators, on inputs the committed files do not (yet) exercise
+# ------------------------------------------------------------------------------------------
+
+
+def test_claim_row_shows_interval_premise_robustness_and_section() -> None:
+    from secest.site import _claim_row
+
+    heads = [
+        (2, "Fig. 4 — position $x_{1,k}$ and its estimates", "fig-4--position--and-its-estimates"),
+        (2, "Claims", "claims"),
+    ]
+    entry = {
+        "paper": "the filter is *stable*",
+        "source": "Theorem 2, (34)",
+        "check": "max |e| <= 1",
+        "measured": {"rate": 0.97, "runs": 300},
+        "key": "rate",
+        "interval": {"low": 0.95, "high": 0.985, "level": 0.95, "method": "Wilson"},
+        "threshold": 0.9,
+        "holds": True,
+        "premise": {"statement": "(42)-(43) hold", "holds": False},
+        "verdict": "undetermined",
+        "robustness": {
+            "fraction_holds": 0.4,
+            "interval": {"low": 0.3, "high": 0.5, "level": 0.95, "method": "Wilson"},
+            "region": {"p": "< 0.2"},
+            "points": 64,
+        },
+        "section": "Fig. 4 — position $x_{1,k}$ and its estimates",
+    }
+    text = "\n".join(_claim_row("ding2020", "C3", entry, heads, "claims"))
+    assert "(claim-ding2020-c3)=" in text
+    assert "{badge}`undetermined`" in text
+    assert "holds in 40 % of the declared space" in text
+    assert "95 % interval \\[0.95, 0.985\\] (Wilson)" in text
+    assert "**premise** (does not hold)" in text
+    assert "source: Theorem 2, (34)" in text
+    assert "the filter is \\*stable\\*" in text  # the paper's words are text, not markup
+    assert "rate: 0.97" in text
+    assert "(papers/ding2020.ipynb#fig-4--position--and-its-estimates)" in text
+    no_section = {k: v for k, v in entry.items() if k not in ("section", "source")}
+    text = "\n".join(_claim_row("ding2020", "C3", no_section, heads, "claims"))
+    assert "[§ Claims](papers/ding2020.ipynb#claims)" in text
+    assert "source: —" in text
+
+
+def test_claim_row_rejects_a_section_that_names_no_heading() -> None:
+    from secest.site import SiteError, _claim_row
+
+    entry = {
+        "paper": "p",
+        "check": "c",
+        "measured": 1,
+        "threshold": 1,
+        "holds": True,
+        "verdict": "holds",
+    }
+    with pytest.raises(SiteError, match="names no heading"):
+        _claim_row(
+            "lee2020", "C1", {**entry, "section": "No such section"}, [(2, "Claims", "claims")], "claims"
+        )
+
+
+def test_format_value_is_short() -> None:
+    from secest.site import format_value
+
+    assert format_value(0.123456789) == "0.1235"
+    assert format_value(True) == "true"
+    assert format_value(list(range(10))) == "[0, 1, 2, 3, 4, 5, … (4 more)]"
+    assert format_value({"a": {"b": 1e-9}, "c": [1, 2]}) == "a.b: 1e-09; c: [1, 2]"
+    assert format_value(None) == "—"
+
+
+def test_protect_table_maths_only_mends_rows_split_inside_maths() -> None:
+    from secest.site import protect_table_maths
+
+    table = "| a | b |\n|---|---|\n| $|z|>3$ | ok |\n| $x$ | `$|` |"
+    fixed = protect_table_maths(table).split("\n")
+    assert fixed[2] == "| $\\vert z\\vert >3$ | ok |"
+    assert fixed[3] == "| $x$ | `$|` |"  # same cell count as the header: left alone
+    assert protect_table_maths("not a table $|x|$") == "not a table $|x|$"
+
+
+def test_heading_anchors_match_the_built_pages(site: Path) -> None:
+    """The anchors secest.site computes for notebook headings (claim links) exist on the pages."""
+    from secest.site import notebook_headings, read_notebook
+
+    for key in paper_keys(ROOT):
+        ids = parsed(site / "papers" / f"{key}.html").ids
+        heads = notebook_headings(read_notebook(ROOT / "notebooks" / f"{key}.ipynb"))
+        missing = [(title, slug) for level, title, slug in heads if level > 1 and slug not in ids]
+        assert not missing, (key, missing)
