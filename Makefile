@@ -55,9 +55,20 @@ lock:
 	build/lockenv/bin/uv pip compile pyproject.toml --extra all --generate-hashes \
 	    --universal --python-version 3.11 --no-header -o environment.lock
 
-## html: render the executed notebooks to build/html/ (not committed)
+## html: the site in build/html/ (Sphinx + myst-nb, renders the committed notebooks, executes nothing).
+## Any warning fails it; a failed build drops Sphinx's cache so the next run reports every warning again.
+SITE_SRC := build/site-src
 html: $(STAMP)
-	$(PY) -m jupyter nbconvert --to html --output-dir build/html notebooks/*.ipynb
+	$(PY) -m secest.site prepare $(SITE_SRC)
+	$(PY) -m sphinx -W --keep-going -q -b html -c docs $(SITE_SRC) build/html \
+	    || { rm -rf build/html/.doctrees; exit 1; }
+	@echo "site: build/html/index.html (opens from disk, no network needed); 'make serve' serves it"
+
+## serve: serve build/html/ on http://localhost:$(PORT) (Ctrl-C stops it)
+PORT ?= 8000
+.PHONY: serve
+serve: html
+	$(PY) -m http.server $(PORT) --bind 127.0.0.1 --directory build/html
 
 clean:
 	rm -rf $(VENV) build .pytest_cache
