@@ -105,7 +105,7 @@ class Quantity:
         a, a_num = _as_numbers(ref)
         b, b_num = _as_numbers(cand)
         numeric = a_num & b_num
-        diff, rel, share = _differences(a, b, numeric, self.tolerance, self.written)
+        rel, share = _differences(a, b, self.tolerance, self.written)
         text_equal = np.array([str(x) == str(y) for x, y in zip(ref, cand, strict=True)], dtype=bool)
         share = np.where(numeric, share, np.where(text_equal, 0.0, np.inf))
         rel = np.where(numeric, rel, np.where(text_equal, 0.0, np.inf))
@@ -221,24 +221,25 @@ def _resolution(values: np.ndarray, tol: Tolerance) -> np.ndarray:
 
 
 def _differences(
-    a: np.ndarray, b: np.ndarray, numeric: np.ndarray, tol: Tolerance, written: Tolerance
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``|b - a|``, relative difference and share of the allowed difference (numbers only).
+    a: np.ndarray, b: np.ndarray, tol: Tolerance, written: Tolerance
+) -> tuple[np.ndarray, np.ndarray]:
+    """Relative difference of ``b`` from ``a`` and its share of the allowed difference.
 
-    The relative difference of values within ``atol`` of zero is set to 0: there it means
-    nothing (``1e-17`` vs ``3e-17``), and the share of the allowed difference covers them.
+    NaN equals NaN and infinity itself; NaN against a number is infinitely far. The relative
+    difference of values within ``atol`` of zero is set to 0: there it means nothing
+    (``1e-17`` vs ``3e-17``), and the share of the allowed difference covers them.
     """
     same = (a == b) | (np.isnan(a) & np.isnan(b))
     with np.errstate(invalid="ignore"):
         diff = np.where(same, 0.0, np.abs(b - a))
-    diff = np.where(np.isnan(diff) & numeric, np.inf, diff)
+    diff = np.where(np.isnan(diff), np.inf, diff)
     resolution = np.maximum(_resolution(a, written), _resolution(b, written))
     allowed = tol.atol + tol.rtol * np.abs(a) + resolution
     with np.errstate(invalid="ignore", divide="ignore"):
         scale = np.maximum(np.abs(a), np.abs(b))
         rel = np.where((diff == 0.0) | (scale <= tol.atol), 0.0, diff / scale)
         share = np.where(diff == 0.0, 0.0, diff / allowed)
-    return diff, np.nan_to_num(rel, nan=np.inf), np.nan_to_num(share, nan=np.inf)
+    return np.where(np.isnan(rel), np.inf, rel), np.where(np.isnan(share), np.inf, share)
 
 
 # ------------------------------------------------------------------ claims

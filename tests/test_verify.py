@@ -293,3 +293,12 @@ def test_save_figure_passes_the_tolerance_and_writes_rounded_data(tmp_path) -> N
                          tolerance={"y": LOOSE})
     assert (tmp_path / "fig1_demo.csv").read_text().splitlines() == ["t,y", "0,0.123", "1,0"]
     assert json.loads((tmp_path / "tolerances.json").read_text())["fig1_demo"][1]["columns"] == ["y"]
+
+
+def test_nan_and_infinity_compare_as_values(tmp_path) -> None:
+    columns = {"ref": [float("nan"), float("inf"), 1.0], "cand": [float("nan"), float("inf"), float("nan")]}
+    for side, values in columns.items():
+        plotting.save_data(tmp_path / side / "demo", "extra_demo", {"x": values})
+    report = verify.compare_folders("demo", tmp_path / "ref" / "demo", tmp_path / "cand" / "demo")
+    (x,) = report.quantities
+    assert x.compared == 3 and x.beyond == 1 and x.worst_at == "extra_demo.csv:x row 2"
