@@ -4,6 +4,9 @@ Every figure is written as ``<fig_dir>/<name>.png`` next to ``<name>.csv``
 holding the plotted numbers, so readers and tests compare numbers, not pixels.
 PNGs carry no software/version metadata and are byte-identical across runs.
 
+Inside a notebook the saved PNG is also displayed inline, right under the code
+that made it (the rendered notebooks and the site show exactly the committed file).
+
 Each CSV column has a reproduction tolerance (a :class:`secest.results.Tolerance`,
 default :data:`~secest.results.DETERMINISTIC`) declared where the data is saved.
 Its numbers are written to a tenth of that tolerance (:meth:`Tolerance.round`), and
@@ -14,8 +17,6 @@ which ``python -m secest.verify`` reads::
 
 one group per distinct tolerance, in column order. Entries whose CSV no longer exists
 are dropped whenever the file is written, so a stale entry cannot outlive its data.
-Inside a notebook the saved PNG is also displayed inline, right under the code
-that made it (the rendered notebooks and the site show exactly the committed file).
 
 :func:`setup` turns all of this off for robustness sweeps (``figures = False``):
 a sweep point measures claims only, so it neither renders nor writes figures.
@@ -136,8 +137,11 @@ def _columns(data: Mapping[str, ArrayLike]) -> tuple[list[str], list[str], list[
 
 
 def _column_tolerances(names: list[str], keys: list[str], tolerance: ColumnTolerance) -> list[Tolerance]:
-    """The tolerance of each column: an exact column name or data key first, else the first
-    matching glob in the mapping's order, else :data:`~secest.results.DETERMINISTIC`."""
+    """The tolerance of each column (see :func:`save_data`).
+
+    An exact column name or data key first, else the first matching glob in the mapping's
+    order, else :data:`~secest.results.DETERMINISTIC`.
+    """
     if tolerance is None or isinstance(tolerance, Tolerance):
         return [tolerance or DETERMINISTIC] * len(names)
     if not isinstance(tolerance, Mapping):
