@@ -42,6 +42,7 @@ import argparse
 import csv
 import json
 import math
+import re
 import shutil
 import sys
 import time
@@ -491,8 +492,25 @@ def _compact(names: list[str], columns_per_file: Mapping[str, int]) -> str:
     parts = [f"claims {', '.join(claims)}"] if claims else []
     for stem, cols in files.items():
         whole = len(cols) == columns_per_file[stem]
-        parts.append(f"{stem} (all {len(cols)} columns)" if whole else f"{stem}: {', '.join(cols)}")
+        parts.append(f"{stem} (all {len(cols)} columns)" if whole else f"{stem}: {_ranges(cols)}")
     return "; ".join(parts)
+
+
+def _ranges(columns: list[str]) -> str:
+    """``x[0], x[1], x[2], t`` as ``x[0..2], t`` (runs of a 2-D key's columns)."""
+    runs: list[tuple[str, int, int] | str] = []
+    for column in columns:
+        match = re.fullmatch(r"(.*)\[(\d+)\]", column)
+        last = runs[-1] if runs else None
+        if match and isinstance(last, tuple) and last[0] == match[1] and last[2] + 1 == int(match[2]):
+            runs[-1] = (last[0], last[1], last[2] + 1)
+        elif match:
+            runs.append((match[1], int(match[2]), int(match[2])))
+        else:
+            runs.append(column)
+    texts = [r if isinstance(r, str) else f"{r[0]}[{r[1]}" + (f"..{r[2]}]" if r[2] > r[1] else "]")
+             for r in runs]
+    return ", ".join(texts)
 
 
 def format_report(report: NotebookReport) -> str:
