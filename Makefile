@@ -13,7 +13,7 @@ export OPENBLAS_NUM_THREADS := 1
 export MPLBACKEND := Agg
 export PYDEVD_DISABLE_FILE_VALIDATION := 1
 
-.PHONY: venv figures test lint bench lock html clean robustness $(addprefix figures-,$(KEYS))
+.PHONY: venv figures test verify lint bench lock html clean robustness $(addprefix figures-,$(KEYS))
 
 venv: $(STAMP)
 
@@ -37,13 +37,19 @@ $(addprefix figures-,$(KEYS)): figures-%: $(STAMP)
 
 ## test: unit tests + papermill-executed notebook tests (fast mode) + lint
 test: $(STAMP)
-	$(PY) -m ruff check secest tests notebooks benchmarks
+	$(PY) -m ruff check secest tests notebooks benchmarks docs
 	$(PY) -m pytest -n 2 --dist loadgroup
 
 ## robustness: sweep each notebook's declared space on Dask (a LocalCluster sized to the machine;
 ## SCHEDULER=tcp://host:port sends it to an existing cluster). Writes figures/<key>/robustness.*
 robustness: $(STAMP)
 	$(PY) -m secest.sweep $(NB) $(if $(SCHEDULER),--scheduler $(SCHEDULER))
+
+## verify: execute the notebooks (paper mode) into build/verify/ and compare every committed number
+## with its declared tolerance (report: build/verify.json). It forces no BLAS kernel or CPU feature:
+## machines differ, and the tolerances say by how much results may.
+verify: $(STAMP)
+	$(PY) -m secest.verify $(NB)
 
 bench: $(STAMP)
 	$(PY) benchmarks/bench.py
