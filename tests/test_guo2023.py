@@ -203,7 +203,7 @@ def test_figures_and_data_written(claims) -> None:
 def test_malformed_signal_is_rejected_naming_the_parameter(tmp_path: Path) -> None:
     params = {"mode": "fast", "figures": False, "fig_dir": str(tmp_path / "f"),
               "results_path": str(tmp_path / "c.json"), "a_signal": "__import__('os').getcwd()"}
-    with pytest.raises(Exception, match="parameter a_signal: '__import__' is not allowed"):
+    with pytest.raises(Exception, match=r"ValidationError: parameter a_signal: .*__import__.* is not allowed in a signal expression"):
         execute_notebook("guo2023", params, tmp_path / "guo2023.ipynb")
     assert not (tmp_path / "c.json").exists()
 
