@@ -514,7 +514,7 @@ def check_symmetric(name: str, P: ArrayLike, *, rtol: float = RTOL) -> NDArray[n
     if np.any(bad):
         where = _where(name, arr, bad)
         worst = float(asym[bad].max())
-        raise ValidationError(f"{where} must be symmetric, found max |P - P^T| = {worst:.3g}")
+        raise ValidationError(f"{where} must be symmetric, found max |{name} - {name}^T| = {worst:.3g}")
     return arr
 
 
