@@ -476,14 +476,27 @@ def integrate_switched_linear(
     out[0] = X
     for k in range(n_steps):
         t = (k + 0.5) * dt
-        gw = G_w @ _output("w", w(t), w_shapes, f"t = {t:g}")
+        gw = G_w @ _output("w", w(t), w_shapes, t)
         if gw.ndim < X.ndim:  # one input shared by all B columns
             gw = gw[:, None]
         RX = R @ X
-        X = Phi @ X + gw + G_s @ _output("phi", phi(RX), {RX.shape}, f"step {k}")
+        X = Phi @ X + gw + G_s @ _output("phi", phi(RX), {RX.shape}, t)
         if (k + 1) % record_every == 0:
             out[(k + 1) // record_every] = X
+    _check_trajectory(out, record_every * dt, method)
     return out
+
+
+def _check_trajectory(out: np.ndarray, dt_rec: float, method: str) -> None:
+    """Refuse a trajectory that is not finite (NaN from w or phi, or a diverging scheme)."""
+    bad = ~np.isfinite(out.reshape(out.shape[0], -1)).all(axis=1)
+    if np.any(bad):
+        t = int(np.argmax(bad)) * dt_rec
+        hint = "; for method='euler' reduce dt" if method == "euler" else ""
+        raise ValidationError(
+            f"the state is not finite from t = {t:g}: w or phi returned NaN or inf values, or "
+            f"the integration with dt diverged{hint}"
+        )
 
 
 def _count(name: str, value: object, minimum: int, what: str) -> int:
@@ -492,13 +505,14 @@ def _count(name: str, value: object, minimum: int, what: str) -> int:
     return int(value)
 
 
-def _output(name: str, value: object, shapes: set[tuple[int, ...]], where: str) -> np.ndarray:
-    """The value returned by the callable ``name``, checked for type, shape and finiteness."""
-    arr = np.asarray(value)
-    if arr.dtype.kind not in "biuf" or arr.shape not in shapes or not np.all(np.isfinite(arr)):
+def _output(name: str, value: object, shapes: set[tuple[int, ...]], t: float) -> np.ndarray:
+    """The value returned by the callable ``name``, checked for type and shape (cheaply)."""
+    if isinstance(value, np.ndarray) and value.dtype.kind in "biuf" and value.shape in shapes:
+        return value
+    arr = np.asarray(value) if not isinstance(value, str | bytes) else np.asarray(None)
+    if arr.dtype.kind not in "biuf" or arr.shape not in shapes:
         expected = " or ".join(str(s) for s in sorted(shapes))
         raise ValidationError(
-            f"{name} must return finite real values of shape {expected}, found "
-            f"{V._show(value)} at {where}"
+            f"{name} must return real values of shape {expected}, found {V._show(value)} at t = {t:g}"
         )
     return arr

@@ -142,6 +142,11 @@ def check_real(
         If ``value`` is not a real number or lies outside the interval.
     """
     _check_name(name)
+    for flag, val in (("lower_open", lower_open), ("upper_open", upper_open), ("finite", finite)):
+        check_bool(flag, val)
+    for bound, val in (("lower", lower), ("upper", upper)):
+        if val is not None and (isinstance(val, bool) or not isinstance(val, Real) or np.isnan(val)):
+            raise ValidationError(f"{bound} must be a real number or None, found {_show(val)}")
     if isinstance(value, np.ndarray) and value.ndim == 0:
         value = value[()]
     if isinstance(value, bool | np.bool_) or not isinstance(value, Real):
@@ -186,6 +191,9 @@ def check_int(
         if it exceeds ``maximum``.
     """
     _check_name(name)
+    for bound, val in (("minimum", minimum), ("maximum", maximum)):
+        if val is not None and (isinstance(val, bool) or not isinstance(val, Integral)):
+            raise ValidationError(f"{bound} must be an integer or None, found {_show(val)}")
     if isinstance(value, np.ndarray) and value.ndim == 0:
         value = value[()]
     if isinstance(value, bool | np.bool_) or not isinstance(value, Integral):
@@ -219,7 +227,7 @@ def check_positive_int(name: str, value: object, *, minimum: int = 1) -> int:
     ValidationError
         If ``value`` is not an integer or is below ``minimum``.
     """
-    return check_int(name, value, minimum=minimum)
+    return check_int(name, value, minimum=check_int("minimum", minimum))
 
 
 def check_probability(name: str, value: object, *, open_interval: bool = False) -> float:
@@ -243,6 +251,7 @@ def check_probability(name: str, value: object, *, open_interval: bool = False) 
     ValidationError
         If ``value`` is not a real number or lies outside the interval.
     """
+    open_interval = check_bool("open_interval", open_interval)
     return check_real(
         name, value, lower=0.0, upper=1.0, lower_open=open_interval, upper_open=open_interval
     )
@@ -296,6 +305,8 @@ def check_choice(name: str, value: object, choices: Collection[Any]) -> Any:
         If ``value`` is not one of ``choices``.
     """
     _check_name(name)
+    if isinstance(choices, str | bytes) or not isinstance(choices, Collection) or not choices:
+        raise ValidationError(f"choices must be a non-empty collection, found {_show(choices)}")
     try:
         ok = value in choices
     except (TypeError, ValueError):  # unhashable value or an array
@@ -388,6 +399,11 @@ def check_size(name: str, value: int, limit: int, what: str) -> int:
     SizeLimitError
         If ``value > limit``.
     """
+    _check_name(name)
+    value = check_int("value", value)
+    limit = check_int("limit", limit)
+    if not isinstance(what, str):
+        raise ValidationError(f"what must be a string, found {_show(what)}")
     if value > limit:
         raise SizeLimitError(
             f"{name} asks for {value:.3g} {what}, more than the limit {limit:.3g} "
@@ -436,6 +452,9 @@ def as_matrix(
         If the type, shape, squareness, size or finiteness does not hold.
     """
     _check_name(name)
+    for flag, val in (("square", square), ("finite", finite), ("empty", empty)):
+        check_bool(flag, val)
+    _check_shape_spec(shape)
     try:
         raw = np.asarray(value)
     except (TypeError, ValueError) as exc:  # ragged nested sequences
@@ -463,6 +482,16 @@ def as_matrix(
     if finite and not np.all(np.isfinite(arr)):
         raise ValidationError(f"{name} contains NaN or infinite entries")
     return arr
+
+
+def _check_shape_spec(shape: object) -> None:
+    if shape is None:
+        return
+    ok = not isinstance(shape, str | bytes) and isinstance(shape, Sequence)
+    ok = ok and all(e is None or (isinstance(e, Integral) and not isinstance(e, bool) and e >= 0)
+                    for e in shape)
+    if not ok:
+        raise ValidationError(f"shape must be a sequence of ints >= 0 or None, found {_show(shape)}")
 
 
 def _as_stack(name: str, P: ArrayLike) -> NDArray[np.float64]:
@@ -587,6 +616,7 @@ def check_loewner_order(
     """
     lo = _as_stack(name_low, low)
     hi = _as_stack(name_high, high)
+    _check_name(name_high)
     if lo.shape != hi.shape:
         raise ValidationError(
             f"Incompatible dimensions of {name_high}: expected {_fmt(lo.shape)}, found {_fmt(hi.shape)}"
@@ -632,6 +662,7 @@ def check_row_stochastic(
     """
     w = as_matrix(name, W, square=True)
     tol = check_real("tol", tol, lower=0.0)
+    diagonal = check_bool("diagonal", diagonal)
     if np.any(w < 0):
         i, j = np.argwhere(w < 0)[0]
         raise ValidationError(f"{name} must be non-negative, found {name}[{i}, {j}] = {w[i, j]:.6g}")
