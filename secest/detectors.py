@@ -90,7 +90,10 @@ def nis(innovation: ArrayLike, S: ArrayLike) -> float | NDArray[np.float64]:
         s = s[None, None]
     m = r.shape[-1]
     if s.ndim < 2 or s.shape[-2:] != (m, m):
-        raise ValidationError(f"Incompatible dimensions of S: expected (..., {m}, {m}), found {s.shape}")
+        raise ValidationError(
+            f"Incompatible dimensions of S: expected (..., {m}, {m}) to match innovation of length {m}, "
+            f"found {s.shape}"
+        )
     try:
         batch = np.broadcast_shapes(r.shape[:-1], s.shape[:-2])
     except ValueError as exc:

@@ -119,7 +119,7 @@ def feedthrough_decomposition(H: ArrayLike, R: ArrayLike, *, rtol: float = 1e-10
     """
     H = as_matrix("H", H, (None, None))
     ny, nu = H.shape
-    R = check_psd("R", as_matrix("R", R, (ny, ny)), strict=True)
+    R = check_psd("R", as_matrix("R", R, (ny, ny), note="to match H"), strict=True)
     rtol = _check_rtol(rtol)
     U, s, Vt = np.linalg.svd(H)
     p = int(np.sum(s > rtol * s[0])) if s.size and s[0] > 0 else 0
@@ -161,8 +161,8 @@ def constrained_gain(S: ArrayLike, Theta: ArrayLike, U1: ArrayLike) -> NDArray[n
     """
     S = as_matrix("S", S, (None, None))
     nx, ny = S.shape
-    Theta = as_matrix("Theta", Theta, (ny, ny))
-    U1 = as_matrix("U1", U1, (ny, None), empty=True)
+    Theta = as_matrix("Theta", Theta, (ny, ny), note="to match S")
+    U1 = as_matrix("U1", U1, (ny, None), empty=True, note="to match S")
     if U1.shape[1] == 0:
         return S @ Theta
     ThU1 = Theta @ U1
@@ -276,7 +276,7 @@ def ltv_observability_matrix(
             )
         rows.append(Ck @ Phi)
         if k < len(Cs) - 1:
-            Ak = as_matrix(f"A_seq[{k}]", As[k], (n, n))
+            Ak = as_matrix(f"A_seq[{k}]", As[k], (n, n), note="to match the columns of C_seq")
             Phi = Ak @ Phi
     return np.vstack(rows)
 

@@ -229,7 +229,7 @@ def _check_states(x_post: ArrayLike) -> NDArray[np.float64]:
     return x
 
 
-def _csr(name: str, W: ArrayLike, m: int) -> sp.csr_array:
+def _csr(name: str, W: ArrayLike, m: int) -> sp.csr_array:  # m: number of nodes of x_post
     """``W`` (dense or sparse) as a finite CSR array of shape (m, m) without explicit zeros."""
     if sp.issparse(W):
         out = sp.csr_array(W, dtype=float)
@@ -238,7 +238,9 @@ def _csr(name: str, W: ArrayLike, m: int) -> sp.csr_array:
     else:
         out = sp.csr_array(as_matrix(name, W, square=True))
     if out.shape != (m, m):
-        raise ValidationError(f"Incompatible dimensions of {name}: expected {(m, m)}, found {out.shape}")
+        raise ValidationError(
+            f"Incompatible dimensions of {name}: expected {(m, m)} to match x_post, found {out.shape}"
+        )
     out.eliminate_zeros()
     return out
 
@@ -348,7 +350,7 @@ def consensus_prediction(
     if V.check_bool("validate", validate):
         V.check_real("kappa", kappa, lower=0.0)
         x = _check_states(x_post)
-        as_matrix("A", A, (x.shape[-1], x.shape[-1]))
+        as_matrix("A", A, (x.shape[-1], x.shape[-1]), note="to match x_post")
         _check_delta(delta, x.shape[:-2])
         _check_network(adj, weights, x.shape[-2])
     x = np.asarray(x_post, dtype=float)
@@ -427,15 +429,17 @@ def _validate_step(x_post, Pi_post, Gamma_post, delta, y, A, BBt, C, DDt, adj, w
     x = _check_states(x_post)
     m, n = x.shape[-2:]
     batch = x.shape[:-2]
-    as_matrix("A", A, (n, n))
-    V.check_psd("BBt", as_matrix("BBt", BBt, (n, n)), tol=tol)
-    C = as_matrix("C", C, (m, None, n))
+    note = "to match x_post"
+    as_matrix("A", A, (n, n), note=note)
+    V.check_psd("BBt", as_matrix("BBt", BBt, (n, n), note=note), tol=tol)
+    C = as_matrix("C", C, (m, None, n), note=note)
     ny = C.shape[1]
-    V.check_psd("DDt", as_matrix("DDt", DDt, (ny, ny)), strict=True, tol=tol)
-    Pi = V.check_psd("Pi_post", as_matrix("Pi_post", Pi_post, (*batch, m, n, n)), tol=tol)
-    Gam = V.check_psd("Gamma_post", as_matrix("Gamma_post", Gamma_post, (*batch, m, n, n)), tol=tol)
+    V.check_psd("DDt", as_matrix("DDt", DDt, (ny, ny), note="to match C"), strict=True, tol=tol)
+    Pi = V.check_psd("Pi_post", as_matrix("Pi_post", Pi_post, (*batch, m, n, n), note=note), tol=tol)
+    Gam = V.check_psd("Gamma_post", as_matrix("Gamma_post", Gamma_post, (*batch, m, n, n), note=note),
+                      tol=tol)
     V.check_loewner_order("Gamma_post", Gam, "Pi_post", Pi, tol=tol)
-    as_matrix("y", y, (*batch, m, ny))
+    as_matrix("y", y, (*batch, m, ny), note="to match x_post and C")
     _check_delta(delta, batch)
     _check_network(adj, weights, m)
 
@@ -694,18 +698,19 @@ def secure_filter_node_step(
                                                             "joseph": joseph})
     x_i = as_matrix("x_self", x_self, (None,))
     n = x_i.shape[0]
-    P_i = V.check_psd("Pi_self", as_matrix("Pi_self", Pi_self, (n, n)), tol=tol)
-    G_i = V.check_psd("Gamma_self", as_matrix("Gamma_self", Gamma_self, (n, n)), tol=tol)
+    note = "to match x_self"
+    P_i = V.check_psd("Pi_self", as_matrix("Pi_self", Pi_self, (n, n), note=note), tol=tol)
+    G_i = V.check_psd("Gamma_self", as_matrix("Gamma_self", Gamma_self, (n, n), note=note), tol=tol)
     V.check_loewner_order("Gamma_self", G_i, "Pi_self", P_i, tol=tol)
-    xs = as_matrix("x_nbrs", x_nbrs, (None, n))
+    xs = as_matrix("x_nbrs", x_nbrs, (None, n), note=note)
     nb = xs.shape[0]
     Ps = V.check_psd("Pi_nbrs", as_matrix("Pi_nbrs", Pi_nbrs, (nb, n, n)), tol=tol)
     hs = as_matrix("h_nbrs", h_nbrs, (nb,))
     if np.any(hs <= 0) or abs(hs.sum() - 1.0) > V.RTOL * max(1.0, float(hs.sum())):
         raise ValidationError(f"h_nbrs must be positive and sum to 1, found sum {hs.sum():.6g}")
-    A = as_matrix("A", A, (n, n))
-    BBt = V.check_psd("BBt", as_matrix("BBt", BBt, (n, n)), tol=tol)
-    C_i = as_matrix("C_i", C_i, (None, n))
+    A = as_matrix("A", A, (n, n), note=note)
+    BBt = V.check_psd("BBt", as_matrix("BBt", BBt, (n, n), note=note), tol=tol)
+    C_i = as_matrix("C_i", C_i, (None, n), note=note)
     DDt = V.check_psd("DDt", as_matrix("DDt", DDt, (C_i.shape[0], C_i.shape[0])), strict=True, tol=tol)
     y_i = as_matrix("y_i", y_i, (C_i.shape[0],))
     delta = V.check_choice("delta", delta, (0, 1))

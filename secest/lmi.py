@@ -438,7 +438,7 @@ def _attempt(
     return "certified", status, eigs, asym
 
 
-def _check_solve_args(problem, lmis, solver, fallback, certify, opts) -> None:
+def _check_solve_args(problem, lmis, solver, fallback, certify, step, node, opts) -> None:
     if not isinstance(problem, cp.Problem):
         raise ValidationError(f"problem must be a cvxpy Problem, found {type(problem).__name__}")
     if not isinstance(lmis, Mapping) or not lmis:
@@ -452,6 +452,10 @@ def _check_solve_args(problem, lmis, solver, fallback, certify, opts) -> None:
         if (value is not None or arg == "solver") and value not in installed:
             raise ValidationError(f"{arg} must be an installed solver {installed}, found {value!r}")
     V.check_choice("certify", certify, _CERTIFY)
+    if step is not None:
+        V.check_int("step", step)
+    if node is not None and (isinstance(node, bool) or not isinstance(node, str | int | np.integer)):
+        raise ValidationError(f"node must be a string, an integer or None, found {node!r}")
     for arg, value in opts.items():
         if value is not None and not isinstance(value, Mapping):
             raise ValidationError(f"{arg} must be a mapping of options, found {type(value).__name__}")
@@ -520,7 +524,7 @@ def solve_certified(
     """
     tol = _check_nonneg("tol", tol)
     eps = _check_nonneg("eps", eps)
-    _check_solve_args(problem, lmis, solver, fallback, certify,
+    _check_solve_args(problem, lmis, solver, fallback, certify, step, node,
                       {"solver_opts": solver_opts, "fallback_opts": fallback_opts})
     bound = -eps + tol if certify == "margin" else -tol
     where = f"step {step}, node {node}"

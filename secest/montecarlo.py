@@ -63,7 +63,10 @@ def nees(errors: ArrayLike, P: ArrayLike) -> NDArray[np.float64]:
     p = V.as_matrix("P", P)
     if e.ndim == 0 or p.ndim < 2 or p.shape[-2:] != (e.shape[-1], e.shape[-1]):
         n = e.shape[-1] if e.ndim else "?"
-        raise ValidationError(f"Incompatible dimensions of P: expected (..., {n}, {n}), found {p.shape}")
+        raise ValidationError(
+            f"Incompatible dimensions of P: expected (..., {n}, {n}) to match errors of length {n}, "
+            f"found {p.shape}"
+        )
     try:
         batch = np.broadcast_shapes(e.shape[:-1], p.shape[:-2])
     except ValueError as exc:

@@ -359,7 +359,7 @@ def discretize_zoh(M: np.ndarray, E: np.ndarray, dt: float) -> tuple[np.ndarray,
     """
     M = _check_A(M, "M")
     nx = M.shape[0]
-    E = as_matrix("E", E, (nx, None))
+    E = as_matrix("E", E, (nx, None), note="to match M")
     dt = _check_dt(dt)
     ne = E.shape[1]
     aug = np.zeros((nx + ne, nx + ne))
@@ -450,7 +450,7 @@ def integrate_switched_linear(
     nx = M.shape[0]
     E_w = as_matrix("E_w", E_w, (nx, None))
     E_s = as_matrix("E_s", E_s, (nx, None))
-    R = as_matrix("R", R, (E_s.shape[1], nx))
+    R = as_matrix("R", R, (E_s.shape[1], nx), note="to match E_s and M")
     X = np.array(as_matrix("x0", x0), dtype=float)
     if X.ndim not in (1, 2) or X.shape[0] != nx:
         raise ValidationError(
@@ -512,6 +512,7 @@ def _output(name: str, value: object, shapes: set[tuple[int, ...]], t: float) ->
     arr = np.asarray(value) if not isinstance(value, str | bytes) else np.asarray(None)
     if arr.dtype.kind not in "biuf" or arr.shape not in shapes:
         expected = " or ".join(str(s) for s in sorted(shapes))
+        expected += " (to match E_w and x0)" if name == "w" else " (that of R @ x)"
         raise ValidationError(
             f"{name} must return real values of shape {expected}, found {V._show(value)} at t = {t:g}"
         )

@@ -100,9 +100,9 @@ def _fmt(shape: tuple) -> str:
     return "(" + ", ".join(str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"
 
 
-def _check_name(name: object) -> str:
+def _check_name(name: object, label: str = "name") -> str:
     if not isinstance(name, str) or not name:
-        raise ValidationError(f"name must be a non-empty string, found {_show(name)}")
+        raise ValidationError(f"{label} must be a non-empty string, found {_show(name)}")
     return name
 
 
@@ -400,7 +400,7 @@ def check_size(name: str, value: int, limit: int, what: str) -> int:
         If ``value > limit``.
     """
     _check_name(name)
-    value = check_int("value", value)
+    value = check_int(name, value)
     limit = check_int("limit", limit)
     if not isinstance(what, str):
         raise ValidationError(f"what must be a string, found {_show(what)}")
@@ -421,6 +421,7 @@ def as_matrix(
     square: bool = False,
     finite: bool = True,
     empty: bool = False,
+    note: str = "",
 ) -> NDArray[np.float64]:
     """Return ``value`` as a float array after checking its type, shape and entries.
 
@@ -440,6 +441,9 @@ def as_matrix(
         Reject NaN and infinite entries.
     empty : bool, default False
         Accept an array with no entries (e.g. shape ``(3, 0)``).
+    note : str, default ""
+        Said after the expected shape, e.g. ``"to match x_post"``, when the expectation
+        comes from another argument.
 
     Returns
     -------
@@ -454,6 +458,8 @@ def as_matrix(
     _check_name(name)
     for flag, val in (("square", square), ("finite", finite), ("empty", empty)):
         check_bool(flag, val)
+    if not isinstance(note, str):
+        raise ValidationError(f"note must be a string, found {_show(note)}")
     _check_shape_spec(shape)
     try:
         raw = np.asarray(value)
@@ -472,8 +478,9 @@ def as_matrix(
         )
         if not ok:
             shown = tuple("*" if e is None else e for e in expected)
+            said = f"{_fmt(shown)} {note}" if note else _fmt(shown)
             raise ValidationError(
-                f"Incompatible dimensions of {name}: expected {_fmt(shown)}, found {_fmt(arr.shape)}"
+                f"Incompatible dimensions of {name}: expected {said}, found {_fmt(arr.shape)}"
             )
     if square and (arr.ndim != 2 or arr.shape[0] != arr.shape[1]):
         raise ValidationError(f"{name} must be a square matrix, found shape {_fmt(arr.shape)}")
@@ -584,6 +591,7 @@ def check_psd(
         Naming ``name`` and the offending property (shape, finiteness, symmetry, eigenvalue).
     """
     strict = check_bool("strict", strict)
+    tol = check_real("tol", tol, lower=0.0)
     arr = check_symmetric(name, P, rtol=tol)
     lam, rho = _extreme_eigs(arr)
     bad = lam <= tol * rho if strict else lam < -tol * rho
@@ -614,9 +622,10 @@ def check_loewner_order(
     ValidationError
         If the shapes differ or the order fails somewhere (the message names the first index).
     """
+    _check_name(name_low, "name_low")
+    _check_name(name_high, "name_high")
     lo = _as_stack(name_low, low)
     hi = _as_stack(name_high, high)
-    _check_name(name_high)
     if lo.shape != hi.shape:
         raise ValidationError(
             f"Incompatible dimensions of {name_high}: expected {_fmt(lo.shape)}, found {_fmt(hi.shape)}"

@@ -330,7 +330,7 @@ def test_nis_empirical_false_alarm() -> None:
 
 
 def test_detector_bad_input() -> None:
-    with pytest.raises(ValidationError, match=r"Incompatible dimensions of S: expected \(\.\.\., 2, 2\), found \(3, 3\)"):
+    with pytest.raises(ValidationError, match=r"Incompatible dimensions of S: expected \(\.\.\., 2, 2\) to match innovation of length 2, found \(3, 3\)"):
         detectors.nis([1.0, 2.0], np.eye(3))
     with pytest.raises(ValidationError, match="S must be positive definite, found lambda_min = 0"):
         detectors.nis([1.0, 2.0], np.zeros((2, 2)))
@@ -359,7 +359,7 @@ def test_nees_and_anees_bounds() -> None:
     lo, hi = montecarlo.anees_bounds(2, 100)
     assert lo < 2 < hi and hi - lo == pytest.approx(
         (stats.chi2.ppf(0.975, 200) - stats.chi2.ppf(0.025, 200)) / 100)
-    with pytest.raises(ValidationError, match=r"Incompatible dimensions of P: expected \(\.\.\., 2, 2\), found \(3, 3\)"):
+    with pytest.raises(ValidationError, match=r"Incompatible dimensions of P: expected \(\.\.\., 2, 2\) to match errors of length 2, found \(3, 3\)"):
         montecarlo.nees(np.zeros(2), np.eye(3))
     with pytest.raises(ValidationError, match=r"confidence must lie in \(0, 1\)"):
         montecarlo.anees_bounds(2, 10, confidence=1.0)

@@ -231,7 +231,7 @@ def test_no_inspection_accepts_everything() -> None:
         ({"kappa": -1.0}, "kappa must be >= 0, found -1.0"),
         ({"threshold": 0.0}, "threshold must be > 0, found 0.0"),
         ({"inspection_cov": "P"}, "inspection_cov must be one of"),
-        ({"A": np.eye(2)}, r"Incompatible dimensions of A: expected \(3, 3\), found \(2, 2\)"),
+        ({"A": np.eye(2)}, r"Incompatible dimensions of A: expected \(3, 3\) to match x_post, found \(2, 2\)"),
         ({"DDt": np.eye(2)}, r"Incompatible dimensions of DDt: expected \(1, 1\)"),
         ({"C": np.ones((5, 1, 3))}, r"Incompatible dimensions of C: expected \(6, \*, 3\)"),
         ({"adj": np.ones((6, 6))}, "adj must be a 0/1 matrix with zero diagonal"),

@@ -76,7 +76,7 @@ def test_integrator_shared_input_with_square_batch_of_states() -> None:
 def test_integrator_checks_what_w_and_phi_return() -> None:
     M, E = -np.eye(2), np.eye(2)
     R = np.eye(2)
-    with pytest.raises(ValidationError, match=r"w must return real values of shape \(2,\)"):
+    with pytest.raises(ValidationError, match=r"w must return real values of shape \(2,\) \(to match E_w and x0\), found an array of shape \(3,\)"):
         systems.integrate_switched_linear(M, E, lambda t: np.ones(3), E, R, np.sign, np.ones(2), 0.1, 3)
     with pytest.raises(ValidationError, match="the state is not finite from t = 0.1: w or phi returned NaN"):
         systems.integrate_switched_linear(M, E, lambda t: np.zeros(2), E, R, lambda r: r * np.nan,
