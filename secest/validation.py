@@ -544,9 +544,10 @@ def check_symmetric(name: str, P: ArrayLike, *, rtol: float = RTOL) -> NDArray[n
     """
     arr = _as_stack(name, P)
     rtol = check_real("rtol", rtol, lower=0.0)
-    asym = np.abs(arr - np.swapaxes(arr, -1, -2)).max(axis=(-2, -1))
-    scale = np.abs(arr).max(axis=(-2, -1))
-    bad = asym > rtol * scale
+    unit, scale = _normalised(arr)
+    rel = np.abs(unit - np.swapaxes(unit, -1, -2)).max(axis=(-2, -1))
+    bad = rel > rtol
+    asym = rel * scale
     if np.any(bad):
         where = _where(name, arr, bad)
         worst = float(asym[bad].max())
@@ -554,10 +555,23 @@ def check_symmetric(name: str, P: ArrayLike, *, rtol: float = RTOL) -> NDArray[n
     return arr
 
 
+def _normalised(arr: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Each matrix divided by its largest entry magnitude (1 for a zero matrix), and that scale.
+
+    The rules are scale-invariant; working on the normalised matrices keeps sums, differences
+    and eigenvalue iterations from overflowing for entries near the largest float.
+    """
+    scale = np.abs(arr).max(axis=(-2, -1))
+    safe = np.where(scale > 0, scale, 1.0)
+    return arr / safe[..., None, None], scale
+
+
 def _extreme_eigs(arr: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Smallest eigenvalue and spectral radius of the symmetric part of each matrix."""
-    ev = np.linalg.eigvalsh(0.5 * (arr + np.swapaxes(arr, -1, -2)))
-    return ev[..., 0], np.abs(ev).max(axis=-1)
+    unit, scale = _normalised(arr)
+    ev = np.linalg.eigvalsh(0.5 * (unit + np.swapaxes(unit, -1, -2)))
+    s = np.where(scale > 0, scale, 1.0)
+    return ev[..., 0] * s, np.abs(ev).max(axis=-1) * s
 
 
 def check_psd(
