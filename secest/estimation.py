@@ -38,22 +38,33 @@ __all__ = [
 
 
 class FeedthroughSVD(NamedTuple):
-    """Output of :func:`feedthrough_decomposition` (guo2023 notation)."""
+    """Output of :func:`feedthrough_decomposition` (guo2023 notation).
+
+    Attributes
+    ----------
+    U1 : (n_y, p) ndarray
+        Left singular vectors of the range of ``H``.
+    U2 : (n_y, n_y - p) ndarray
+        Orthonormal basis of the left null space of ``H``.
+    Sigma : (p, p) ndarray
+        Diagonal matrix of the non-zero singular values.
+    V1 : (n_u, p) ndarray
+        Right singular vectors: ``u_1 = V1^T u`` is seen in the output.
+    V2 : (n_u, n_u - p) ndarray
+        The rest: ``u_2 = V2^T u`` is not seen in the output.
+    T1 : (p, n_y) ndarray
+        First block row of the output transform ``T``; ``T1 R U2 = 0``.
+    rank : int
+        ``p = rank H`` decided with the relative tolerance ``rtol``.
+    """
 
     U1: NDArray[np.float64]
-    """(n_y, p) left singular vectors of the range of ``H``."""
     U2: NDArray[np.float64]
-    """(n_y, n_y - p) orthonormal basis of the left null space of ``H``."""
     Sigma: NDArray[np.float64]
-    """(p, p) diagonal matrix of the non-zero singular values."""
     V1: NDArray[np.float64]
-    """(n_u, p) right singular vectors: ``u_1 = V1^T u`` is seen in the output."""
     V2: NDArray[np.float64]
-    """(n_u, n_u - p) the rest: ``u_2 = V2^T u`` is not seen in the output."""
     T1: NDArray[np.float64]
-    """(p, n_y) first block row of the output transform ``T``; ``T1 R U2 = 0``."""
     rank: int
-    """``p = rank H`` decided with the relative tolerance ``rtol``."""
 
 
 def relative_rank(M: ArrayLike, rtol: float = 1e-10) -> int:

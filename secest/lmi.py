@@ -102,14 +102,20 @@ class LMISolveError(RuntimeError):
 class InfeasibleLMIError(LMISolveError):
     """The LMIs are infeasible, or no solver returned an accurate, certified solution.
 
-    Parameters and attributes as in :class:`LMISolveError`.
+    Parameters
+    ----------
+    message, step, node, statuses, outcomes
+        As in :class:`LMISolveError` (and so are the attributes).
     """
 
 
 class UnboundedLMIError(LMISolveError):
     """A solver reported the problem unbounded (the LMIs are feasible; the objective is not bounded).
 
-    Parameters and attributes as in :class:`LMISolveError`.
+    Parameters
+    ----------
+    message, step, node, statuses, outcomes
+        As in :class:`LMISolveError` (and so are the attributes).
     """
 
 

@@ -261,14 +261,21 @@ def stack_banks(C_banks: Sequence[np.ndarray], n: int | None = None) -> np.ndarr
 
 
 class RedundancyResult(NamedTuple):
-    """Outcome of :func:`redundant_observability`."""
+    """Outcome of :func:`redundant_observability`.
+
+    Attributes
+    ----------
+    holds : bool
+        ``True`` iff every subset of ``N - 2q`` banks gives an observable pair.
+    failing : tuple of tuple of int
+        The subsets (0-based bank indices, sorted) whose stacked pair is not observable.
+    n_subsets : int
+        Number of subsets checked, ``binom(N, N - 2q)``.
+    """
 
     holds: bool
-    """``True`` iff every subset of ``N - 2q`` banks gives an observable pair."""
     failing: tuple[tuple[int, ...], ...]
-    """The subsets (0-based bank indices, sorted) whose stacked pair is not observable."""
     n_subsets: int
-    """Number of subsets checked, ``binom(N, N - 2q)``."""
 
 
 def redundant_observability(
