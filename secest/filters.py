@@ -37,8 +37,9 @@ every row of ``H`` sums to one; ``BB^T`` is PSD and ``DD^T`` positive definite; 
 ``Pi_i^+`` and ``Gamma_i^+`` is symmetric PSD with ``Gamma_i^+ <= Pi_i^+``; ``kappa >= 0``.
 
 Health of the recursion, checked at every step: ``Pi_i^+`` must stay PSD and above
-``Gamma_i^+`` (the subtraction form (35) can lose both for a large prior, where the Joseph
-form does not), and a node whose test (25) rejects every measurement for ``lockout_steps``
+``Gamma_i^+`` (relative rule of :mod:`secest.validation`; the subtraction form (35) subtracts
+two nearly equal matrices when the prior is large, the Joseph form adds PSD terms), and a node
+whose test (25) rejects every measurement for ``lockout_steps``
 consecutive steps is *locked out*: its estimate runs open loop and diverges (pitfall P5 of
 the reproduction). Both are flagged in :class:`SecureStep` and warned about with
 :class:`FilterHealthWarning`.
