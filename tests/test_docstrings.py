@@ -7,6 +7,7 @@ as ``p, q : float``.
 
 from __future__ import annotations
 
+import functools
 import importlib
 import inspect
 import pkgutil
@@ -93,6 +94,7 @@ def public_objects() -> dict[str, object]:
     return out
 
 
+@functools.cache
 def undocumented() -> dict[str, set[str]]:
     found = {}
     for key, obj in public_objects().items():
