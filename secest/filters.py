@@ -573,6 +573,7 @@ def secure_filter_step(
         If shapes disagree, a value is out of range or a standing assumption fails
         (when ``validate``).
     """
+    validate = V.check_bool("validate", validate)
     if validate:
         _check_scalars(kappa, threshold, inspection_cov, tol, {"inspect": inspect, "strict": strict,
                                                                 "joseph": joseph, "validate": validate})
@@ -632,6 +633,28 @@ def secure_filter_step(
                       q1_psd, branch, bool(joseph), *health)
 
 
+def _validate_node(x_self, Pi_self, Gamma_self, x_nbrs, Pi_nbrs, h_nbrs, delta, y_i, A, BBt, C_i, DDt,
+                   tol):
+    """Shapes, finiteness and the standing assumptions one node can see."""
+    x_i = as_matrix("x_self", x_self, (None,))
+    n = x_i.shape[0]
+    note = "to match x_self"
+    P_i = V.check_psd("Pi_self", as_matrix("Pi_self", Pi_self, (n, n), note=note), tol=tol)
+    G_i = V.check_psd("Gamma_self", as_matrix("Gamma_self", Gamma_self, (n, n), note=note), tol=tol)
+    V.check_loewner_order("Gamma_self", G_i, "Pi_self", P_i, tol=tol)
+    nb = as_matrix("x_nbrs", x_nbrs, (None, n), note=note).shape[0]
+    V.check_psd("Pi_nbrs", as_matrix("Pi_nbrs", Pi_nbrs, (nb, n, n)), tol=tol)
+    hs = as_matrix("h_nbrs", h_nbrs, (nb,))
+    if np.any(hs <= 0) or abs(hs.sum() - 1.0) > V.RTOL * max(1.0, float(hs.sum())):
+        raise ValidationError(f"h_nbrs must be positive and sum to 1, found sum {hs.sum():.6g}")
+    as_matrix("A", A, (n, n), note=note)
+    V.check_psd("BBt", as_matrix("BBt", BBt, (n, n), note=note), tol=tol)
+    ny = as_matrix("C_i", C_i, (None, n), note=note).shape[0]
+    V.check_psd("DDt", as_matrix("DDt", DDt, (ny, ny), note="to match C_i"), strict=True, tol=tol)
+    as_matrix("y_i", y_i, (ny,), note="to match C_i")
+    V.check_choice("delta", delta, (0, 1))
+
+
 def secure_filter_node_step(
     x_self: ArrayLike,
     Pi_self: ArrayLike,
@@ -653,6 +676,7 @@ def secure_filter_node_step(
     tol: float = 1e-10,
     strict: bool = False,
     joseph: bool = False,
+    validate: bool = True,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], int]:
     """One step ``k -> k+1`` of node ``i`` alone: the plain per-node reference.
 
@@ -678,8 +702,8 @@ def secure_filter_node_step(
         Channel state ``delta_k``.
     y_i : (ny,) array_like
         Measurement ``y_{i,k+1}``.
-    A, BBt, DDt, kappa, threshold, inspect, inspection_cov, tol, strict, joseph
-        As in :func:`secure_filter_step`.
+    A, BBt, DDt, kappa, threshold, inspect, inspection_cov, tol, strict, joseph, validate
+        As in :func:`secure_filter_step` (``validate=False`` for timing loops such as Remark 4's).
     C_i : (ny, n) array_like
         Measurement matrix of node ``i``.
 
@@ -693,28 +717,19 @@ def secure_filter_node_step(
     Raises
     ------
     ValidationError
-        If shapes disagree, a value is out of range or a standing assumption fails.
+        If shapes disagree, a value is out of range or a standing assumption fails
+        (when ``validate``).
     """
-    _check_scalars(kappa, threshold, inspection_cov, tol, {"inspect": inspect, "strict": strict,
-                                                            "joseph": joseph})
-    x_i = as_matrix("x_self", x_self, (None,))
-    n = x_i.shape[0]
-    note = "to match x_self"
-    P_i = V.check_psd("Pi_self", as_matrix("Pi_self", Pi_self, (n, n), note=note), tol=tol)
-    G_i = V.check_psd("Gamma_self", as_matrix("Gamma_self", Gamma_self, (n, n), note=note), tol=tol)
-    V.check_loewner_order("Gamma_self", G_i, "Pi_self", P_i, tol=tol)
-    xs = as_matrix("x_nbrs", x_nbrs, (None, n), note=note)
-    nb = xs.shape[0]
-    Ps = V.check_psd("Pi_nbrs", as_matrix("Pi_nbrs", Pi_nbrs, (nb, n, n)), tol=tol)
-    hs = as_matrix("h_nbrs", h_nbrs, (nb,))
-    if np.any(hs <= 0) or abs(hs.sum() - 1.0) > V.RTOL * max(1.0, float(hs.sum())):
-        raise ValidationError(f"h_nbrs must be positive and sum to 1, found sum {hs.sum():.6g}")
-    A = as_matrix("A", A, (n, n), note=note)
-    BBt = V.check_psd("BBt", as_matrix("BBt", BBt, (n, n), note=note), tol=tol)
-    C_i = as_matrix("C_i", C_i, (None, n), note=note)
-    DDt = V.check_psd("DDt", as_matrix("DDt", DDt, (C_i.shape[0], C_i.shape[0])), strict=True, tol=tol)
-    y_i = as_matrix("y_i", y_i, (C_i.shape[0],))
-    delta = V.check_choice("delta", delta, (0, 1))
+    if V.check_bool("validate", validate):
+        _check_scalars(kappa, threshold, inspection_cov, tol, {"inspect": inspect, "strict": strict,
+                                                                "joseph": joseph, "validate": validate})
+        _validate_node(x_self, Pi_self, Gamma_self, x_nbrs, Pi_nbrs, h_nbrs, delta, y_i, A, BBt, C_i,
+                       DDt, tol)
+    x_i, P_i, G_i, xs, Ps, hs, y_i, A, BBt, C_i, DDt = (
+        np.asarray(v, dtype=float)
+        for v in (x_self, Pi_self, Gamma_self, x_nbrs, Pi_nbrs, h_nbrs, y_i, A, BBt, C_i, DDt)
+    )
+    n, nb = x_i.shape[0], xs.shape[0]
 
     # (3): what node i receives; (4): indicator
     received = [delta * xs[j] for j in range(nb)]

@@ -253,7 +253,7 @@ def _ding_node() -> dict[str, Any]:
                 Pi_nbrs=np.stack([I3, I3]), h_nbrs=np.array([0.5, 0.5]), delta=1, y_i=np.zeros(1),
                 A=A3, BBt=0.04 * I3, C_i=C6[0], DDt=np.array([[0.0025]]), kappa=0.004,
                 threshold=25.0, inspect=True, inspection_cov="Gamma", tol=1e-10, strict=False,
-                joseph=False)
+                joseph=False, validate=True)
 
 
 FILTER_KINDS = dict(
@@ -262,14 +262,14 @@ FILTER_KINDS = dict(
     adj=_adj(connected=True), weights=_stochastic, kappa=NONNEG, threshold=POS, inspect=_bool,
     inspection_cov=_choice, tol=NONNEG, strict=_bool, joseph=_bool,
     rejections=_join(_array(), _custom(("negative", -np.ones(6)), ("fraction", np.full(6, 0.5)))),
-    lockout_steps=_int(1),
+    lockout_steps=_int(1), validate=_bool,
 )
 NODE_KINDS = dict(
     x_self=ARRAY, Pi_self=_psd(), Gamma_self=_join(_psd(), _custom(("above Pi", 2 * np.eye(3)))),
     x_nbrs=ARRAY, Pi_nbrs=_psd(), h_nbrs=_join(ARRAY, _custom(("negative", [-0.5, 1.5]), ("sum 2", [1.0, 1.0]))),
     delta=_join(_garbage, _custom(("0.5", 0.5), ("2", 2))), y_i=ARRAY, A=ARRAY, BBt=_psd(), C_i=ARRAY,
     DDt=_psd(strict=True), kappa=NONNEG, threshold=POS, inspect=_bool, inspection_cov=_choice,
-    tol=NONNEG, strict=_bool, joseph=_bool,
+    tol=NONNEG, strict=_bool, joseph=_bool, validate=_bool,
 )
 
 
