@@ -51,7 +51,8 @@
 # C6, C10, X4, X5 hold everywhere; C8a, X1, X2 fail everywhere; C8b fails its premise everywhere; and
 # **undetermined**: X3 (no lockout without attack) holds at 5/33 points, exactly where
 # `gamma0_scale` ≥ 1.01 ($\Gamma_0\succeq P_0/2$); C1 10/33 (best rule `gamma0_scale` ≥ 0.71, right at 88 %);
-# C2a 15/33 (no one-axis rule; best `gamma0_scale` ≤ 0.11 at 76 %); C2b 8/33 (`sigma0` ≤ 0.18 at 85 %);
+# C2a 15/33 (no one-axis rule; at 12 of its 18 failures the single run shown locks an attacked sensor
+# out, and sensor 20 moves by at most 2.1 % of the axis range anywhere); C2b 8/33 (`sigma0` ≤ 0.18 at 85 %);
 # C3 19/33 (`sigma0` ≤ 1.99 at 79 %); C4 26/33 (`sigma0` ≤ 1.99 at 88 %); C5 8/33 (`gamma0_scale` ≥ 0.62
 # at 91 %); C9 13/33 (`sigma0` ≤ 0.46 at 88 %). A small $\Gamma_0$ (relative to $\Pi_0$) or a large
 # $\sigma_0$ makes nodes reject their first measurement and never start; that drives most of the failures.
@@ -137,6 +138,8 @@ def check_parameters() -> None:
         raise ValidationError("parameter leak_topology_seeds must list at least one seed >= 0")
     if p + q == 0:
         raise ValidationError("parameters p and q: p + q must be positive (the chain must move)")
+    if kappa >= 1:
+        raise ValidationError(f"parameter kappa must be < 1 ((7) takes kappa in (0, 1)), found {kappa!r}")
 
 
 check_parameters()
@@ -147,6 +150,13 @@ FIG_DIR = results.resolve(fig_dir)
 rng_channel, rng_world, rng_mc, rng_chain, rng_long, rng_rec = montecarlo.spawn_rngs(seed, 6)
 plotting.setup(enabled=figures)
 PLOT = [i - 1 for i in plot_nodes]  # 0-based indices of the plotted nodes (P1)
+
+
+def save(fig, name: str, data: dict | None = None) -> None:
+    """Save fig (and its data) under FIG_DIR and show it inline (secest.plotting.save_figure)."""
+    plotting.save_figure(fig, FIG_DIR, name, data=data)
+
+
 MC_TOL = results.Tolerance(
     rtol=0.02, atol=0.01,
     reason="Monte Carlo decisions: a chi-square statistic within round-off of the threshold can flip on "
@@ -256,10 +266,9 @@ ax.set_ylabel("position in the field, y [side of the unit square]")
 ax.set_title(f"Fig. 1 (stand-in): random geometric graph, r = {radius:g}, seed {topology_seed}")
 ax.set_aspect("equal")
 ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=2)
-plotting.save_figure(fig, FIG_DIR, "fig1_topology",
-                     data={"node": np.arange(1, m + 1), "pos": positions, "degree": degree})
 plotting.save_data(FIG_DIR, "fig1_topology_edges",
                    {"i": np.nonzero(np.triu(adj))[0] + 1, "j": np.nonzero(np.triu(adj))[1] + 1})
+save(fig, "fig1_topology", data={"node": np.arange(1, m + 1), "pos": positions, "degree": degree})
 
 # %% [markdown]
 # ### One shared Gilbert–Elliott chain (Fig. 2)
@@ -288,7 +297,7 @@ ax.set_yticks([0, 1])
 ax.set_xlim(0, N)
 ax.set_title(f"Fig. 2: Gilbert–Elliott channel, p = {p:g}, q = {q:g}")
 ax.legend(loc="lower left")
-plotting.save_figure(fig, FIG_DIR, "fig2_channel_state", data={"k": np.arange(N + 1), "delta": delta})
+save(fig, "fig2_channel_state", data={"k": np.arange(N + 1), "delta": delta})
 
 # %% [markdown]
 # ## Derivation of the filter
@@ -541,7 +550,7 @@ def measurement_figure(nodes, name, title):
     axes[-1, 0].set_xlabel("time step k")
     axes[-1, 0].set_xlim(0, N)
     axes[0, 0].set_title(title)
-    plotting.save_figure(fig, FIG_DIR, name, data=data)
+    save(fig, name, data=data)
 
 
 measurement_figure(list(windows), "fig3_measurements_attack", "Fig. 3: measurements subject to attacks (shaded: attack window)")
@@ -581,7 +590,7 @@ def estimate_figure(sim, name, title, shade=True):
     ax2.set_xlim(0, N)
     ax.set_title(title, pad=13 if shade else 6)
     ax2.legend(*ax.get_legend_handles_labels(), loc="upper center", bbox_to_anchor=(0.5, -0.32), ncol=2)
-    plotting.save_figure(fig, FIG_DIR, name, data=data)
+    save(fig, name, data=data)
 
 
 estimate_figure(case_a, "fig4a_estimates_case_a", "Fig. 4(a): Case A, no attack", shade=False)
@@ -666,9 +675,8 @@ ax.set_xlabel("hop distance to the nearest attacked sensor")
 ax.set_ylabel(r"leak $\max_k \|\hat x^+_B - \hat x^+_A\|_\infty$" + "\n[state units]")
 ax.set_title("Extra: leak of the attack into unattacked nodes, Case B vs Case A (C2b)")
 ax.legend(loc="lower left", fontsize=7)
-plotting.save_figure(fig, FIG_DIR, "extra_leak_by_hop",
-                     data={"topology_seed": leak_tab[:, 0].astype(int), "node": leak_tab[:, 1].astype(int),
-                           "hops": leak_tab[:, 2].astype(int), "leak": leak_tab[:, 3]})
+save(fig, "extra_leak_by_hop", data={"topology_seed": leak_tab[:, 0].astype(int), "node": leak_tab[:, 1].astype(int),
+                                     "hops": leak_tab[:, 2].astype(int), "leak": leak_tab[:, 3]})
 
 # %% [markdown]
 # **What the numbers say.** In the default run the attack's effect on the unattacked plotted sensor 20
@@ -827,7 +835,7 @@ handles2 = ax2.get_legend_handles_labels()
 fig.legend(handles[0] + handles2[0], handles[1] + handles2[1], loc="outside lower center", ncol=3,
            fontsize=7)
 fig.set_layout_engine("constrained")
-plotting.save_figure(fig, FIG_DIR, "extra_bound_consistency", data=data)
+save(fig, "extra_bound_consistency", data=data)
 
 # %% [markdown]
 # The upper bound is conservative (median $\mathrm{tr}\,\Pi^+/\mathrm{tr}\,P^+$ printed above) but
@@ -1014,9 +1022,8 @@ ax2.set_xlabel("time step k (continuation without attack)")
 ax2.set_ylabel("fraction not yet\nresumed")
 ax2.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7)
 fig.set_layout_engine("constrained")
-plotting.save_figure(fig, FIG_DIR, "extra_lockout_rate", data=data)
-if rec_curve:
-    plotting.save_data(FIG_DIR, "extra_lockout_recovery", rec_data)
+plotting.save_data(FIG_DIR, "extra_lockout_recovery", rec_data)  # k only when no run is locked
+save(fig, "extra_lockout_rate", data=data)
 
 # %% [markdown]
 # **The lockout mechanism (P5) and its cause.** $\Gamma^+$ is a lower bound that holds whether or
@@ -1093,7 +1100,7 @@ ax2.set_xscale("log")
 ax2.set_xlabel(r"gamma0_scale ($\Gamma_0$ = gamma0_scale $\sigma_0 I$)")
 ax2.set_title("X3: runs with a node locked out at k = 150, no attack", fontsize=8)
 fig.suptitle("Extra: the chi-square lockout over the declared space (robustness sweep)", fontsize=9)
-plotting.save_figure(fig, FIG_DIR, "extra_lockout_map", data=map_data or None)
+save(fig, "extra_lockout_map", data=map_data or None)
 
 # %% [markdown]
 # ## Theorem 4 for the example
@@ -1162,8 +1169,7 @@ ax.set_xlim(0, L_LONG)
 ax.set_title(f"Extra: the upper bound over {L_LONG} steps (Case A); (42)–(43) fail")
 ax.set_ylim(0.5 * tr_pi_max.min(), 3 * max(early, tr_pi_max.max()))
 ax.legend(loc="lower right", fontsize=7)
-plotting.save_figure(fig, FIG_DIR, "extra_pi_long_run",
-                     data={"k": np.arange(L_LONG + 1), "max_tr_Pi": tr_pi_max})
+save(fig, "extra_pi_long_run", data={"k": np.arange(L_LONG + 1), "max_tr_Pi": tr_pi_max})
 
 # %% [markdown]
 # ## The channel statistics (C6)
