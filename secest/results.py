@@ -94,13 +94,41 @@ def environment_summary() -> str:
 
 
 def resolve(path: str | Path) -> Path:
-    """``path`` if absolute, else ``repo_root() / path``."""
+    """``path`` if absolute, else ``repo_root() / path``.
+
+    Parameters
+    ----------
+    path : str or Path
+        A path, absolute or relative to the repository root (not to the working
+        directory), e.g. a notebook's ``fig_dir`` parameter.
+
+    Returns
+    -------
+    Path
+        The absolute path (not normalised; the file need not exist).
+    """
     p = Path(path)
     return p if p.is_absolute() else repo_root() / p
 
 
 def notebook_path(key: str) -> Path:
-    """``notebooks/<key>.ipynb`` under the repository root (must exist)."""
+    """``notebooks/<key>.ipynb`` under the repository root (must exist).
+
+    Parameters
+    ----------
+    key : str
+        Paper key, e.g. ``"lee2020"``.
+
+    Returns
+    -------
+    Path
+        The notebook's absolute path.
+
+    Raises
+    ------
+    ValidationError
+        If the notebook does not exist.
+    """
     path = repo_root() / "notebooks" / f"{key}.ipynb"
     if not path.exists():
         raise ValidationError(f"key {key!r} names no notebook: {path} does not exist")
@@ -108,7 +136,28 @@ def notebook_path(key: str) -> Path:
 
 
 def declared_parameters(key: str) -> dict[str, Any]:
-    """Names and defaults of the ``parameters`` cell of ``notebooks/<key>.ipynb``."""
+    """Names and defaults of the ``parameters`` cell of ``notebooks/<key>.ipynb``.
+
+    Read with papermill (what it will inject against) and cross-checked with the names
+    the cell assigns, parsed with :mod:`ast`.
+
+    Parameters
+    ----------
+    key : str
+        Paper key, e.g. ``"lee2020"``.
+
+    Returns
+    -------
+    dict
+        Parameter name -> default, as papermill reports it (the default's source text).
+
+    Raises
+    ------
+    ValidationError
+        If the notebook does not exist, has no single cell tagged ``parameters``,
+        that cell holds anything but assignments, or papermill parses other names
+        than the cell assigns (e.g. because of an ``=`` inside a comment).
+    """
     import papermill
 
     path = notebook_path(key)
@@ -147,6 +196,18 @@ def validate_parameters(key: str, parameters: Mapping[str, Any]) -> dict[str, An
 
     Papermill only warns about unknown names; this rejects them, and values of the
     wrong type or outside their declared domain (see :mod:`secest.spaces`).
+
+    Parameters
+    ----------
+    key : str
+        Paper key, e.g. ``"lee2020"``.
+    parameters : mapping
+        Parameter name -> value to inject (a subset of the notebook's parameters).
+
+    Returns
+    -------
+    dict
+        The checked values, by name (see :func:`secest.spaces.validate`).
 
     Raises
     ------
@@ -297,7 +358,28 @@ LMI_ITERATES = Tolerance(
 
 
 def interval(low: float, high: float, *, level: float = 0.95, method: str) -> dict[str, Any]:
-    """A confidence interval entry for :func:`claim` (``method``: e.g. ``"wilson"``, ``"t"``)."""
+    """A confidence interval entry for :func:`claim`.
+
+    Parameters
+    ----------
+    low, high : float
+        The interval's bounds; finite, with ``low <= high``.
+    level : float, optional
+        Confidence level, in (0, 1). Default 0.95.
+    method : str
+        How the interval was computed, e.g. ``"wilson"``, ``"t"`` (keyword-only, required).
+
+    Returns
+    -------
+    dict
+        ``{"low", "high", "level", "method"}``, bounds and level as Python floats.
+
+    Raises
+    ------
+    ValidationError
+        If a bound is not finite, ``low > high``, ``level`` lies outside (0, 1) or
+        ``method`` is not a non-empty string.
+    """
     lo, hi = float(low), float(high)
     if not (math.isfinite(lo) and math.isfinite(hi)) or lo > hi:
         raise ValidationError(f"interval must be finite with low <= high, found ({low}, {high})")
@@ -397,7 +479,19 @@ def claim(
 
 
 def point_verdict(entry: Mapping[str, Any]) -> str:
-    """``fails-premise`` if the claim's premise fails, else ``holds`` or ``fails``."""
+    """``fails-premise`` if the claim's premise fails, else ``holds`` or ``fails``.
+
+    Parameters
+    ----------
+    entry : mapping
+        A claims-JSON entry (from :func:`claim`): its ``holds`` and, if present,
+        ``premise["holds"]`` are read.
+
+    Returns
+    -------
+    str
+        The verdict at this run's parameters: ``"holds"``, ``"fails"`` or ``"fails-premise"``.
+    """
     premise = entry.get("premise")
     if premise is not None and not premise["holds"]:
         return "fails-premise"
@@ -405,7 +499,20 @@ def point_verdict(entry: Mapping[str, Any]) -> str:
 
 
 def headline_value(entry: Mapping[str, Any]) -> float | None:
-    """The number a robustness table records for a claim: ``measured`` or ``measured[key]``."""
+    """The number a robustness table records for a claim: ``measured`` or ``measured[key]``.
+
+    Parameters
+    ----------
+    entry : mapping
+        A claims-JSON entry (from :func:`claim`).
+
+    Returns
+    -------
+    float or None
+        ``measured`` when it is a number, ``measured[key]`` when ``measured`` is a
+        mapping and the entry names its ``key`` and that value is a number; None
+        otherwise (lists, booleans, a mapping without ``key``).
+    """
     value = entry.get("measured")
     if isinstance(value, Mapping):
         value = value.get(entry["key"]) if "key" in entry else None
