@@ -1,10 +1,13 @@
 """Notebook build steps used by the Makefile.
 
-``python -m secest.build ipynb KEY``     build ``notebooks/KEY.ipynb`` from ``KEY.py`` (one way)
-``python -m secest.build prepare KEY``   delete KEY's old PNG/CSV figures before a run
-``python -m secest.build strip KEY``     strip timing metadata and cell ids after a run
-``python -m secest.build manifest KEY..`` check that every figure listed in
-                                          ``figures/manifest.toml`` exists
+``python -m secest.build ipynb KEY``
+   build ``notebooks/KEY.ipynb`` from ``KEY.py`` (one way)
+``python -m secest.build prepare KEY``
+   delete KEY's old PNG/CSV figures before a run
+``python -m secest.build strip KEY``
+   strip timing metadata and cell ids after a run
+``python -m secest.build manifest KEY..``
+   check that every figure listed in ``figures/manifest.toml`` exists
 
 The ``.ipynb`` is always rebuilt from the ``.py`` (never synced the other way:
 ``jupytext --sync`` trusts timestamps, which git scrambles). Cell ids are

@@ -4,19 +4,29 @@ Every notebook ends by writing its claims to ``results_path`` (default
 ``figures/<key>/claims.json``): one entry per claim id (``C<n>`` the paper's,
 ``X<n>`` ours) built by :func:`claim`, with the keys
 
-``paper``      what the paper states, in its words;
-``source``     where: section, figure, equation of the paper, or ``"ours"``;
-``check``      what we measure, against what, by which rule;
-``measured``   the measured value(s); ``key`` names the headline entry of a dict;
-``interval``   optional confidence interval of a Monte Carlo value (with its level and method);
-``threshold``  the value the measurement is compared with;
-``holds``      whether the statement holds at this run's parameters;
-``premise``    optional: the theorem's own assumption and whether it holds here;
-``verdict``    ``holds`` / ``fails`` / ``fails-premise`` at this point, or, once the
-               declared space has been swept (``make robustness``), over that space:
-               ``undetermined`` when it holds in part of it, with ``robustness``
-               giving the fraction, its interval and the region;
-``tolerance``  how closely a re-run on another machine must reproduce ``measured``.
+``paper``
+   what the paper states, in its words;
+``source``
+   where: section, figure, equation of the paper, or ``"ours"``;
+``check``
+   what we measure, against what, by which rule;
+``measured``
+   the measured value(s); ``key`` names the headline entry of a dict;
+``interval``
+   optional confidence interval of a Monte Carlo value (with its level and method);
+``threshold``
+   the value the measurement is compared with;
+``holds``
+   whether the statement holds at this run's parameters;
+``premise``
+   optional: the theorem's own assumption and whether it holds here;
+``verdict``
+   ``holds`` / ``fails`` / ``fails-premise`` at this point, or, once the declared space
+   has been swept (``make robustness``), over that space: ``undetermined`` when it
+   holds in part of it, with ``robustness`` giving the fraction, its interval and the
+   region;
+``tolerance``
+   how closely a re-run on another machine must reproduce ``measured``.
 
 Every execution also writes a run manifest ``build/runs/<key>.json`` (not
 committed) with package versions, solver, git commit, parameters and wall time.

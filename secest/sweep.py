@@ -5,15 +5,15 @@ opinion. ``make robustness [NB=<key>]`` (``python -m secest.sweep KEY ...``)
 executes each notebook with papermill at every point of the design of its
 declared space (:func:`secest.spaces.design`), figures off, and writes
 
-``figures/<key>/robustness.csv``    one row per point: its parameters, status, and
-                                    for each claim ``<id>.outcome`` (holds / fails /
-                                    fails-premise), ``<id>.holds`` and ``<id>.value``;
-``figures/<key>/robustness.json``   per claim: the verdict over the space (``holds``,
-                                    ``fails``, ``fails-premise`` everywhere, else
-                                    ``undetermined``), the fraction of points where it
-                                    holds with a Wilson interval, and the region;
-``figures/<key>/robustness_<id>.png``  for every claim whose outcome varies: where it
-                                    holds over the swept axes.
+``figures/<key>/robustness.csv``
+   one row per point: its parameters, status, and for each claim ``<id>.outcome``
+   (holds / fails / fails-premise), ``<id>.holds`` and ``<id>.value``;
+``figures/<key>/robustness.json``
+   per claim: the verdict over the space (``holds``, ``fails``, ``fails-premise``
+   everywhere, else ``undetermined``), the fraction of points where it holds with a
+   Wilson interval, and the region;
+``figures/<key>/robustness_<id>.png``
+   for every claim whose outcome varies: where it holds over the swept axes.
 
 The notebooks read ``robustness.json`` when they write their claims
 (:func:`secest.results.write_claims`), so run ``make robustness`` before ``make figures``.
