@@ -5,14 +5,17 @@ unknown input ``u`` enters the output through a feed-through matrix ``H``:
 
 .. math::  x_{k+1} = A_k x_k + G_k u_k + w_k, \\qquad y_k = C_k x_k + H_k u_k + v_k .
 
-``feedthrough_decomposition``  SVD of ``H`` and the decorrelating output transform ``T``
-                               (guo2023, display after (3) and before (5))
-``constrained_gain``           trace-minimising gain under ``K U_1 = 0`` (guo2023, (28))
-``fusion_weights``             matrix weights of consensus-on-information fusion
-                               (guo2023, (19)-(20)); batched form of
-                               :func:`secest.covariance.information_fusion`
-``ltv_observability_matrix``   observability matrix of a linear time-varying pair
-                               ``col(C_k, C_{k+1} A_k, C_{k+2} A_{k+1} A_k, ...)``
+``feedthrough_decomposition``
+   SVD of ``H`` and the decorrelating output transform ``T``
+   (guo2023, display after (3) and before (5))
+``constrained_gain``
+   trace-minimising gain under ``K U_1 = 0`` (guo2023, (28))
+``fusion_weights``
+   matrix weights of consensus-on-information fusion (guo2023, (19)-(20)); batched
+   form of :func:`secest.covariance.information_fusion`
+``ltv_observability_matrix``
+   observability matrix of a linear time-varying pair
+   ``col(C_k, C_{k+1} A_k, C_{k+2} A_{k+1} A_k, ...)``
 """
 
 from __future__ import annotations

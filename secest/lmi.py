@@ -2,17 +2,22 @@
 
 Helpers for the recursive-LMI designs of the reproductions (ma2021 first):
 
-``block_symmetric``   assemble a symmetric block matrix from its lower triangle
-``block_diag``        block-diagonal matrix of cvxpy expressions / arrays
-``symmetrize``        ``(M + M^T) / 2`` for expressions and arrays
-``lmi``               the constraint ``sym(M) << -eps I`` (negative semidefinite form)
-``solve_certified``   solve (CLARABEL), check ``prob.status``, certify every LMI with
-                      numpy eigenvalues, fall back to SCS *visibly* (warning + report)
-``InfeasibleLMIError`` raised when no solver returns a certified solution (infeasible,
-                      inaccurate or not certified); ``UnboundedLMIError`` when a solver
-                      reports the problem unbounded (and none reports it infeasible).
-                      Both are ``LMISolveError``; the message names the step and the
-                      node (or link) of the problem.
+``block_symmetric``
+   assemble a symmetric block matrix from its lower triangle
+``block_diag``
+   block-diagonal matrix of cvxpy expressions / arrays
+``symmetrize``
+   ``(M + M^T) / 2`` for expressions and arrays
+``lmi``
+   the constraint ``sym(M) << -eps I`` (negative semidefinite form)
+``solve_certified``
+   solve (CLARABEL), check ``prob.status``, certify every LMI with numpy eigenvalues,
+   fall back to SCS *visibly* (warning + report)
+``InfeasibleLMIError``, ``UnboundedLMIError``
+   raised when no solver returns a certified solution (infeasible, inaccurate or not
+   certified), respectively when a solver reports the problem unbounded (and none
+   reports it infeasible). Both are ``LMISolveError``; the message names the step and
+   the node (or link) of the problem.
 
 What a certificate means: an LMI ``M < 0`` is imposed as ``M <= -eps I`` (:func:`lmi`).
 With ``certify="margin"`` (default) a solution is accepted only if every LMI satisfies the

@@ -4,19 +4,29 @@ Every notebook ends by writing its claims to ``results_path`` (default
 ``figures/<key>/claims.json``): one entry per claim id (``C<n>`` the paper's,
 ``X<n>`` ours) built by :func:`claim`, with the keys
 
-``paper``      what the paper states, in its words;
-``source``     where: section, figure, equation of the paper, or ``"ours"``;
-``check``      what we measure, against what, by which rule;
-``measured``   the measured value(s); ``key`` names the headline entry of a dict;
-``interval``   optional confidence interval of a Monte Carlo value (with its level and method);
-``threshold``  the value the measurement is compared with;
-``holds``      whether the statement holds at this run's parameters;
-``premise``    optional: the theorem's own assumption and whether it holds here;
-``verdict``    ``holds`` / ``fails`` / ``fails-premise`` at this point, or, once the
-               declared space has been swept (``make robustness``), over that space:
-               ``undetermined`` when it holds in part of it, with ``robustness``
-               giving the fraction, its interval and the region;
-``tolerance``  how closely a re-run on another machine must reproduce ``measured``.
+``paper``
+   what the paper states, in its words;
+``source``
+   where: section, figure, equation of the paper, or ``"ours"``;
+``check``
+   what we measure, against what, by which rule;
+``measured``
+   the measured value(s); ``key`` names the headline entry of a dict;
+``interval``
+   optional confidence interval of a Monte Carlo value (with its level and method);
+``threshold``
+   the value the measurement is compared with;
+``holds``
+   whether the statement holds at this run's parameters;
+``premise``
+   optional: the theorem's own assumption and whether it holds here;
+``verdict``
+   ``holds`` / ``fails`` / ``fails-premise`` at this point, or, once the declared space
+   has been swept (``make robustness``), over that space: ``undetermined`` when it
+   holds in part of it, with ``robustness`` giving the fraction, its interval and the
+   region;
+``tolerance``
+   how closely a re-run on another machine must reproduce ``measured``.
 
 Every execution also writes a run manifest ``build/runs/<key>.json`` (not
 committed) with package versions, solver, git commit, parameters and wall time.
@@ -94,13 +104,41 @@ def environment_summary() -> str:
 
 
 def resolve(path: str | Path) -> Path:
-    """``path`` if absolute, else ``repo_root() / path``."""
+    """``path`` if absolute, else ``repo_root() / path``.
+
+    Parameters
+    ----------
+    path : str or Path
+        A path, absolute or relative to the repository root (not to the working
+        directory), e.g. a notebook's ``fig_dir`` parameter.
+
+    Returns
+    -------
+    Path
+        The absolute path (not normalised; the file need not exist).
+    """
     p = Path(path)
     return p if p.is_absolute() else repo_root() / p
 
 
 def notebook_path(key: str) -> Path:
-    """``notebooks/<key>.ipynb`` under the repository root (must exist)."""
+    """``notebooks/<key>.ipynb`` under the repository root (must exist).
+
+    Parameters
+    ----------
+    key : str
+        Paper key, e.g. ``"lee2020"``.
+
+    Returns
+    -------
+    Path
+        The notebook's absolute path.
+
+    Raises
+    ------
+    ValidationError
+        If the notebook does not exist.
+    """
     path = repo_root() / "notebooks" / f"{key}.ipynb"
     if not path.exists():
         raise ValidationError(f"key {key!r} names no notebook: {path} does not exist")
@@ -108,7 +146,28 @@ def notebook_path(key: str) -> Path:
 
 
 def declared_parameters(key: str) -> dict[str, Any]:
-    """Names and defaults of the ``parameters`` cell of ``notebooks/<key>.ipynb``."""
+    """Names and defaults of the ``parameters`` cell of ``notebooks/<key>.ipynb``.
+
+    Read with papermill (what it will inject against) and cross-checked with the names
+    the cell assigns, parsed with :mod:`ast`.
+
+    Parameters
+    ----------
+    key : str
+        Paper key, e.g. ``"lee2020"``.
+
+    Returns
+    -------
+    dict
+        Parameter name -> default, as papermill reports it (the default's source text).
+
+    Raises
+    ------
+    ValidationError
+        If the notebook does not exist, has no single cell tagged ``parameters``,
+        that cell holds anything but assignments, or papermill parses other names
+        than the cell assigns (e.g. because of an ``=`` inside a comment).
+    """
     import papermill
 
     path = notebook_path(key)
@@ -147,6 +206,18 @@ def validate_parameters(key: str, parameters: Mapping[str, Any]) -> dict[str, An
 
     Papermill only warns about unknown names; this rejects them, and values of the
     wrong type or outside their declared domain (see :mod:`secest.spaces`).
+
+    Parameters
+    ----------
+    key : str
+        Paper key, e.g. ``"lee2020"``.
+    parameters : mapping
+        Parameter name -> value to inject (a subset of the notebook's parameters).
+
+    Returns
+    -------
+    dict
+        The checked values, by name (see :func:`secest.spaces.validate`).
 
     Raises
     ------
@@ -297,7 +368,28 @@ LMI_ITERATES = Tolerance(
 
 
 def interval(low: float, high: float, *, level: float = 0.95, method: str) -> dict[str, Any]:
-    """A confidence interval entry for :func:`claim` (``method``: e.g. ``"wilson"``, ``"t"``)."""
+    """A confidence interval entry for :func:`claim`.
+
+    Parameters
+    ----------
+    low, high : float
+        The interval's bounds; finite, with ``low <= high``.
+    level : float, optional
+        Confidence level, in (0, 1). Default 0.95.
+    method : str
+        How the interval was computed, e.g. ``"wilson"``, ``"t"`` (keyword-only, required).
+
+    Returns
+    -------
+    dict
+        ``{"low", "high", "level", "method"}``, bounds and level as Python floats.
+
+    Raises
+    ------
+    ValidationError
+        If a bound is not finite, ``low > high``, ``level`` lies outside (0, 1) or
+        ``method`` is not a non-empty string.
+    """
     lo, hi = float(low), float(high)
     if not (math.isfinite(lo) and math.isfinite(hi)) or lo > hi:
         raise ValidationError(f"interval must be finite with low <= high, found ({low}, {high})")
@@ -397,7 +489,19 @@ def claim(
 
 
 def point_verdict(entry: Mapping[str, Any]) -> str:
-    """``fails-premise`` if the claim's premise fails, else ``holds`` or ``fails``."""
+    """``fails-premise`` if the claim's premise fails, else ``holds`` or ``fails``.
+
+    Parameters
+    ----------
+    entry : mapping
+        A claims-JSON entry (from :func:`claim`): its ``holds`` and, if present,
+        ``premise["holds"]`` are read.
+
+    Returns
+    -------
+    str
+        The verdict at this run's parameters: ``"holds"``, ``"fails"`` or ``"fails-premise"``.
+    """
     premise = entry.get("premise")
     if premise is not None and not premise["holds"]:
         return "fails-premise"
@@ -405,7 +509,20 @@ def point_verdict(entry: Mapping[str, Any]) -> str:
 
 
 def headline_value(entry: Mapping[str, Any]) -> float | None:
-    """The number a robustness table records for a claim: ``measured`` or ``measured[key]``."""
+    """The number a robustness table records for a claim: ``measured`` or ``measured[key]``.
+
+    Parameters
+    ----------
+    entry : mapping
+        A claims-JSON entry (from :func:`claim`).
+
+    Returns
+    -------
+    float or None
+        ``measured`` when it is a number, ``measured[key]`` when ``measured`` is a
+        mapping and the entry names its ``key`` and that value is a number; None
+        otherwise (lists, booleans, a mapping without ``key``).
+    """
     value = entry.get("measured")
     if isinstance(value, Mapping):
         value = value.get(entry["key"]) if "key" in entry else None

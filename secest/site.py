@@ -99,6 +99,16 @@ def myst_slug(title: str) -> str:
 
     MyST slugs the heading's text and inline code only (maths is dropped), GitHub
     style: lower case, spaces to ``-``, every other non-word character removed.
+
+    Parameters
+    ----------
+    title : str
+        The heading's markdown source, without the leading ``#``.
+
+    Returns
+    -------
+    str
+        The anchor (not made unique: see :func:`notebook_headings`).
     """
     text = re.sub(r"(?<!\\)\$[^$]*\$", "", title)  # inline maths is not part of the slug
     text = re.sub(r"\[([^\]]*)\]\([^)]*\)", r"\1", text)  # links: their text
@@ -135,12 +145,34 @@ def _natural(cid: str) -> tuple[Any, ...]:
 
 
 def load_manifest(root: Path = ROOT) -> dict[str, Any]:
-    """``figures/manifest.toml`` as a dict (paper key -> ``notebook``, ``figures``)."""
+    """``figures/manifest.toml`` as a dict (paper key -> ``notebook``, ``figures``).
+
+    Parameters
+    ----------
+    root : Path, optional
+        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+
+    Returns
+    -------
+    dict
+        The parsed TOML: paper key -> its table.
+    """
     return tomllib.loads((root / "figures" / "manifest.toml").read_text())
 
 
 def paper_keys(root: Path = ROOT) -> list[str]:
-    """Paper keys with a committed executed notebook, sorted."""
+    """Paper keys with a committed executed notebook, sorted.
+
+    Parameters
+    ----------
+    root : Path, optional
+        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+
+    Returns
+    -------
+    list of str
+        The stems of ``notebooks/*.ipynb``, sorted.
+    """
     return sorted(p.stem for p in (root / "notebooks").glob("*.ipynb"))
 
 
@@ -161,6 +193,22 @@ def readme_papers(root: Path = ROOT) -> dict[str, dict[str, str]]:
     The table is the one whose header has the columns ``key``, ``paper`` and
     ``verdict``; the verdict cell starts with a bold ReScience tag
     (``**[Re, partial]**``) followed by the reason in parentheses.
+
+    Parameters
+    ----------
+    root : Path, optional
+        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+
+    Returns
+    -------
+    dict of str to dict
+        Paper key -> ``{"paper", "verdict", "why"}``; ``verdict`` is ``"not yet"``
+        when the cell has no bold tag.
+
+    Raises
+    ------
+    SiteError
+        If ``README.md`` has no such table.
     """
     text = (root / "README.md").read_text()
     for rows in _markdown_tables(text):
@@ -209,7 +257,21 @@ def _source(cell: Mapping[str, Any]) -> str:
 
 
 def notebook_headings(nb: Mapping[str, Any]) -> list[tuple[int, str, str]]:
-    """Markdown headings of a notebook in order: (level, title, MyST anchor), anchors made unique."""
+    """Markdown headings of a notebook in order: (level, title, MyST anchor), anchors made unique.
+
+    Lines inside fenced code blocks are not headings. A repeated anchor gets a
+    suffix ``-1``, ``-2``, ... as MyST gives it.
+
+    Parameters
+    ----------
+    nb : mapping
+        The notebook as plain JSON (nbformat 4, e.g. from :func:`read_notebook`).
+
+    Returns
+    -------
+    list of (int, str, str)
+        Heading level (1 to 6), title (markdown source) and anchor, in order.
+    """
     out: list[tuple[int, str, str]] = []
     seen: dict[str, int] = {}
     for cell in nb["cells"]:
@@ -280,6 +342,19 @@ def format_value(value: Any, *, limit: int = 6) -> str:
     Numbers to 4 significant digits, lists up to ``limit`` entries, mappings as
     ``key: value`` pairs (nested keys joined by ``.``), at most ``limit`` of them,
     then ``… (n more)``.
+
+    Parameters
+    ----------
+    value : object
+        A value of a claims-JSON entry: None, a number, a string, a list or tuple, a
+        mapping (nested values are formatted the same way), or anything else (``str``).
+    limit : int, optional
+        Most entries of a list or mapping shown. Default 6.
+
+    Returns
+    -------
+    str
+        The text; ``—`` for None.
     """
     if value is None:
         return "—"
@@ -351,7 +426,23 @@ def _counts(claims: Mapping[str, Mapping[str, Any]]) -> str:
 
 
 def verdict_table(root: Path = ROOT) -> str:
-    """The landing page's table: paper, verdict tag and reason (README), DOI, claims, figures."""
+    """The landing page's table: paper, verdict tag and reason (README), DOI, claims, figures.
+
+    Parameters
+    ----------
+    root : Path, optional
+        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+
+    Returns
+    -------
+    str
+        A MyST ``list-table``, one row per paper of :func:`paper_keys`.
+
+    Raises
+    ------
+    SiteError
+        If README has no table of papers, or a link in it would not resolve.
+    """
     papers = readme_papers(root)
     bib = bibliography(root)
     manifest = load_manifest(root)
@@ -454,20 +545,72 @@ def _rewrite_links(text: str, root: Path, docdir: Path) -> str:
 
 
 def readme_markdown(root: Path = ROOT) -> str:
-    """README.md with its links pointing at the site's pages and downloads."""
+    """README.md with its links pointing at the site's pages and downloads.
+
+    Parameters
+    ----------
+    root : Path, optional
+        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+
+    Returns
+    -------
+    str
+        The page's MyST source, labelled ``readme``, its title replaced by ``README``.
+
+    Raises
+    ------
+    SiteError
+        If a link would not resolve (no such file, notebook or heading).
+    """
     text = _rewrite_links((root / "README.md").read_text(), root, Path("."))
     text = re.sub(r"\A# .*", "# README", text)
     return "(readme)=\n" + text
 
 
 def errata_markdown(root: Path = ROOT) -> str:
-    """ERRATA.md, each ``notebooks/<key>.ipynb#Deviations-...`` link sent to the paper page heading."""
+    """ERRATA.md, each ``notebooks/<key>.ipynb#Deviations-...`` link sent to the paper page heading.
+
+    Parameters
+    ----------
+    root : Path, optional
+        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+
+    Returns
+    -------
+    str
+        The page's MyST source, labelled ``errata``.
+
+    Raises
+    ------
+    SiteError
+        If a link would not resolve (no such file, notebook or heading).
+    """
     text = _rewrite_links((root / "ERRATA.md").read_text(), root, Path("."))
     return "(errata)=\n" + text
 
 
 def claims_markdown(root: Path = ROOT) -> str:
-    """The claims matrix: every claim of every paper, one table per paper."""
+    """The claims matrix: every claim of every paper, one table per paper.
+
+    Read from every ``figures/<key>/claims.json``; each claim links to the notebook
+    section that measures it.
+
+    Parameters
+    ----------
+    root : Path, optional
+        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+
+    Returns
+    -------
+    str
+        The page's MyST source, labelled ``claims``, a summary table then one
+        section ``claims-<key>`` per paper.
+
+    Raises
+    ------
+    SiteError
+        If a claim's ``section`` names no heading of its notebook.
+    """
     out = [
         "(claims)=",
         "# Claims matrix",
@@ -587,7 +730,19 @@ def _claim_row(
 
 
 def gallery_markdown(root: Path = ROOT) -> str:
-    """The figure gallery: paper figure -> our PNG -> status, from ``figures/manifest.toml``."""
+    """The figure gallery: paper figure -> our PNG -> status, from ``figures/manifest.toml``.
+
+    Parameters
+    ----------
+    root : Path, optional
+        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+
+    Returns
+    -------
+    str
+        The page's MyST source, labelled ``gallery``, one section ``gallery-<key>``
+        per paper.
+    """
     manifest = load_manifest(root)
     repo = _rel(root, Path("."))
     out = [
@@ -878,6 +1033,25 @@ def prepare(srcdir: str | Path, root: Path = ROOT) -> list[Path]:
 
     Static pages (``docs/*.md``) are copied, the rest generated. Files in
     ``srcdir`` that this run did not write are removed.
+
+    Parameters
+    ----------
+    srcdir : str or Path
+        The source tree, ``build/<name>`` under ``root`` (``build/site-src`` for
+        ``make html``): relative links to repository files assume that depth.
+    root : Path, optional
+        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+
+    Returns
+    -------
+    list of Path
+        Every file of the source tree, absolute, sorted.
+
+    Raises
+    ------
+    SiteError
+        If ``srcdir`` is not ``build/<name>`` under ``root``, or a generated page
+        would hold a link that does not resolve.
     """
     src = Path(srcdir).resolve()
     if src == root.resolve() or root.resolve() not in src.parents:
@@ -918,6 +1092,21 @@ def prepare(srcdir: str | Path, root: Path = ROOT) -> list[Path]:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Command-line entry point: ``python -m secest.site prepare [SRCDIR]``.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments after the program name: ``prepare`` and optionally the source
+        tree (default ``build/site-src``, relative to the repository root).
+        Default: ``sys.argv[1:]``.
+
+    Returns
+    -------
+    int
+        0; errors are raised (:class:`SiteError`), argparse exits with status 2 on
+        malformed arguments.
+    """
     import argparse
 
     parser = argparse.ArgumentParser(prog="python -m secest.site", description=__doc__.split("\n")[0])

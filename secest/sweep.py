@@ -5,15 +5,15 @@ opinion. ``make robustness [NB=<key>]`` (``python -m secest.sweep KEY ...``)
 executes each notebook with papermill at every point of the design of its
 declared space (:func:`secest.spaces.design`), figures off, and writes
 
-``figures/<key>/robustness.csv``    one row per point: its parameters, status, and
-                                    for each claim ``<id>.outcome`` (holds / fails /
-                                    fails-premise), ``<id>.holds`` and ``<id>.value``;
-``figures/<key>/robustness.json``   per claim: the verdict over the space (``holds``,
-                                    ``fails``, ``fails-premise`` everywhere, else
-                                    ``undetermined``), the fraction of points where it
-                                    holds with a Wilson interval, and the region;
-``figures/<key>/robustness_<id>.png``  for every claim whose outcome varies: where it
-                                    holds over the swept axes.
+``figures/<key>/robustness.csv``
+   one row per point: its parameters, status, and for each claim ``<id>.outcome``
+   (holds / fails / fails-premise), ``<id>.holds`` and ``<id>.value``;
+``figures/<key>/robustness.json``
+   per claim: the verdict over the space (``holds``, ``fails``, ``fails-premise``
+   everywhere, else ``undetermined``), the fraction of points where it holds with a
+   Wilson interval, and the region;
+``figures/<key>/robustness_<id>.png``
+   for every claim whose outcome varies: where it holds over the swept axes.
 
 The notebooks read ``robustness.json`` when they write their claims
 (:func:`secest.results.write_claims`), so run ``make robustness`` before ``make figures``.
@@ -336,6 +336,24 @@ def summarise(space: spaces.Space, rows: Sequence[Mapping[str, Any]], points: Se
     The verdict is ``holds`` (``fails``, ``fails-premise``) when every finished
     point says so, else ``undetermined``. The Wilson interval treats the design
     points as a sample of the declared space.
+
+    Parameters
+    ----------
+    space : Space
+        The notebook's declared space (for the axes and their kinds).
+    rows : sequence of mapping
+        The table of :func:`tabulate`, one row per point.
+    points : sequence of mapping
+        The design points (parameter name -> value), aligned with ``rows``.
+
+    Returns
+    -------
+    dict
+        Claim id -> ``verdict``, ``points`` (finished points with an outcome),
+        ``failed_points`` (points that did not finish), ``outcomes`` (count per
+        outcome), ``fraction_holds``, ``interval`` (a :func:`secest.results.interval`
+        entry), ``region`` (:func:`describe_region`) and ``axes`` (the axes it was
+        described over). Claims without any finished point are left out.
     """
     from secest.montecarlo import wilson_interval
     from secest.results import interval
@@ -381,6 +399,22 @@ def describe_region(space: spaces.Space, axes: Mapping[str, list], holds: Sequen
     above, a cut between two swept values); for a set of non-numeric values it is
     a subset of levels. When no rule is right at every point the best one is given
     with its accuracy, followed by the fraction holding at each level of every set.
+
+    Parameters
+    ----------
+    space : Space
+        The notebook's declared space (axis kinds and labels).
+    axes : mapping of str to list
+        Axis name -> its value at each point (a parameter not declared as an axis
+        of ``space`` is treated as a set of its values).
+    holds : sequence of bool
+        Whether the claim holds at each point, aligned with the lists of ``axes``.
+
+    Returns
+    -------
+    str
+        One sentence, e.g. ``"holds exactly where n >= 4 (the next swept value, 3,
+        is on the other side) (12 of 16 points)"``.
     """
     n = len(holds)
     if all(holds):
@@ -630,7 +664,22 @@ def _print_summary(key: str, outcome: Mapping[str, Any]) -> None:
 
 
 def main(argv: Iterable[str] | None = None) -> int:
-    """Command-line entry point: ``python -m secest.sweep [KEY ...] [--scheduler ADDR]``."""
+    """Command-line entry point: ``python -m secest.sweep [KEY ...] [--scheduler ADDR]``.
+
+    Parameters
+    ----------
+    argv : iterable of str, optional
+        The arguments after the program name: paper keys (default: every notebook)
+        and the options ``--scheduler ADDR``, ``--workers N``, ``--fresh`` and
+        ``--list`` (see ``--help``). Default: ``sys.argv[1:]``.
+
+    Returns
+    -------
+    int
+        Exit status: 0 when every point finished and the robustness files match
+        ``figures/manifest.toml``, 1 otherwise, 2 when a key or declared space is
+        invalid (printed to stderr). argparse exits with status 2 on malformed arguments.
+    """
     parser = argparse.ArgumentParser(
         prog="python -m secest.sweep",
         description=__doc__,

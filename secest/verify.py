@@ -140,9 +140,25 @@ class Quantity:
 class NotebookReport:
     """Everything compared for one notebook, and what did not reproduce.
 
-    ``problems`` are structural changes (a file or claim present on one side only,
-    different columns or rows, a claim's ``holds`` or ``verdict`` changed); ``notes``
-    are informative (a tolerance declared differently on the two sides).
+    Attributes
+    ----------
+    key : str
+        Notebook (paper) key.
+    reference, candidate : Path
+        The two result folders compared (laid out like ``figures/<key>/``).
+    quantities : list of Quantity
+        One comparison per claim value and CSV column.
+    problems : list of str
+        Structural changes: a file or claim present on one side only, different
+        columns or rows, a claim's ``holds`` or ``verdict`` changed, a failed
+        paper-mode execution. Any problem means not reproduced.
+    notes : list of str
+        Informative remarks, e.g. a tolerance declared differently on the two sides.
+    images : dict of str to float or str
+        PNG stem -> RMS pixel difference, or why it could not be computed (sizes
+        differ); information only.
+    seconds : float or None
+        Wall time of the paper-mode run; None when the folders were compared only.
     """
 
     key: str
@@ -450,7 +466,30 @@ def compare_folders(key: str, reference: Path, candidate: Path) -> NotebookRepor
 def run_paper_mode(key: str, out_root: Path) -> tuple[Path, float]:
     """Execute ``notebooks/<key>.ipynb`` in paper mode into a fresh ``out_root/<key>/``.
 
-    Returns the result folder and the wall time in seconds.
+    The folder is emptied first; the executed notebook, its figures and its claims
+    are written there (``fig_dir`` and ``results_path`` point into it), never over
+    the committed files.
+
+    Parameters
+    ----------
+    key : str
+        Paper key, e.g. ``"guo2023"``.
+    out_root : Path
+        Parent folder of the run (``build/verify`` for ``make verify``).
+
+    Returns
+    -------
+    folder : Path
+        The result folder ``out_root/<key>``.
+    seconds : float
+        Wall time of the execution.
+
+    Raises
+    ------
+    ValidationError
+        If ``key`` names no notebook (checked before anything is deleted).
+    papermill.PapermillExecutionError
+        If a cell of the notebook raises.
     """
     from secest.run import execute_notebook
 
@@ -615,7 +654,21 @@ def verify(
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Command-line entry point (see the module docstring); returns the exit status."""
+    """Command-line entry point (see the module docstring).
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments after the program name: ``[KEY ...] [--against DIR]
+        [--reference DIR] [--report PATH]``. Default: ``sys.argv[1:]``.
+
+    Returns
+    -------
+    int
+        Exit status: 0 when every notebook reproduced within tolerance, 1 when one
+        did not, 2 on bad input (a key naming no notebook, a missing folder).
+        argparse exits with status 2 on malformed arguments.
+    """
     parser = argparse.ArgumentParser(prog="python -m secest.verify", description=__doc__.split("\n")[0])
     parser.add_argument("keys", nargs="*", metavar="KEY", help="notebook keys (default: all)")
     parser.add_argument("--against", type=Path, help="compare this result folder instead of running")

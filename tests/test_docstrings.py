@@ -2,7 +2,8 @@
 
 A parameter counts as documented when it is listed in the numpydoc ``Parameters`` section
 of the docstring (for a class: ``Parameters`` or ``Attributes``), alone or in a group such
-as ``p, q : float``.
+as ``p, q : float``. Every public module is held to this, subpackages included
+(``secest.methods.<name>``); there is no allow-list.
 """
 
 from __future__ import annotations
@@ -12,34 +13,11 @@ import importlib
 import inspect
 import pkgutil
 import re
+from pathlib import Path
 
 import pytest
 
 import secest
-
-# Modules whose public API this test holds to the rule without exception.
-STRICT = {
-    "validation", "graphs", "channels", "covariance", "detectors", "montecarlo", "systems",
-    "estimation", "filters", "schedules", "lmi",
-}
-# TEMPORARY allow-list, owned by another change (results / run / build / plotting are edited
-# elsewhere): "module.object" -> undocumented parameters found when this test was written.
-# Remove entries as they are documented; the test fails when an entry is no longer needed.
-OWNED_ELSEWHERE: dict[str, set[str]] = {  # owned by another change
-    "build.build_ipynb": {"key"},
-    "build.check_manifest": {"keys"},
-    "build.prepare_figures": {"key"},
-    "build.strip_notebook": {"key"},
-    "plotting.save_data": {"data", "fig_dir", "name"},
-    "results.declared_parameters": {"key"},
-    "results.headline_value": {"entry"},
-    "results.interval": {"high", "level", "low", "method"},
-    "results.notebook_path": {"key"},
-    "results.point_verdict": {"entry"},
-    "results.resolve": {"path"},
-    "results.validate_parameters": {"key", "parameters"},
-    "run.main": {"argv"},
-}
 
 _HEADER = re.compile(r"^(\w[\w ]*)\n-{3,}\s*$", re.MULTILINE)
 
@@ -75,13 +53,24 @@ def parameters(obj: object) -> list[str]:
     return [p.name for p in sig.parameters.values() if p.name not in ("self", "cls")]
 
 
+def modules() -> list[str]:
+    """Every public module of secest, subpackages included: ``"filters"``, ``"methods.x"``.
+
+    A module is public unless a part of its dotted name starts with ``_``.
+    """
+    names = []
+    for info in pkgutil.walk_packages(secest.__path__, prefix="secest."):
+        name = info.name.removeprefix("secest.")
+        if not any(part.startswith("_") for part in name.split(".")):
+            names.append(name)
+    return sorted(names)
+
+
 def public_objects() -> dict[str, object]:
     """``"module.name" -> object`` for every public function and class of every secest module."""
     out: dict[str, object] = {}
-    for info in pkgutil.iter_modules(secest.__path__):
-        if info.name.startswith("_"):
-            continue
-        mod = importlib.import_module(f"secest.{info.name}")
+    for module in modules():
+        mod = importlib.import_module(f"secest.{module}")
         names = getattr(mod, "__all__", None)
         if names is None:
             names = [n for n, o in vars(mod).items() if not n.startswith("_")
@@ -90,7 +79,7 @@ def public_objects() -> dict[str, object]:
         for name in names:
             obj = getattr(mod, name)
             if inspect.isfunction(obj) or inspect.isclass(obj):
-                out[f"{info.name}.{name}"] = obj
+                out[f"{module}.{name}"] = obj
     return out
 
 
@@ -125,23 +114,19 @@ def test_documented_parses_groups_and_types() -> None:
     assert documented(f) == {"a", "b", "c"}
 
 
-@pytest.mark.parametrize("module", sorted(STRICT))
-def test_every_parameter_of_the_core_is_documented(module) -> None:
-    missing = {k: v for k, v in undocumented().items() if k.split(".")[0] == module}
+def test_every_module_is_checked() -> None:
+    """Every ``secest/**/*.py`` not private is held to the rule (subpackages included)."""
+    root = Path(secest.__file__).parent
+    on_disk = set()
+    for path in root.rglob("*.py"):
+        parts = path.relative_to(root).with_suffix("").parts
+        parts = parts[:-1] if parts[-1] == "__init__" else parts
+        if parts and not any(part.startswith("_") for part in parts):
+            on_disk.add(".".join(parts))
+    assert on_disk == set(modules())
+
+
+@pytest.mark.parametrize("module", modules())
+def test_every_parameter_is_documented(module) -> None:
+    missing = {k: v for k, v in undocumented().items() if k.rsplit(".", 1)[0] == module}
     assert not missing, f"undocumented parameters: {missing}"
-
-
-def _others() -> dict[str, set[str]]:
-    return {k: v for k, v in undocumented().items() if k.split(".")[0] not in STRICT}
-
-
-def test_other_modules_are_documented_or_allow_listed() -> None:
-    unexpected = {k: v - OWNED_ELSEWHERE.get(k, set()) for k, v in _others().items()}
-    unexpected = {k: v for k, v in unexpected.items() if v}
-    assert not unexpected, f"undocumented parameters (outside the allow-list): {unexpected}"
-
-
-def test_allow_list_has_no_stale_entries() -> None:
-    missing = _others()
-    stale = {k for k in OWNED_ELSEWHERE if not (OWNED_ELSEWHERE[k] & missing.get(k, set()))}
-    assert not stale, f"allow-list entries no longer needed, remove them: {sorted(stale)}"

@@ -10,11 +10,6 @@
   (the paper's figure number, title, status, a link to the CSV data), labelled
   ``fig-<key>-<stem>`` for ``{numref}`` from the gallery. The notebooks are not
   edited for this.
-* Module docstrings of ``secest`` list their contents as aligned plain-text columns
-  (``name``  description, continuation lines indented to the description), which
-  reads well in ``help()`` but is not reStructuredText; such blocks are turned into
-  definition lists before autodoc parses them. Anything else in a docstring that is
-  not valid markup still fails the build (``-W``).
 * After the build, the ``.ipynb`` that the theme's download button serves
   (``_sources/papers/<key>.ipynb``) is replaced by the committed notebook, so
   the download is byte for byte the file in the repository.
@@ -150,51 +145,6 @@ class NumberNotebookFigures(SphinxTransform):
             )
 
 
-_ENTRY = re.compile(r"^(``[^`]+``(?:,\s*``[^`]+``)*)(\s+)(\S.*)$")
-
-
-def aligned_columns_to_deflist(lines: list[str]) -> list[str]:
-    """Turn blocks of ``name``  description lines (2+ entries) into a definition list."""
-    out: list[str] = []
-    i = 0
-    while i < len(lines):
-        block: list[tuple[str, list[str]]] = []
-        wide = False
-        j = i
-        while j < len(lines):
-            m = _ENTRY.match(lines[j])
-            if not m:
-                break
-            wide |= len(m.group(2)) >= 2
-            col = len(m.group(1)) + len(m.group(2))
-            text = [m.group(3).strip()]
-            j += 1
-            while (
-                j < len(lines)
-                and lines[j].strip()
-                and len(lines[j]) - len(lines[j].lstrip()) >= min(col, 4)
-            ):
-                text.append(lines[j].strip())
-                j += 1
-            block.append((m.group(1), text))
-        if len(block) >= 2 and wide:
-            if out and out[-1].strip():
-                out.append("")
-            for term, text in block:
-                out += [term, "   " + " ".join(text)]
-            out.append("")
-            i = j
-        else:
-            out.append(lines[i])
-            i += 1
-    return out
-
-
-def _module_docstring(app, what, name, obj, options, lines):  # noqa: ANN001
-    if what == "module" and not any(re.match(r"^=+\s+=+\s*$", line) for line in lines):
-        lines[:] = aligned_columns_to_deflist(list(lines))
-
-
 def _builder_inited(app: Sphinx) -> None:
     app.secest_figures = _figure_index(app)  # type: ignore[attr-defined]
 
@@ -213,6 +163,5 @@ def setup(app: Sphinx) -> dict[str, Any]:
     app.add_role("badge", badge_role)
     app.add_transform(NumberNotebookFigures)
     app.connect("builder-inited", _builder_inited)
-    app.connect("autodoc-process-docstring", _module_docstring)
     app.connect("build-finished", _replace_sources)
     return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}
