@@ -90,8 +90,24 @@ def mathjax_dir() -> Path:
 
 
 def escape_md(text: str) -> str:
-    """Plain text made safe for MyST: markdown punctuation escaped, newlines joined."""
-    return _MD_SPECIAL.sub(r"\\\1", " ".join(str(text).split()))
+    """Plain text made safe for MyST: markdown punctuation escaped, newlines joined.
+
+    Inline maths ``$...$`` is kept as it is, so a heading such as "the design at work
+    ($K\\ne0$)" is typeset on the site as in the notebook.
+
+    Parameters
+    ----------
+    text : str
+        The text to escape.
+
+    Returns
+    -------
+    str
+        The escaped text.
+    """
+    joined = " ".join(str(text).split())
+    parts = re.split(r"(\$[^$]+\$)", joined)
+    return "".join(p if i % 2 else _MD_SPECIAL.sub(r"\\\1", p) for i, p in enumerate(parts))
 
 
 def myst_slug(title: str) -> str:
@@ -719,7 +735,7 @@ def _claim_row(
             first.append(f"{escape_md(format_value(rob['points']))} points")
     first.append(where)
     return [
-        f"* - (claim-{key}-{cid.lower()})=",
+        f"* - ({claim_label(key, cid)})=",
         "",
         "    " + "\n\n    ".join(first),
         f"  - {escape_md(entry.get('paper', ''))}",
@@ -727,6 +743,24 @@ def _claim_row(
         f"    <span class='secest-source'>source: {escape_md(source)}</span>",
         "  - " + "\n\n    ".join(parts),
     ]
+
+
+def claim_label(key: str, cid: str) -> str:
+    """The MyST label (and HTML id) of a claim's row: ``claim-<key>-<id>``, lower case, ``_`` as ``-``.
+
+    Parameters
+    ----------
+    key : str
+        Notebook key.
+    cid : str
+        Claim id, e.g. ``C1_nd``.
+
+    Returns
+    -------
+    str
+        The label, e.g. ``claim-guo2023-c1-nd`` (Sphinx turns ``_`` into ``-`` in ids).
+    """
+    return f"claim-{key}-{cid.lower().replace('_', '-')}"
 
 
 def gallery_markdown(root: Path = ROOT) -> str:

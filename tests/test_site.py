@@ -30,7 +30,7 @@ from urllib.parse import unquote, urldefrag, urlsplit
 import pytest
 
 from secest.results import repo_root
-from secest.site import load_manifest, paper_keys, readme_papers
+from secest.site import claim_label, load_manifest, paper_keys, readme_papers
 
 pytestmark = pytest.mark.xdist_group("site")
 
@@ -223,7 +223,7 @@ def test_claims_matrix_lists_every_claim(site: Path) -> None:
     for key in paper_keys(ROOT):
         claims = json.loads((ROOT / "figures" / key / "claims.json").read_text())
         for cid, entry in claims.items():
-            anchor = f'id="claim-{key}-{cid.lower()}"'
+            anchor = f'id="{claim_label(key, cid)}"'
             assert anchor in text, (key, cid)
             row = text[text.index(anchor) : text.index("</tr>", text.index(anchor))]
             assert f"secest-badge-{entry['verdict']}" in row, (key, cid, entry["verdict"])
