@@ -265,8 +265,8 @@ def test_theorem3_bound_recomputed_from_recorded_p_bar(which: str, request) -> N
     bound = ((5 * 6**2 + np.sqrt(6)) * np.sqrt(5) * np.linalg.norm(v @ vec @ np.diag(lam**-0.5)
                                                                    @ vec.T, 2) / (gamma * LAM2_RING5))
     assert c8["threshold"]["bound"] == pytest.approx(bound, rel=1e-9)
-    assert c8["holds"] is (c8["measured"]["offgroup"] <= 1e-9
-                           and c8["measured"]["max_error_2norm"] <= bound)
+    assert c8["holds"] is bool(c8["measured"]["offgroup"] <= 1e-9
+                               and c8["measured"]["max_error_2norm"] <= bound)
 
 
 def test_theorem3_bound_does_not_depend_on_the_basis_scaling(claims, alt) -> None:
