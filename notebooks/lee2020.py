@@ -327,7 +327,7 @@ for ax, (name, r) in zip(axes, runs.items(), strict=True):
 axes[0].set_ylabel("solver state $x_i(t)$ [–]")
 fig.legend(*axes[0].get_legend_handles_labels(), loc="outside lower center", ncol=3, fontsize=7)
 stride = max(1, int(round(0.01 / dt)))
-plotting.save_figure(
+_ = plotting.save_figure(  # the saved path; shown inline by save_figure
     fig, FIG_DIR, "extra_s1_median_solver",
     data={"t_s": runs["ring"]["t"][::stride],
           **{f"x_{g}": r["x"][::stride] for g, r in runs.items()}},
@@ -453,7 +453,7 @@ for ax, (name, r) in zip(axes, sweep.items(), strict=True):
     ax.set_xlabel("coupling gain γ [–]")
 axes[0].set_ylabel(r"final $\max_i\|x_i\|_{\mathcal{M}}$ [–]")
 fig.legend(*axes[0].get_legend_handles_labels(), loc="outside lower center", ncol=2, fontsize=7)
-plotting.save_figure(
+_ = plotting.save_figure(  # the saved path; shown inline by save_figure
     fig, FIG_DIR, "extra_theorem1_gamma_sweep",
     data={"gamma": gam_sweep, **{f"distance_{g}": r["distance"] for g, r in sweep.items()},
           **{f"minimiser_{g}": r["predicted"] for g, r in sweep.items()},
@@ -1103,7 +1103,7 @@ for ax in axes:
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.18), fontsize=6.5)
 axes[0].set_ylabel(r"$\max_i\|\hat x_i-\hat x_i^{\mathrm{ref}}\|_\infty$ [rad, rad/s]")
 axes[0].set_ylim(acc_floor, acc_top)
-plotting.save_figure(
+_ = plotting.save_figure(  # the saved path; shown inline by save_figure
     fig, FIG_DIR, "extra_integrator_accuracy",
     data={"t_s": t_acc, **{f"dev[{lab}]": d for lab, d in acc_runs.items()}},
 )
@@ -1436,7 +1436,7 @@ for ax, (title, errs, preds) in zip(axes, [
 axes[0].set_ylabel("error of the θ-sum [rad]")
 axes[1].plot([], [], color="0.3", lw=0.8, ls=":", label="offset law (predicted)")
 fig.legend(*axes[1].get_legend_handles_labels(), loc="outside lower center", ncol=6, fontsize=7)
-plotting.save_figure(
+_ = plotting.save_figure(  # the saved path; shown inline by save_figure
     fig, FIG_DIR, "extra_fig1_errors",
     data={"t_s": t_ex[view], "median_sum_error": sum_err[view, :, 0],
           "baseline_sum_error": base_sum_err[view, :, 0]},
