@@ -44,12 +44,12 @@
 # extra, last section).
 
 # %% tags=["parameters"]
-mode = "paper"  # "paper": full run incl. the Remark-4 grid; "fast": weights from the table below
+mode = "paper"  # "paper": full run incl. the Remark-4 grid check; "fast": the grid is skipped (ours)
 T = 100  # horizon in steps (MISSING)
 F = 100  # Monte Carlo runs (PAPER, Section IV)
 mc_seed = 2025  # seed of the Monte Carlo draws (MISSING)
-grid_seed = 2026  # seed of the pilot runs of the Remark-4 grid (MISSING)
-grid_pilot_runs = 10  # pilot runs averaged by the grid objective (MISSING)
+grid_seed = 2026  # seed of the pilot runs of our Remark-4 grid (ours)
+grid_pilot_runs = 10  # pilot runs averaged by the grid objective (ours)
 epsilon = 0.05  # singular perturbation parameter (PAPER)
 n_y = 4  # sensors per target (PAPER)
 m = 2  # channels per target (PAPER)
@@ -57,23 +57,26 @@ xi_star = 0.3  # attack energy bound (PAPER)
 psi_check = [0.7, 0.5, 0.3]  # probabilities of NO attack per target (PAPER)
 W = 0.03  # process noise variance (PAPER)
 V = 0.03  # measurement noise variance per sensor (PAPER, scalar read as V I)
-coef = "corrected"  # bound coefficients: "corrected" (re-derived) or "paper" (as printed)
-xhat_moment = "run"  # surrogate of E[xhat xhat^T]: "run" or "ensemble" (MISSING)
+coef = "corrected"  # bound coefficients of the main design: "corrected" or "paper" (CORRECTED)
+xhat_moment = "run"  # surrogate of E[xhat xhat^T] in the Monte Carlo runs: "run" or "ensemble" (MISSING)
 coupling_factor = True  # multiply the coupling term of (17) by |K_i| (CORRECTED)
-grid_lambda = [1e-3, 1e-2, 1e-1]  # Remark-4 grid (MISSING)
-grid_alpha1 = [0.3, 1.0, 3.0, 10.0]
-grid_alpha23 = [1e-4, 1e-3, 1e-2, 0.1, 1.0]
-grid_alpha4 = [0.03, 0.1, 0.3]
-# (lambda, alpha1, alpha2, alpha3, alpha4) of targets 1, 2, 3 as found by the grid (used in fast mode)
+attack_signal = "sincos"  # form of xi_i(k), energy xi_star: "sincos" or "constant" (MISSING)
+weight_rule = "grid"  # weights in use: "grid" (Remark-4 minimiser) or "interior" (MISSING)
+grid_lambda = [1e-3, 1e-2, 1e-1]  # levels of our Remark-4 grid (ours)
+grid_alpha1 = [0.3, 1.0, 3.0, 10.0]  # (ours)
+grid_alpha23 = [1e-4, 1e-3, 1e-2, 0.1, 1.0]  # (ours)
+grid_alpha4 = [0.03, 0.1, 0.3]  # (ours)
+# (lambda, alpha1, alpha2, alpha3, alpha4) of targets 1, 2, 3 as found by the grid (MISSING)
 weights_corrected = [[1e-3, 1.0, 1e-2, 0.1, 0.1], [1e-2, 1.0, 1e-4, 1e-4, 0.3], [1e-2, 1.0, 1e-4, 1e-4, 0.1]]
 weights_paper = [[1e-3, 3.0, 1e-2, 1.0, 0.1], [1e-1, 10.0, 1e-4, 1.0, 0.03], [1e-1, 10.0, 1e-4, 1.0, 0.03]]
 # printed coefficients, grid restricted to alpha2 > alpha3 (the condition of Theorem 3)
 weights_paper_thm3 = [[1e-3, 1.0, 1e-3, 1e-4, 0.3], [1e-2, 1.0, 1e-3, 1e-4, 0.3], [1e-2, 1.0, 1e-3, 1e-4, 0.1]]
-# (lambda, alpha1..alpha4) for every target in the sensitivity runs of C2 / C7: an interior
-# point of the grid, away from the alpha2 = alpha3 = 1e-4 edge where the gain is ~0 (ours)
+# (lambda, alpha1..alpha4) of every target under weight_rule "interior" (MISSING)
 weights_interior = [0.01, 1.0, 0.01, 0.1, 0.1]
+c1_psi_scan = [1.0, 0.99, 0.9, 0.5, 0.3]  # psi_check of all targets in C1's exact certificate (ours)
+gain_negligible = 0.01  # C2: mean ||L_i Gamma_i|| below this makes target i uninformative (ours)
 phi_scan = [-12.0, 12.0, 241]  # log10 range and size of the (phi_*, phi^*) scan of Theorem 3 (ours)
-plot_run = 0  # Monte Carlo run shown in the single-run figures (MISSING)
+plot_run = 0  # Monte Carlo run shown in the single-run figures (ours)
 figures = True  # False: no figure or data file is made (robustness sweep points) (ours)
 fig_dir = "figures/li2025"
 results_path = "figures/li2025/claims.json"
