@@ -906,7 +906,7 @@ def provenance_markdown(key: str, *, only_tagged: bool = False) -> str:
     for p in space.parameters.values():
         if only_tagged and p.tag is None:
             continue
-        axis = "–" if p.space is None else p.space_text()
+        axis = "–" if p.space is None else p.space_text().replace("|", "\\|")
         unit = f" [{p.unit}]" if p.unit else ""
         reason = (p.reason or p.comment or "").replace("|", "\\|")
         rows.append(

@@ -423,11 +423,12 @@ def describe_region(space: spaces.Space, axes: Mapping[str, list], holds: Sequen
         return f"holds at none of the {n} points of the declared space"
     rules = [_best_rule(space, name, values, holds) for name, values in axes.items()]
     rules = [r for r in rules if r is not None]
-    if not rules:
-        return f"holds at {sum(holds)} of {n} points"
-    accuracy, text = max(rules, key=lambda r: r[0])
+    accuracy, text = max(rules, key=lambda r: r[0]) if rules else (0.0, "")
     if accuracy == 1.0:
         return f"holds exactly where {text} ({sum(holds)} of {n} points)"
+    pair = _pair_region(space, axes, holds)
+    if pair is not None:
+        return f"{pair} ({sum(holds)} of {n} points; no single axis separates it)"
     levels = []
     for name, values in axes.items():
         axis = space.axes.get(name)
@@ -439,10 +440,30 @@ def describe_region(space: spaces.Space, axes: Mapping[str, list], holds: Sequen
                     parts.append(f"{axis.label(v)}: {sum(sel)}/{len(sel)}")
             levels.append(f"{name} ({', '.join(parts)})")
     tail = "; holding per level: " + "; ".join(levels) if levels else ""
-    return (
-        f"holds at {sum(holds)} of {n} points; no single axis separates it, the best rule is "
-        f"'{text}' (right at {accuracy:.0%} of points){tail}"
-    )
+    best = f", the best rule is '{text}' (right at {accuracy:.0%} of points)" if rules else ""
+    return f"holds at {sum(holds)} of {n} points; no one- or two-axis rule separates it{best}{tail}"
+
+
+def _pair_region(space: spaces.Space, axes: Mapping[str, list], holds: Sequence[bool]) -> str | None:
+    """A region that two set-valued axes decide together, in words, or None.
+
+    When every combination of levels of two axes holds everywhere or fails everywhere,
+    the region is the list of combinations where it fails (or holds, if shorter).
+    """
+    names = [n for n in axes if n in space.axes and space.axes[n].kind == "set"]
+    for i, a in enumerate(names):
+        for b in names[i + 1 :]:
+            cells: dict[tuple[str, str], set[bool]] = {}
+            for va, vb, h in zip(axes[a], axes[b], holds, strict=True):
+                cells.setdefault((space.axes[a].label(va), space.axes[b].label(vb)), set()).add(h)
+            if all(len(v) == 1 for v in cells.values()):
+                fail = sorted(c for c, v in cells.items() if True not in v)
+                hold = sorted(c for c, v in cells.items() if True in v)
+                shown, verb = (fail, "fails") if len(fail) <= len(hold) else (hold, "holds")
+                where = "; ".join(f"{a} = {x} and {b} = {y}" for x, y in shown)
+                other = "holds" if verb == "fails" else "fails"
+                return f"{verb} exactly where {where}, {other} elsewhere"
+    return None
 
 
 def _best_rule(space: spaces.Space, name: str, values: list, holds: Sequence[bool]) -> tuple | None:
@@ -471,9 +492,11 @@ def _best_rule(space: spaces.Space, name: str, values: list, holds: Sequence[boo
             for v in axis.values
             if _mean([h for x, h in zip(values, holds, strict=True) if spaces._same(x, v)]) > 0.5
         ]
+        if not good or len(good) == len(axis.values):
+            return None  # "holds at every level" or "at none" says nothing about where
         pred = [any(spaces._same(x, g) for g in good) for x in values]
         acc = sum(p == h for p, h in zip(pred, holds, strict=True)) / len(holds)
-        shown = ", ".join(axis.label(g) for g in good) or "none"
+        shown = ", ".join(axis.label(g) for g in good)
         return acc, f"{name} in {{{shown}}}"
     return None
 
@@ -568,7 +591,11 @@ def plot_claim(
         ax.set_title(f"{title}holds at {held}/{len(sel)}", fontsize=8)
         ax.set_xlabel(_axis_label(space, x_axis))
     panels[0][0].set_ylabel(f"{cid}: measured value" if has_values else f"{cid}: outcome")
-    handles, labels = panels[0][0].get_legend_handles_labels()
+    shown: dict[str, Any] = {}
+    for ax in panels[0]:
+        for handle, label in zip(*ax.get_legend_handles_labels(), strict=True):
+            shown.setdefault(label, handle)
+    handles, labels = list(shown.values()), list(shown)
     fig.legend(handles, labels, loc="outside lower center", ncols=len(labels), fontsize=7, frameon=False)
     fig.suptitle(
         f"{space.key} {cid}: holds at {entry['outcomes']['holds']} of {entry['points']} points "
@@ -597,12 +624,7 @@ def _x_axis(space: spaces.Space, axes: list[str], ok: list, cid: str) -> str:
         for name in axes
         if (rule := _best_rule(space, name, [p[name] for _, p in ok], holds)) is not None
     ]
-    numeric = [
-        s
-        for s in scored
-        if space.axes[s[1]].kind != "set"
-        or all(isinstance(v, int | float) for v in space.axes[s[1]].values)
-    ]
+    numeric = [s for s in scored if space.axes[s[1]].kind != "set" or _numeric(space.axes[s[1]].values)]
     pool = numeric or scored or [(0.0, axes[0])]
     return max(pool)[1]
 
@@ -614,7 +636,9 @@ def _axis_label(space: spaces.Space, name: str) -> str:
 
 def _scatter(ax: Any, space: spaces.Space, x_axis: str, sel: list, cid: str, has_values: bool) -> None:
     axis = space.axes[x_axis]
-    categorical = axis.kind == "set" and not all(isinstance(v, int | float) for v in axis.values)
+    categorical = axis.kind == "set" and not _numeric(axis.values)
+    if axis.log:
+        ax.set_xscale("log")
     style = {"holds": ("o", "tab:blue"), "fails": ("x", "tab:red"), "fails-premise": ("^", "tab:gray")}
     for outcome, (marker, colour) in style.items():
         pts = [(r, p) for r, p in sel if r[f"{cid}.outcome"] == outcome]

@@ -62,7 +62,16 @@ def test_region_without_a_single_separating_axis(toy: Path) -> None:
     swept, results = _results(points, lambda p: p["scale"] < 0.2 and p["seed"] == 0)
     rows = sweep.tabulate(space, swept, results)
     region = sweep.summarise(space, rows, points)["C1"]["region"]
-    assert "no single axis separates it" in region and "holding per level: alpha (brief:" in region
+    assert "no one- or two-axis rule separates it" in region and "holding per level: alpha (brief:" in region
+
+
+def test_region_decided_by_two_set_axes_together(toy: Path) -> None:
+    space = _space(toy)
+    points = spaces.design(space)
+    swept, results = _results(points, lambda p: not (p["alpha"] == 0.6 and p["seed"] == 1))
+    rows = sweep.tabulate(space, swept, results)
+    region = sweep.summarise(space, rows, points)["C1"]["region"]
+    assert region.startswith("fails exactly where alpha = brief and seed = 1, holds elsewhere")
 
 
 def test_failed_points_are_counted_and_reported(toy: Path) -> None:
