@@ -18,6 +18,8 @@ What is compared, number by number:
   ``verdict`` exactly; non-numeric leaves exactly.
 * every CSV column with the tolerance recorded in ``tolerances.json`` (written by
   :func:`secest.plotting.save_data`); non-numeric cells exactly.
+* the sweep's outputs (``robustness.csv``, ``robustness_<id>.png``) only when both
+  sides hold them: a paper-mode run does not write them (``make robustness`` does).
 * PNGs are never compared byte-wise: their data is in the CSVs. Their RMS pixel
   difference (:func:`matplotlib.testing.compare.calculate_rms`) is reported for
   information only.
@@ -426,6 +428,11 @@ def _image_rms(ref: Path, cand: Path) -> float | str:
     return round(float(calculate_rms(a, b)), 4)
 
 
+SWEEP_PREFIX = "robustness"
+"""Stem prefix of the sweep's outputs (``robustness.csv``, ``robustness_<id>.png``): a
+paper-mode run does not write them, so a side without them is noted, not a failure."""
+
+
 def compare_folders(key: str, reference: Path, candidate: Path) -> NotebookReport:
     """Compare the result folder ``candidate`` with ``reference`` (both like ``figures/<key>/``).
 
@@ -451,7 +458,11 @@ def compare_folders(key: str, reference: Path, candidate: Path) -> NotebookRepor
         cand_stems = {p.stem for p in candidate.glob(f"*{suffix}")}
         for stem in sorted(ref_stems ^ cand_stems):
             side = "reference" if stem in ref_stems else "candidate"
-            report.problems.append(f"{stem}{suffix} only in the {side}")
+            if stem.startswith(SWEEP_PREFIX):
+                report.notes.append(f"{stem}{suffix} only in the {side}: written by `make robustness`, "
+                                    "not by a paper-mode run; not compared")
+            else:
+                report.problems.append(f"{stem}{suffix} only in the {side}")
         for stem in sorted(ref_stems & cand_stems):
             if suffix == ".csv":
                 _compare_table(stem, report, tolerances)
