@@ -386,13 +386,26 @@ def summarise(space: spaces.Space, rows: Sequence[Mapping[str, Any]], points: Se
             "interval": interval(
                 lo, hi, method="wilson, design points as a sample of the declared space"
             ),
-            "region": describe_region(space, axes, [o == "holds" for o in outcomes]),
+            "region": _region(space, axes, outcomes),
             "axes": list(axes),
         }
     return summary
 
 
-def describe_region(space: spaces.Space, axes: Mapping[str, list], holds: Sequence[bool]) -> str:
+def _region(space: spaces.Space, axes: Mapping[str, list], outcomes: Sequence[str]) -> str:
+    """:func:`describe_region` of the outcomes; when the claim never fails where its
+    premise holds, the region says so and describes where the premise fails."""
+    if "fails" in outcomes or "holds" not in outcomes or "fails-premise" not in outcomes:
+        return describe_region(space, axes, [o == "holds" for o in outcomes])
+    where = describe_region(space, axes, [o == "fails-premise" for o in outcomes],
+                            words=("the premise fails", "the premise holds"))
+    return f"holds wherever its premise holds ({outcomes.count('holds')} of {len(outcomes)} points); {where}"
+
+
+def describe_region(
+    space: spaces.Space, axes: Mapping[str, list], holds: Sequence[bool],
+    words: tuple[str, str] = ("holds", "fails"),
+) -> str:
     """Where a claim holds, in words: the best one-axis rule and how often it is right.
 
     For a numeric axis the rule is a threshold (holds where the value is below, or
@@ -409,6 +422,9 @@ def describe_region(space: spaces.Space, axes: Mapping[str, list], holds: Sequen
         of ``space`` is treated as a set of its values).
     holds : sequence of bool
         Whether the claim holds at each point, aligned with the lists of ``axes``.
+    words : tuple of str, optional
+        What ``holds`` true and false say (default the claim's ``"holds"`` and
+        ``"fails"``; e.g. ``("the premise fails", "the premise holds")``).
 
     Returns
     -------
@@ -418,15 +434,15 @@ def describe_region(space: spaces.Space, axes: Mapping[str, list], holds: Sequen
     """
     n = len(holds)
     if all(holds):
-        return f"holds at all {n} points of the declared space"
+        return f"{words[0]} at all {n} points of the declared space"
     if not any(holds):
-        return f"holds at none of the {n} points of the declared space"
+        return f"{words[0]} at none of the {n} points of the declared space"
     rules = [_best_rule(space, name, values, holds) for name, values in axes.items()]
     rules = [r for r in rules if r is not None]
     accuracy, text = max(rules, key=lambda r: r[0]) if rules else (0.0, "")
     if accuracy == 1.0:
-        return f"holds exactly where {text} ({sum(holds)} of {n} points)"
-    pair = _pair_region(space, axes, holds)
+        return f"{words[0]} exactly where {text} ({sum(holds)} of {n} points)"
+    pair = _pair_region(space, axes, holds, words)
     if pair is not None:
         return f"{pair} ({sum(holds)} of {n} points; no single axis separates it)"
     levels = []
@@ -441,10 +457,13 @@ def describe_region(space: spaces.Space, axes: Mapping[str, list], holds: Sequen
             levels.append(f"{name} ({', '.join(parts)})")
     tail = "; holding per level: " + "; ".join(levels) if levels else ""
     best = f", the best rule is '{text}' (right at {accuracy:.0%} of points)" if rules else ""
-    return f"holds at {sum(holds)} of {n} points; no one- or two-axis rule separates it{best}{tail}"
+    return f"{words[0]} at {sum(holds)} of {n} points; no one- or two-axis rule separates it{best}{tail}"
 
 
-def _pair_region(space: spaces.Space, axes: Mapping[str, list], holds: Sequence[bool]) -> str | None:
+def _pair_region(
+    space: spaces.Space, axes: Mapping[str, list], holds: Sequence[bool],
+    words: tuple[str, str] = ("holds", "fails"),
+) -> str | None:
     """A region that two set-valued axes decide together, in words, or None.
 
     When every combination of levels of two axes holds everywhere or fails everywhere,
@@ -459,9 +478,9 @@ def _pair_region(space: spaces.Space, axes: Mapping[str, list], holds: Sequence[
             if all(len(v) == 1 for v in cells.values()):
                 fail = sorted(c for c, v in cells.items() if True not in v)
                 hold = sorted(c for c, v in cells.items() if True in v)
-                shown, verb = (fail, "fails") if len(fail) <= len(hold) else (hold, "holds")
+                shown, verb = (fail, words[1]) if len(fail) <= len(hold) else (hold, words[0])
                 where = "; ".join(f"{a} = {x} and {b} = {y}" for x, y in shown)
-                other = "holds" if verb == "fails" else "fails"
+                other = words[0] if verb == words[1] else words[1]
                 return f"{verb} exactly where {where}, {other} elsewhere"
     return None
 

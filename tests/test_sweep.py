@@ -74,6 +74,21 @@ def test_region_decided_by_two_set_axes_together(toy: Path) -> None:
     assert region.startswith("fails exactly where alpha = brief and seed = 1, holds elsewhere")
 
 
+def test_region_of_a_claim_that_holds_wherever_its_premise_holds(toy: Path) -> None:
+    space = _space(toy)
+    points = spaces.design(space)
+    swept, results = _results(points, lambda p: True)
+    for (pid, p) in swept:  # X1's premise holds only at seed 0, and X1 holds there
+        results[pid]["claims"]["X1"]["premise"]["holds"] = p["seed"] == 0
+    rows = sweep.tabulate(space, swept, results)
+    x1 = sweep.summarise(space, rows, points)["X1"]
+    kept = sum(p["seed"] == 0 for p in points)
+    assert x1["verdict"] == "undetermined" and x1["outcomes"]["fails"] == 0
+    assert x1["region"] == (f"holds wherever its premise holds ({kept} of {len(points)} points); "
+                            "the premise fails exactly where seed >= 1 (the next swept value, 0, is "
+                            f"on the other side) ({len(points) - kept} of {len(points)} points)")
+
+
 def test_failed_points_are_counted_and_reported(toy: Path) -> None:
     space = _space(toy)
     points = spaces.design(space)[:3]
