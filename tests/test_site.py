@@ -63,7 +63,7 @@ RAW_MATH = re.compile(
 # ------------------------------------------------------------------------------------------
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def site() -> Path:
     """Build the site like `make html` (fresh environment: every warning is reported)."""
     prep = subprocess.run(
@@ -144,7 +144,7 @@ def crawl(html: Path) -> list[Path]:
 EXTRA_PAGES = ("search.html", "genindex.html", "py-modindex.html")
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def pages(site: Path) -> list[Path]:
     """The pages reachable from index.html, plus Sphinx's search page and indices."""
     extra = [site / name for name in EXTRA_PAGES if (site / name).is_file()]
@@ -270,7 +270,7 @@ def test_downloads_are_the_committed_files(site: Path) -> None:
 # ------------------------------------------------------------------------------------------
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def browser_context(site: Path) -> Iterator[Any]:
     if not CHROMIUM.exists():
         message = (
@@ -298,7 +298,7 @@ def browser_context(site: Path) -> Iterator[Any]:
             context.close()
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def server(site: Path) -> Iterator[str]:
     class Quiet(SimpleHTTPRequestHandler):
         def log_message(self, *args: Any) -> None:
@@ -424,7 +424,7 @@ def _land(page: Any, url: str, frag: str) -> dict[str, Any]:
     )
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def browsed(browser_context: Any, server: str, pages: list[Path]) -> dict[str, dict[str, Any]]:
     """Open every page once (served on 127.0.0.1): findings per page; a screenshot of each."""
     SHOTS.mkdir(parents=True, exist_ok=True)
