@@ -38,7 +38,7 @@ $(addprefix figures-,$(KEYS)): figures-%: $(STAMP)
 ## test: unit tests + papermill-executed notebook tests (fast mode) + lint
 test: $(STAMP)
 	$(PY) -m ruff check secest tests notebooks benchmarks docs
-	$(PY) -m pytest -n 2 --dist loadgroup
+	$(PY) -m pytest -n 2 --dist loadscope
 
 ## robustness: sweep each notebook's declared space on Dask (a LocalCluster sized to the machine;
 ## SCHEDULER=tcp://host:port sends it to an existing cluster). Writes figures/<key>/robustness.*

@@ -112,3 +112,25 @@ def toy(tmp_path: Path) -> Path:
     (tmp_path / "notebooks" / "toy.py").write_text(TOY_PY)
     (tmp_path / "notebooks" / "toy.toml").write_text(TOY_TOML)
     return tmp_path
+
+
+ALONE = ("test_notebook_runs_off_its_default_point", "test_a_remote_cluster")
+"""Tests scheduled one by one: each is a long notebook execution of its own."""
+
+
+def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
+    """Send each test module to one worker whole (its notebook executions are then shared by
+    its tests), except the tests of :data:`ALONE`, which are spread one by one.
+
+    ``--dist loadgroup`` would do this with ``xdist_group`` marks, but pytest 9.2 silently
+    drops them (pytest-dev/pytest-xdist#1386): tests were spread as under ``--dist load``.
+    """
+    from xdist.scheduler import LoadScopeScheduling
+
+    class ModuleOrAlone(LoadScopeScheduling):
+        def _split_scope(self, nodeid: str) -> str:
+            if any(name in nodeid for name in ALONE):
+                return nodeid
+            return nodeid.split("::", 1)[0]
+
+    return ModuleOrAlone(config, log)

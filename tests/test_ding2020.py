@@ -21,8 +21,6 @@ from secest import filters, spaces
 from secest.results import repo_root
 from secest.run import execute_notebook
 
-pytestmark = pytest.mark.xdist_group("ding2020")
-
 ROOT = repo_root()
 ATTACKED = ("sensor4", "sensor12")
 FIG = ROOT / "figures" / "ding2020"

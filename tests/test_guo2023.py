@@ -18,8 +18,6 @@ from secest import spaces
 from secest.results import headline_value, point_verdict, repo_root
 from secest.run import execute_notebook
 
-pytestmark = pytest.mark.xdist_group("guo2023")
-
 ROOT = repo_root()
 FIG = ROOT / "figures" / "guo2023"
 OTHER_D = [float(np.sign(np.sin(0.2 * k))) for k in range(201)]  # a square wave, as samples

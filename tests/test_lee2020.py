@@ -22,8 +22,6 @@ from secest import spaces
 from secest.results import VERDICTS, repo_root
 from secest.validation import ValidationError
 
-pytestmark = pytest.mark.xdist_group("lee2020")
-
 SQRT3 = np.sqrt(3.0)
 A_PAPER = np.pi / 3
 LAM2_RING5 = 2 * (1 - np.cos(2 * np.pi / 5))

@@ -22,8 +22,6 @@ from secest.results import repo_root
 from secest.run import execute_notebook
 from secest.validation import ValidationError
 
-pytestmark = pytest.mark.xdist_group("li2025")
-
 ROOT = repo_root()
 FIG = ROOT / "figures" / "li2025"
 CLAIM_IDS = {"C1", "C1b", "C1c", "C2", "C3a", "C3b", "C4", "C5", "C6", "C7", "X1", "X2", "X3", "X4"}

@@ -8,8 +8,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-pytestmark = pytest.mark.xdist_group("ma2021")
-
 P_LEVEL = 0.8  # p of the paper's example
 CERT_TOL = 1e-8  # issue 7: every solved LMI certified to -1e-8
 

@@ -32,8 +32,6 @@ import pytest
 from secest.results import repo_root
 from secest.site import claim_label, load_manifest, paper_keys, readme_papers
 
-pytestmark = pytest.mark.xdist_group("site")
-
 ROOT = repo_root()
 SRC = ROOT / "build" / "site-src"
 HTML = ROOT / "build" / "html"
