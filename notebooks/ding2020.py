@@ -536,7 +536,8 @@ ax.set_title("Extra: leak of the attack into unattacked nodes, Case B vs Case A"
 ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7)
 plotting.save_figure(fig, FIG_DIR, "extra_leak_by_hop",
                      data={"topology_seed": leak_tab[:, 0].astype(int), "node": leak_tab[:, 1].astype(int),
-                           "hops": leak_tab[:, 2].astype(int), "leak": leak_tab[:, 3]})
+                           "hops": leak_tab[:, 2].astype(int), "leak": leak_tab[:, 3]},
+                     tolerance={"leak": results.CANCELLATION})
 plt.show()
 
 # %% [markdown]
@@ -930,6 +931,7 @@ claims["C2a"] = results.claim(
               "default_max_leak_by_hop": {str(h): v for h, v in sorted(leak_by_hop_default.items())}},
     threshold=1e-3,
     holds=bool(all(v["leak"] <= 1e-3 for v in per_seed20.values())),
+    tolerance=results.CANCELLATION,
 )
 
 # C2b: how the leak decays with the hop distance (our criterion)
@@ -946,6 +948,7 @@ claims["C2b"] = results.claim(
     measured={"by_hops": leak_stats, "median_ratio_per_hop": med_ratio_hop},
     threshold={"median_ratio_per_hop": 10.0},
     holds=bool(len(med_ratio_hop) > 0 and min(med_ratio_hop) >= 10.0),
+    tolerance=results.CANCELLATION,
 )
 print("leak by hop, median ratio per hop:", [f"{r:.1f}" for r in med_ratio_hop])
 
@@ -1068,6 +1071,7 @@ claims["C10"] = results.claim(
     measured=c10_diff,
     threshold=1e-10,
     holds=c10_diff <= 1e-10,
+    tolerance=results.ROUNDING_RESIDUAL,
 )
 
 # X1: lockout rate (ours, not a paper claim)

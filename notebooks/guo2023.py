@@ -953,6 +953,7 @@ claims["C5"] = results.claim(
     holds=bool(col("KU1").max() < 1e-10 and np.abs(col("d_kkt")).max() <= lemma_tol
                and np.abs(col("d_cvx")).max() <= lemma_tol
                and np.abs(col("d_L1")).max() <= lemma_tol and col("eq29").max() < 1e-10),
+    tolerance=results.ROUNDING_RESIDUAL,
 )
 ranges = {"state": (0.018, 0.032), "d": (0.07, 0.34), "a": (0.04, 0.17)}
 claims["X1"] = results.claim(

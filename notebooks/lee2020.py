@@ -819,7 +819,11 @@ x_start_acc = X_init.copy()
 # w(t) = [u(t); a_1(t); ...; a_N(t)] and the indicators folded into E_s (10 significant digits)
 plotting.save_data(FIG_DIR, "extra_integrator_system", {
     "M": m_acc, "E_w": ew_acc, "E_s": es_acc * s_flat[None, :], "R_T": r_acc.T, "x0": x_start_acc,
-})
+}, tolerance=dict.fromkeys(["M", "E_w"], results.Tolerance(
+    rtol=1e-3, atol=1e-9,
+    reason="observer gains placed at the clustered poles -1, -1.1, ... (ill-conditioned): up to "
+    "3.8e-5 (large gains) and 1.7e-4 (small entries) relative between BLAS kernels; near-zero "
+    "entries are rounding residuals (~1e-13)")))
 
 
 def rhs_smooth(t: float, X: np.ndarray, eps: float) -> np.ndarray:
@@ -871,6 +875,11 @@ axes[0].set_ylim(1e-5, 1e3)
 plotting.save_figure(
     fig, FIG_DIR, "extra_integrator_accuracy",
     data={"t_s": t_acc, **{f"dev[{lab}]": d for lab, d in acc_runs.items()}},
+    tolerance={"dev*": results.Tolerance(
+        rtol=0.1, atol=0.05,
+        reason="deviation of one integration of the sign-driven system from another: a difference of "
+        "two chattering trajectories (up to 0.013, or 0.0075 + 10 % of the value, under other BLAS "
+        "kernels)")},
 )
 plt.show()
 
@@ -944,6 +953,7 @@ plotting.save_figure(
     data={"t_s": t_ex, "true_sum": true_sum, "agent1_own_sum": own_1 @ theta_sel,
           "resilient_sum": sim["xh"][:, :, :, 0] @ theta_sel,
           "baseline_sum_error": base_sum_err[:, :, 0]},
+    tolerance=dict.fromkeys(["agent1_own_sum", "resilient_sum", "baseline_sum_error"], results.SIGN_DRIVEN),
 )
 plt.show()
 
@@ -1109,6 +1119,7 @@ plotting.save_figure(
           "median_pred_agent1": [sum_v1 * median_equilibrium(p_attack(a), gamma_ex)[0]
                                  for a in amps],
           "baseline_pred_agent1": [base_pred[a][0] for a in amps]},
+    tolerance=dict.fromkeys(["median_offset_agent1", "baseline_offset_agent1"], results.SIGN_DRIVEN),
 )
 plt.show()
 
@@ -1141,7 +1152,19 @@ axes[0].set_ylabel(r"$\|z_i-\mathcal{W}_i\hat x_i\|_\infty$ [rad, rad/s]")
 axes[0].set_ylim(1e-5, 1e4)
 axes[0].legend(fontsize=7, ncol=2)
 plotting.save_figure(fig, FIG_DIR, "extra_identification_residual",
-                     data={"t_s": t_ex, "resid_near": resid["near"], "resid_shifted": resid["shifted"]})
+                     data={"t_s": t_ex, "resid_near": resid["near"], "resid_shifted": resid["shifted"]},
+                     tolerance={
+                         "resid_near": results.Tolerance(
+                             rtol=0.05, atol=0.05,
+                             reason="residual of observers with near-pole gains (up to 1.5e3, placed at "
+                             "clustered poles: ill-conditioned), which amplify the agents' chattering "
+                             "differences: under other BLAS kernels up to 0.017 late, 1.4 % of the value "
+                             "during the transient"),
+                         "resid_shifted": results.Tolerance(
+                             rtol=1e-6, atol=1e-9,
+                             reason="residual of observers with well-conditioned (shifted) gains: no sgn "
+                             "flipped under other BLAS kernels, last bits grown to <= 6e-10 relative "
+                             "over 40 s")})
 plt.show()
 
 # %% [markdown]
@@ -1267,6 +1290,7 @@ claims["C3"] = results.claim(
     holds=abs(own_sum_err.mean() - 3 * attack_amplitude) <= 0.01
     and abs(own_inf_err.mean() - attack_amplitude) <= 0.01 and res_sum_err < 1.0
     and pre_sum_err < 0.05,
+    tolerance=results.SIGN_DRIVEN,
 )
 off_dev = max(float(np.abs(offsets_meas[g][0] - offsets_pred[g]).max()) for g in offset_gammas)
 gamma_scaled = [offsets_meas[g][0][0] * g for g in offset_gammas]
@@ -1287,6 +1311,7 @@ claims["C4"] = results.claim(
                "amplitude_dependence": 0.01, "max_error": {"2.0": 0.25, "20.0": 0.03}},
     holds=off_dev <= 0.01 and np.ptp(gamma_scaled) <= 0.02 and amp_dev <= 0.01
     and maxerr_by_gamma.get(2.0, 0.0) <= 0.25 and maxerr_by_gamma.get(20.0, 0.0) <= 0.03,
+    tolerance=results.SIGN_DRIVEN,
 )
 claims["C5"] = results.claim(
     paper="Theorem 2 without attack: every x_hat_i converges to x (up to eta)",
@@ -1295,6 +1320,7 @@ claims["C5"] = results.claim(
     measured={"final_error": final_noattack, "time_below_0.05": conv_time},
     threshold={"final_error": 0.01},
     holds=all(v <= 0.01 for v in final_noattack.values()),
+    tolerance=results.SIGN_DRIVEN,
 )
 amps_sorted = sorted(base_offsets)
 base_growth = [float(base_offsets[a][0]) for a in amps_sorted]
@@ -1310,6 +1336,7 @@ claims["C6"] = results.claim(
               "median_agent1_offset": [float(amp_offsets[a][0]) for a in amps_sorted]},
     threshold={"baseline_relative_deviation": 0.01, "median_amplitude_dependence": 0.01},
     holds=bool(np.all(np.diff(base_growth) > 0)) and base_rel <= 0.01 and amp_dev <= 0.01,
+    tolerance=results.SIGN_DRIVEN,
 )
 clean_max = float(np.delete(resid_final, attack_bank - 1).max())
 claims["C7"] = results.claim(
@@ -1320,6 +1347,10 @@ claims["C7"] = results.claim(
     threshold={"agent1_predicted": resid_pred, "clean_max": 0.01, "ratio": 100.0},
     holds=abs(resid_final[attack_bank - 1] - resid_pred) <= 0.01 and clean_max < 0.01
     and resid_final[attack_bank - 1] / clean_max > 100,
+    tolerance=results.Tolerance(
+        rtol=0.3, atol=5e-3,
+        reason="the clean agents' residuals (~4e-4) are chattering-level (kappa*dt = 5e-4) and differ "
+        "by up to 16 % under other BLAS kernels; the ratio of agent 1's residual to them inherits it"),
 )
 claims["C8"] = results.claim(
     paper="Theorem 3: for Lyapunov-stable plants, (5) + (11) gives limsup ||x_hat_i - x|| <= "
@@ -1331,6 +1362,7 @@ claims["C8"] = results.claim(
               "theta_sum_offsets": sums_11, "P_bar": P_bar, "basis_V": V},
     threshold={"bound": float(thm3_bound)},
     holds=lyap_max <= 1e-9 and offgroup <= 1e-9 and maxerr2_11 <= thm3_bound,
+    tolerance=results.SIGN_DRIVEN,
 )
 lam2_formula = {"ring": 2 * (1 - np.cos(2 * np.pi / N)), "all-to-all": float(N)}
 claims["C9"] = results.claim(
@@ -1362,6 +1394,11 @@ claims["C11"] = results.claim(
     threshold={"identities": 1e-6, "z1_shift": 1e-2, "innovation": 1e-3},
     holds=A_v <= 1e-9 and abs(C1_v - 1) <= 1e-12 and p1_identity <= 1e-6 and z1_shift <= 1e-2
     and innov_max <= 1e-3,
+    tolerance=results.Tolerance(
+        rtol=1e-3, atol=1e-5,
+        reason="z_1's tail and the innovation follow agent 1's chattering observer (<= 7e-7 measured "
+        "under other BLAS kernels); the gain identity is a rounding residual of gains ~1.5e3 placed "
+        "at clustered poles (1.4e-9 or 0)"),
 )
 acc_exp, acc_exp2 = acc_table["exponential Euler, dt = 1e-3 (ours)"][0], acc_table[
     "exponential Euler, dt = 5e-4"][0]
@@ -1380,6 +1417,11 @@ claims["X1"] = results.claim(
     threshold={"order_ratio": [1.5, 2.5], "spectral_radius": 1.0},
     holds=acc_exp < acc_eul and 1.5 <= acc_exp / acc_exp2 <= 2.5 and rho_euler[2.5e-3] > 1.0
     and rho_euler[1e-3] <= 1.0 + 1e-12,
+    tolerance=results.Tolerance(
+        rtol=0.1, atol=5e-3,
+        reason="RMS deviations between chattering integrations (<= 2e-4 apart under other BLAS "
+        "kernels); the unstable-Euler growth is a ratio of two chattering-dominated maxima (2.12 "
+        "vs 2.16)"),
 )
 claims["X2"] = results.claim(
     paper="(ours, not a statement of the paper) the final distance of (4) to the median set "

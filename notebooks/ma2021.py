@@ -955,7 +955,8 @@ print("tr B_k, shared Gamma_k :", np.round(trB_shared, 3).tolist())
 print("tr B_k, per-node Gamma :", np.round(trB_node, 3).tolist())
 print(f"uncertified steps of the shared run: {len(shared_run['failures'])}")
 _ = plotting.save_data(FIG_DIR, "extra_shared_multipliers", {
-    "k": np.arange(n_sh + 1), "trB_shared": trB_shared, "trB_per_node": trB_node})
+    "k": np.arange(n_sh + 1), "trB_shared": trB_shared, "trB_per_node": trB_node},
+    tolerance={"trB_*": results.LMI_ITERATES})
 
 # %% [markdown]
 # ### Figures 1–8
@@ -984,7 +985,8 @@ def state_figure(res, comp, est_name, stem):
     ax.set_xlim(0, T_run)
     plotting.save_figure(fig, FIG_DIR, stem, data={
         "k": k_axis, "x": res["x"][:, comp],
-        **{f"xhat_node{i + 1}": res["xh"][:, i, comp] for i in range(N)}})
+        **{f"xhat_node{i + 1}": res["xh"][:, i, comp] for i in range(N)}},
+        tolerance={"xhat_node*": results.LMI_ITERATES})
     plt.show()
 
 
@@ -1008,7 +1010,8 @@ def error_figure(res, comp, est_name, stem,
     ax.set_xlim(0, T_run)
     ax.legend(fontsize=7, ncol=2, loc="lower right")
     plotting.save_figure(fig, FIG_DIR, stem, data={
-        "k": k_axis, "band": band, **{f"err_node{i + 1}": res["err"][:, i, comp] for i in range(N)}})
+        "k": k_axis, "band": band, **{f"err_node{i + 1}": res["err"][:, i, comp] for i in range(N)}},
+        tolerance={"band": results.LMI_ITERATES, "err_node*": results.LMI_ITERATES})
     plt.show()
 
 
@@ -1137,6 +1140,20 @@ plotting.save_figure(fig, FIG_DIR, "extra_diagnostics", data={
     **{f"What_F_link{i + 1}{j + 1}": nn_run["Wn"][:, a] for a, (i, j) in enumerate(LINKS)},
     **{f"thm1_link{i + 1}{j + 1}": nn_run["Wq"][:, a] for a, (i, j) in enumerate(LINKS)},
     "p_op3": p_op3,
+}, tolerance={
+    "qf_*": results.Tolerance(
+        rtol=0.05, atol=1e-9,
+        reason="quadratic forms on a log axis, set by interior-point iterates of B_k: up to 0.6 % "
+        "apart under other BLAS kernels"),
+    "maxH_*": results.Tolerance(
+        rtol=0.2, atol=1e-9,
+        reason="largest coupling gain ||H_ij|| (NN design ~1e-4, log axis): a flat LMI direction, "
+        "its interior-point iterate 4 % apart under other BLAS kernels"),
+    "What_F_*": results.Tolerance(
+        rtol=0.0, atol=1e-8,
+        reason="NN weights collapsed to rounding level after k = 0 (<= 3e-9): their values are noise, "
+        "38 % apart under other BLAS kernels"),
+    "*": results.LMI_ITERATES,
 })
 plt.show()
 
@@ -1228,7 +1245,7 @@ _ = plotting.save_data(FIG_DIR, "extra_sensitivity", {
     "frac_inside": np.array([r["frac_inside"] for r in table]),
     "trB_T_nn": np.array([r["trB_T"] for r in table]),
     "infeasible_steps": np.array([r["infeasible"] for r in table]),
-})
+}, tolerance=dict.fromkeys(["rmse_*", "frac_inside", "trB_T_nn"], results.LMI_ITERATES))
 
 # %% [markdown]
 # ## Claims
@@ -1261,6 +1278,7 @@ claims["C1"] = results.claim(
     f"<= {track_tol} (the Fig. 3-4 data range); the conventional estimator's value is reported",
     measured={**max_late, "nn_smaller_than_conv": max_late["nn"] < max_late["conv"]},
     threshold=track_tol, holds=max_late["nn"] <= track_tol,
+    tolerance=results.LMI_ITERATES,
 )
 frac = float(np.mean(nn_run["qf"] <= 1.0))
 frac_seeds = [float(np.mean(row["frac_inside"])) for row in table if "realisation" in row["label"]]
@@ -1274,6 +1292,7 @@ claims["C2"] = results.claim(
               "fraction_conventional_design": float(np.mean(conv_run["qf"] <= 1.0))},
     threshold=p,
     holds=frac >= p and all(fs >= p for fs in frac_seeds),
+    tolerance=results.LMI_ITERATES,
 )
 e_nn, e_conv = rmse(nn_run), rmse(conv_run)
 nodes_better = [i + 1 for i in range(N) if e_nn[i] < e_conv[i]]
@@ -1289,6 +1308,7 @@ claims["C3"] = results.claim(
               "taylor_scale": L_used},
     threshold="rmse_nn < rmse_conventional at every node",
     holds=len(nodes_better) == N,
+    tolerance=results.LMI_ITERATES,
 )
 thm1_max = float(nn_run["Wq"].max())
 claims["C4"] = results.claim(
@@ -1297,6 +1317,7 @@ claims["C4"] = results.claim(
     "Holds by construction: the max is at k = 0, fixed by the data (||I - W*||_F^2 / 20); from "
     "k = 1 on W_hat ~ 0 and Q = e1^2 I, so (19) holds for any W allowed by Assumption 2",
     measured=thm1_max, threshold=1.0, holds=thm1_max <= 1.0,
+    tolerance=results.LMI_ITERATES,
 )
 all_reports = nn_run["reports"] + conv_run["reports"]
 worst = max(r.worst_eig for r in all_reports)
@@ -1314,6 +1335,11 @@ claims["C5"] = results.claim(
               "max_iterations": max(r.iterations or 0 for r in all_reports)},
     threshold={"infeasible_steps": 0, "max_eigenvalue": cert_tol},
     holds=n_infeasible == 0 and worst <= cert_tol,
+    tolerance=results.Tolerance(
+        rtol=0.25, atol=1e-6,
+        reason="interior-point diagnostics at the solver's stopping point: iteration counts may differ "
+        "by a few and residuals / eigenvalue margins (~1e-7) by their own size between machines; "
+        "the certification itself is compared exactly through holds"),
 )
 claims["X1"] = results.claim(
     paper="(ours) error dynamics (54) with the row blocks re-derived from (15)-(16)",
@@ -1342,6 +1368,7 @@ claims["X2"] = results.claim(
     threshold={"L_scale": L_used, "aleph_scale": aleph_used, "grid": taylor_grid, "e3": e3,
                "from_rule": taylor_scale is not None},
     holds=cover_f == 1.0 and cover_g == 1.0,
+    tolerance=results.LMI_ITERATES,
 )
 w_after = float(nn_run["Wn"][1:].max())
 claims["X3"] = results.claim(
@@ -1354,6 +1381,7 @@ claims["X3"] = results.claim(
               "lambda1_k0": nn_run["lam"][0, :, 0], "lambda2_k0": nn_run["lam"][0, :, 1]},
     threshold={"What": 1e-6, "H_nn": 1e-2, "H_conventional": 0.5},
     holds=w_after <= 1e-6 and nn_run["Hn"].max() < 1e-2 and conv_run["Hn"].max() > 0.5,
+    tolerance=results.LMI_ITERATES,
 )
 q_max = float(nn_run["sampled_q"].max())
 claims["X4"] = results.claim(
@@ -1362,12 +1390,14 @@ claims["X4"] = results.claim(
     check="max over steps, nodes and 256 random zeta per step on the boundary of every "
     "constraint of zeta^T (Xi^T P^-1 Xi + sigma^2 Xi~^T P^-1 Xi~) zeta <= 1",
     measured=q_max, threshold=1.0, holds=q_max <= 1.0,
+    tolerance=results.LMI_ITERATES,
 )
 claims["X5"] = results.claim(
     paper="(ours) DPP: the per-step problem built once with cp.Parameters and re-solved gives the "
     "same solution as a freshly built problem",
     check="max |P_(k+1) re-solved - P_(k+1) fresh| at the last step <= 1e-6",
     measured=dpp_gap, threshold=1e-6, holds=dpp_gap <= 1e-6,
+    tolerance=results.LMI_ITERATES,
 )
 claims["X6"] = results.claim(
     paper="(ours) the printed LMI (22) with one multiplier set Gamma_k shared by all nodes is a "
@@ -1378,6 +1408,7 @@ claims["X6"] = results.claim(
               "uncertified_steps_shared": len(shared_run["failures"])},
     threshold="trB_shared >= trB_per_node - 1e-6",
     holds=bool(np.all(trB_shared >= trB_node - 1e-6)) and not shared_run["failures"],
+    tolerance=results.LMI_ITERATES,
 )
 results.write_claims(results_path, claims)
 for cid, c in claims.items():

@@ -506,11 +506,11 @@ def secure_filter_node_step(
         ``x_{i,k}^+``.
     Pi_self, Gamma_self : (n, n) array_like
         ``Pi_{i,k}^+`` and ``Gamma_{i,k}^+``.
-    x_nbrs : (|N_i|, n) array_like
+    x_nbrs : (``|N_i|``, n) array_like
         Neighbours' estimates ``x_{j,k}^+`` (before the channel; (3) is applied here).
-    Pi_nbrs : (|N_i|, n, n) array_like
+    Pi_nbrs : (``|N_i|``, n, n) array_like
         Neighbours' bounds ``Pi_{j,k}^+`` (sent in the same packet as ``x_{j,k}^+``).
-    h_nbrs : (|N_i|,) array_like
+    h_nbrs : (``|N_i|``,) array_like
         Weights ``h_ij`` of the neighbours.
     delta : {0, 1}
         Channel state ``delta_k``.

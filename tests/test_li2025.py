@@ -107,7 +107,7 @@ def test_c3b_data_driven_envelope_is_vacuous(claims) -> None:
     assert min(m["UB_T_over_max_mse"]) > 1e11
     assert "vacuous" in c3b["check"] and "not evidence" in c3b["check"]
     lam = np.array([1e-3, 1e-2, 1e-2])
-    np.testing.assert_allclose(m["rho"], lam / (1 + lam), rtol=1e-12)
+    np.testing.assert_allclose(m["rho"], lam / (1 + lam), rtol=1e-10)  # claims carry 11 digits
     assert all(0 < lo < hi for lo, hi in zip(m["phi_lower"], m["phi_upper"], strict=True))
     assert c3b["holds"] is True
 
