@@ -643,7 +643,7 @@ def get_problem(kind, **const):
 def solve(sp, k, label, opts):
     return slmi.solve_certified(sp.problem, sp.lmis, step=k, node=label, solver=solver,
                                 fallback=fallback_solver, tol=cert_tol, eps=eps_lmi,
-                                solver_opts=opts, fallback_opts=SCS_OPTS)
+                                certify="strict", solver_opts=opts, fallback_opts=SCS_OPTS)
 
 
 def sample_admissible(rng, n_samples, S):
