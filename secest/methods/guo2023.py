@@ -682,7 +682,6 @@ def attack_statistic(dec: FeedthroughSVD, C: Array, R: Array, P: Array, u1: Arra
     return np.einsum("...i,...i->...", u1, np.linalg.solve(cov, u1[..., None])[..., 0])
 
 
-@register
 class Guo2023(Method):
     """SVD decoupling of the attack input, constrained local gain (28), CI fusion (19)-(21).
 
@@ -765,3 +764,6 @@ class Guo2023(Method):
             notes["outside theory"] = "Theorem 2 assumes every exchange; lost ones are left out of (19)"
         bound = res.P if res.P.ndim == 5 else res.P[None]
         return Estimate(res.x, alarms=alarms, bound=bound, notes=notes)
+
+
+register(Guo2023)
