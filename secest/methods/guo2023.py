@@ -152,7 +152,8 @@ def local_gains(
 ) -> LocalGains:
     """Gains and covariance bounds of the local step k-1 -> k (A2-A4, A8-A12, A14).
 
-    Every argument may carry leading stack axes (nodes, runs) that broadcast together.
+    Every argument but ``A`` and ``Q`` may carry leading stack axes (runs, nodes) that broadcast
+    together.
 
     Parameters
     ----------
