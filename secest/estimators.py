@@ -113,13 +113,25 @@ METHODS: dict[str, Method] = {}
 """Every registered method by name, in registration order (baselines first)."""
 
 
-def register(method: Method | type[Method]) -> Method:
-    """Add ``method`` (an instance, or a class instantiated without arguments) to :data:`METHODS`."""
-    inst = method() if isinstance(method, type) else method
+def register(method: Method | type[Method]) -> Method | type[Method]:
+    """Add ``method`` to :data:`METHODS` and return it unchanged (usable as a class decorator).
+
+    Parameters
+    ----------
+    method : Method instance, or a Method subclass
+        A class is instantiated without arguments for the registry; the class itself
+        is returned, so it stays constructible with other design parameters.
+
+    Returns
+    -------
+    Method or type
+        ``method`` itself.
+    """
+    inst = method() if isinstance(method, type) and issubclass(method, Method) else method
     if not isinstance(inst, Method) or not inst.name:
         raise ValidationError("method must be a secest.estimators.Method with a non-empty name")
     METHODS[inst.name] = inst
-    return inst
+    return method
 
 
 # ---------------------------------------------------------------------------------- Kalman filters

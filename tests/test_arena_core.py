@@ -121,3 +121,28 @@ def test_a_diverging_estimate_is_reported_not_scored() -> None:
     oracle = METHODS["oracle"].run(t)
     bad = Estimate(np.full_like(oracle.xhat, np.inf))
     assert estimators.score(t, bad, oracle).status == "diverged"
+
+
+def test_filter_step_with_per_link_messages_equal_to_the_estimates_is_the_printed_step() -> None:
+    """received[i, j] = x_j reproduces (3) exactly; a falsified link changes only its receiver."""
+    from secest import filters, graphs
+
+    rng = np.random.default_rng(3)
+    m, n = 5, 3
+    adj = graphs.ring_graph(m)
+    H = graphs.row_stochastic_weights(adj)
+    x = rng.standard_normal((2, m, n))
+    P = np.broadcast_to(np.eye(n), (2, m, n, n)).copy()
+    common = dict(A=np.eye(n), BBt=0.1 * np.eye(n), C=np.ones((m, 1, n)), DDt=np.eye(1), adj=adj,
+                  weights=H, kappa=0.2, threshold=25.0)
+    y = rng.standard_normal((2, m, 1))
+    plain = filters.secure_filter_step(x, P, 0.5 * P, 1, y, **common)
+    links = np.broadcast_to(x[:, None], (2, m, m, n)).copy()
+    same = filters.secure_filter_step(x, P, 0.5 * P, 1, y, received=links, **common)
+    assert np.array_equal(plain.x_post, same.x_post)
+    links[:, 0, 1] += 1.0  # node 0's message from node 1 is falsified
+    hit = filters.secure_filter_step(x, P, 0.5 * P, 1, y, received=links, **common)
+    changed = np.abs(hit.x_prior - plain.x_prior).max(axis=(0, 2)) > 0
+    assert changed.tolist() == [True, False, False, False, False]
+    with pytest.raises(ValidationError, match="Incompatible dimensions of received"):
+        filters.secure_filter_step(x, P, 0.5 * P, 1, y, received=links[:, :, :2], **common)
