@@ -289,7 +289,14 @@ def _attack(name: str, card: dict[str, Any]) -> Attack:
 
 
 def cards() -> dict[str, dict[str, Any]]:
-    """Every plant, network and attack card, checked: ``{"plant": {...}, "network": ..., "attack": ...}``."""
+    """Every card of ``cards.toml``, checked.
+
+    Returns
+    -------
+    dict
+        ``{"plant": {name: Plant}, "network": {name: Network}, "attack": {name: Attack},
+        "matrix": {...}}``.
+    """
     raw = _cards()
     plants = {n: _plant(n, c) for n, c in raw["plant"].items()}
     networks = {n: _network(n, c, plants) for n, c in raw["network"].items()}
