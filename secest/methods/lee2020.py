@@ -44,7 +44,8 @@ The arena method (:class:`Lee2020`) reads a scenario as follows.
 * Sub-step (rule from the notebook's integrator study: exponential Euler chatters on the sliding
   surfaces with amplitude ``kappa ||v_l|| h``, order one in ``h``): the largest ``h = dt / m``
   with ``kappa max_l ||v_l|| h <= CHATTER_FRACTION`` times the smallest sensor-noise standard
-  deviation in state units, ``min r_std / ||C row||``.
+  deviation in state units, ``min r_std / ||C row||``, but no finer than the notebook's own
+  step ``FINEST_SUBSTEP = 1e-3`` s.
 * Alarms (the Conclusion's identification, ``z_i`` against ``W_i x_hat_i``; threshold rule
   ours): node ``i`` raises an alarm at step ``k`` when some coordinate of ``z_i - W_i x_hat_i``
   exceeds ``2 z_{1 - alpha / (2 o_i)}`` standard deviations of the partial observer's stationary
@@ -73,6 +74,7 @@ from secest.validation import ValidationError, as_matrix, check_positive_int
 
 __all__ = [
     "CHATTER_FRACTION",
+    "FINEST_SUBSTEP",
     "GAMMA",
     "KAPPA",
     "POLES",
@@ -110,6 +112,8 @@ POLES = "shifted"
 """Observer-pole rule of the arena (see the module docstring)."""
 CHATTER_FRACTION = 0.1
 """Chattering amplitude ``kappa ||v|| h`` allowed, as a fraction of the smallest sensor noise."""
+FINEST_SUBSTEP = 1e-3
+"""Finest sub-step [s]: the notebook's own step, validated by its integrator study."""
 
 Array = NDArray[np.float64]
 
@@ -524,12 +528,16 @@ def sign_correction(S: Array) -> Callable[[Array], Array]:
 # ----------------------------------------------------------- the sampled-data reading (arena)
 
 
-def substeps(kappa: float, V: Array, C: Array, r_std: Array, dt: float, fraction: float) -> int:
+def substeps(
+    kappa: float, V: Array, C: Array, r_std: Array, dt: float, fraction: float, finest: float
+) -> int:
     """Sub-steps per sampling period: least ``m`` with ``kappa max||v_l|| dt / m <= fraction sigma``.
 
     ``sigma = min r_std / ||C row||``: the smallest sensor-noise standard deviation expressed as
     a displacement of the state along the measured direction. The exponential Euler scheme chatters
-    on sliding surfaces with amplitude ``kappa ||v_l|| h`` (the notebook's integrator study).
+    on sliding surfaces with amplitude ``kappa ||v_l|| h`` (the notebook's integrator study). The
+    sub-step is never finer than ``finest`` (``m <= ceil(dt / finest)``): nearly noise-free
+    sensors would otherwise ask for an unbounded number of sub-steps.
 
     Parameters
     ----------
@@ -540,7 +548,8 @@ def substeps(kappa: float, V: Array, C: Array, r_std: Array, dt: float, fraction
     """
     sigma = float(np.min(r_std / np.linalg.norm(C, axis=-1)))
     amplitude = kappa * float(np.linalg.norm(V, axis=0).max()) * dt
-    return max(1, int(np.ceil(amplitude / (fraction * sigma) - 1e-9)))
+    m = int(np.ceil(amplitude / (fraction * sigma) - 1e-9))
+    return max(1, min(m, int(np.ceil(dt / finest - 1e-9))))
 
 
 class SampledObserver(NamedTuple):
@@ -773,9 +782,10 @@ class Lee2020(Method):
     title = "lee2020: partial observers + distributed median (sign) correction"
     kind = "paper"
     reading = (
-        "continuous (5)+(6) on Ac by exponential Euler, sub-step from the chattering rule, y_k held "
-        "over (t_{k-1}, t_k]; nodes exchange x_hat_i once per period (held in the consensus term; "
-        "lost: no coupling); kappa = 0.5, gamma = 2, q = 1 (paper), poles 'shifted' (real parts -1)"
+        "(5)+(6) in continuous time on Ac (exponential Euler, sub-steps by the chattering rule), y_k "
+        "held over (t_{k-1}, t_k]; x_hat_i sent once per period and held in the consensus term as "
+        "received (falsified or not); lost: no coupling; kappa 0.5, gamma 2, q 1 (paper), poles "
+        "'shifted' (real parts -1)"
     )
 
     def __init__(
@@ -823,7 +833,7 @@ class Lee2020(Method):
                     d["gains"] = gains
         if d["gains"] is not None and d["graph"]:
             r_std = np.sqrt(np.diagonal(sc.R, axis1=1, axis2=2))
-            m = substeps(self.kappa, basis.V, sc.C, r_std, sc.plant.dt, self.chatter)
+            m = substeps(self.kappa, basis.V, sc.C, r_std, sc.plant.dt, self.chatter, FINEST_SUBSTEP)
             d["observer"] = sampled_observer(A, basis.V, basis.S, d["gains"], sc.C, adj, self.kappa,
                                              self.gamma, sc.plant.dt, m)
             d["tau"], d["first"] = alarm_rule(A, basis.V, basis.S, d["gains"], sc.C, sc.R, sc.plant.Q,
