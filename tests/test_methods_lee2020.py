@@ -229,6 +229,10 @@ def test_bad_input_is_refused_naming_the_argument() -> None:
         L.real_invariant_subspaces(np.zeros((2, 2)))
     sc = scenarios.scenario("inertia5", "none", runs=2, horizon=5)
     obs = METHODS["lee2020"]._design(sc)["observer"]
+    with pytest.raises(ValidationError, match="Incompatible dimensions of y"):
+        L.run_sampled(obs, np.zeros((2, 6, 4, 1)), lambda k, m: m, np.ones((2, 6)))
+    with pytest.raises(ValidationError, match="Incompatible dimensions of values"):
+        L.median_solver(graphs.ring_graph(5), np.ones(4), np.ones(5), np.zeros(5), 1.0, 1.0, 0.01)
     with pytest.raises(ValidationError, match="Incompatible dimensions of link"):
         L.run_sampled(obs, np.zeros((2, 6, 5, 1)), lambda k, m: m, np.ones((2, 5)))
     with pytest.raises(ValidationError, match="m must be >= 1"):

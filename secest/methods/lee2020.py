@@ -163,6 +163,9 @@ def median_solver(
         ``step`` at or above the Euler stability limit ``2 / (gamma lambda_max(L))``.
     """
     lap = graphs.laplacian(graphs.check_connected(adj))
+    values = as_matrix("values", values, (lap.shape[0],))
+    indicators = as_matrix("indicators", indicators, (lap.shape[0],))
+    x_start = as_matrix("x_start", x_start, (lap.shape[0],))
     if step >= 2.0 / (gain * np.linalg.eigvalsh(lap)[-1]):
         raise ValidationError(f"step={step} is above the Euler stability limit 2/(gamma*lambda_max(L))")
     steps = int(round(horizon_s / step))
@@ -677,6 +680,7 @@ def run_sampled(
     exchange : callable ``(k, x_hat) -> received``
     link : (runs, K + 1) array of 0 / 1
     """
+    y = as_matrix("y", y, (None, None, obs.coupling.shape[0], obs.Y.shape[-1]))
     runs, K1, N, _ = y.shape
     n = obs.V.shape[0]
     link = np.asarray(link)
