@@ -112,7 +112,8 @@ def feedthrough_decomposition(H: ArrayLike, R: ArrayLike, *, rtol: float = 1e-10
     Parameters
     ----------
     H : (n_y, n_u) array_like
-        Feed-through matrix of the unknown input (guo2023: ``H_bar = [0 H]``).
+        Feed-through matrix of the unknown input (guo2023: ``H_bar = [0 H]``); ``n_u = 0``
+        (no unknown input reaches these outputs) is allowed and gives ``p = 0``.
     R : (n_y, n_y) array_like
         Measurement-noise covariance, symmetric positive definite.
     rtol : float, default 1e-10
@@ -128,8 +129,10 @@ def feedthrough_decomposition(H: ArrayLike, R: ArrayLike, *, rtol: float = 1e-10
         Non-finite or non-2-D ``H``; ``R`` of the wrong shape or not positive definite;
         ``rtol`` outside (0, 1).
     """
-    H = as_matrix("H", H, (None, None))
+    H = as_matrix("H", H, (None, None), empty=True)  # n_u = 0 columns: no unknown input
     ny, nu = H.shape
+    if ny == 0:
+        raise ValidationError(f"H must have at least one row (output), found shape (0, {nu})")
     R = check_psd("R", as_matrix("R", R, (ny, ny), note="to match H"), strict=True)
     rtol = _check_rtol(rtol)
     U, s, Vt = np.linalg.svd(H)

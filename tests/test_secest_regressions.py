@@ -280,3 +280,13 @@ def test_loss_of_psd_is_flagged_and_warned_about() -> None:
     with pytest.warns(filters.FilterHealthWarning, match="Pi\\^\\+ lost PSD at"):
         st = filters.secure_filter_step(x, bad, 0 * P, d, y, **kw, validate=False, inspect=False)
     assert not np.all(st.Pi_psd)
+
+
+def test_feedthrough_without_unknown_input_columns() -> None:
+    """n_u = 0 (no attack channel at a node) is a valid case of guo2023's transform: p = 0."""
+    from secest.estimation import feedthrough_decomposition
+
+    out = feedthrough_decomposition(np.zeros((2, 0)), np.eye(2))
+    assert out.rank == 0 and out.U2.shape == (2, 2) and out.T1.shape == (0, 2)
+    with pytest.raises(ValidationError, match="H must have at least one row"):
+        feedthrough_decomposition(np.zeros((0, 1)), np.eye(0))
