@@ -34,6 +34,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import stats
 
+from secest.results import DETERMINISTIC, Tolerance
 from secest.scenarios import Scenario, Trial
 from secest.validation import ValidationError
 
@@ -44,6 +45,8 @@ __all__ = [
     "Estimate",
     "Method",
     "Score",
+    "evaluate",
+    "rate",
     "register",
     "score",
 ]
@@ -89,12 +92,17 @@ class Method:
         ``"paper"`` (one of the five reproduced estimators) or ``"baseline"``.
     reading : str
         How the method is read on the shared scenarios where its paper's setting differs.
+    tolerance : secest.results.Tolerance
+        How closely a re-run on another machine reproduces its estimates (and the scores
+        made of them): :data:`~secest.results.DETERMINISTIC` unless the method amplifies
+        rounding (sign-driven dynamics, interior-point solves).
     """
 
     name: str = ""
     title: str = ""
     kind: str = "baseline"
     reading: str = ""
+    tolerance: Tolerance = DETERMINISTIC
 
     def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
         """The conditions the method's theory needs on ``sc``: (statement, holds) pairs."""
@@ -357,10 +365,10 @@ def score(trial: Trial, estimate: Estimate, oracle: Estimate, *, burn_in: int | 
 
     The ratios are per run (paired: the same truth and noises), averaged over runs with a
     percentile bootstrap 95 % interval; detection and false-alarm rates are fractions of
-    (run, step, node) samples with Wilson 95 % intervals. A non-finite estimate is reported
-    as ``diverged``.
+    (run, step, node) samples after the burn-in (:func:`rate`: the union of the Wilson
+    interval and a bootstrap over runs). A non-finite estimate is reported as ``diverged``.
     """
-    from secest.montecarlo import bootstrap_interval, wilson_interval
+    from secest.montecarlo import bootstrap_interval
 
     K = trial.x.shape[1] - 1
     burn = K // 5 if burn_in is None else burn_in
@@ -381,24 +389,84 @@ def score(trial: Trial, estimate: Estimate, oracle: Estimate, *, burn_in: int | 
         notes=dict(estimate.notes),
     )
     if estimate.alarms is not None:
-        attacked = trial.attacked
+        attacked = trial.attacked[:, burn:]
+        alarms = estimate.alarms[:, burn:]
         if attacked.any():
-            hits = int(estimate.alarms[attacked].sum())
-            result.detection = (hits / int(attacked.sum()), *wilson_interval(hits, int(attacked.sum())))
-        clean = ~attacked
-        fa = int(estimate.alarms[clean].sum())
-        result.false_alarm = (fa / int(clean.sum()), *wilson_interval(fa, int(clean.sum())))
+            result.detection = rate(alarms, attacked)
+        result.false_alarm = rate(alarms, ~attacked)
     return result
 
 
+def rate(alarms: NDArray[np.bool_], where: NDArray[np.bool_]) -> tuple[float, float, float]:
+    """Fraction of the samples ``where`` that carry an alarm, with a 95 % interval.
+
+    Samples are (run, step, node); the alarms of one run are correlated (a detector that
+    locks out alarms for many steps), so the interval is the union of the Wilson interval
+    (samples taken as independent) and a percentile bootstrap over runs (the ratio of the
+    per-run sums, runs resampled): never narrower than either.
+
+    Parameters
+    ----------
+    alarms, where : (runs, K, N) bool arrays
+
+    Returns
+    -------
+    (rate, low, high)
+    """
+    from secest.montecarlo import bootstrap_interval, wilson_interval
+
+    hits = (alarms & where).reshape(alarms.shape[0], -1).sum(axis=1)
+    total = where.reshape(where.shape[0], -1).sum(axis=1)
+    n_hits, n = int(hits.sum()), int(total.sum())
+    if n == 0:
+        raise ValidationError("where must select at least one sample")
+    low, high = wilson_interval(n_hits, n)
+    used = total > 0
+    if used.sum() >= 2 and 0 < n_hits:
+        try:
+            b_low, b_high = bootstrap_interval(np.column_stack([hits[used], total[used]]), "mean")
+        except ValidationError:  # a resample of runs without a single sample: Wilson only
+            pass
+        else:
+            low, high = min(low, b_low), max(high, b_high)
+    return n_hits / n, low, high
+
+
 def evaluate(
-    sc: Scenario, names: list[str] | None = None, runner: Callable | None = None
+    sc: Scenario,
+    names: list[str] | None = None,
+    runner: Callable | None = None,
+    *,
+    observe: Callable[[str, Trial, Estimate], None] | None = None,
+    trial: Trial | None = None,
+    burn_in: int | None = None,
 ) -> dict[str, Score]:
-    """Score every method (or ``names``) on scenario ``sc``: one trial, the oracle as reference."""
+    """Score every method (or ``names``) on scenario ``sc``: one trial, the oracle as reference.
+
+    Parameters
+    ----------
+    sc : Scenario
+    names : list of str, optional
+        Registered method names (default: every one, in registration order).
+    runner : callable, optional
+        ``runner(method, trial) -> Estimate`` instead of ``method.run(trial)`` (e.g. to time it).
+    observe : callable, optional
+        Called as ``observe(name, trial, estimate)`` for every method that ran (the oracle
+        first), e.g. to keep error curves without holding every estimate in memory.
+    trial : Trial, optional
+        The runs to use (default: :func:`secest.scenarios.simulate` of ``sc``).
+    burn_in : int, optional
+        Steps not scored (default ``K // 5``, see :func:`score`).
+    """
     from secest.scenarios import simulate
 
-    trial = simulate(sc)
+    unknown = [n for n in names or [] if n not in METHODS]
+    if unknown:
+        raise ValidationError(f"methods {unknown} are not registered; registered: {list(METHODS)}")
+    trial = simulate(sc) if trial is None else trial
     oracle = METHODS["oracle"].run(trial)
+    if observe is not None:
+        observe("oracle", trial, oracle)
     out: dict[str, Score] = {}
     for name in names or list(METHODS):
         method = METHODS[name]
@@ -407,5 +475,7 @@ def evaluate(
             out[name] = Score("n/a", reason)
             continue
         est = oracle if name == "oracle" else (runner or (lambda m, t: m.run(t)))(method, trial)
-        out[name] = score(trial, est, oracle)
+        if observe is not None and name != "oracle":
+            observe(name, trial, est)
+        out[name] = score(trial, est, oracle, burn_in=burn_in)
     return out

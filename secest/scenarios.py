@@ -3,8 +3,12 @@
 A **scenario** is a plant observed by a sensor network under one attack, over a horizon,
 with a number of Monte Carlo runs. Every card lives in ``secest/cards.toml``: a new plant,
 network or attack is one TOML table; the ``[matrix]`` crosses every network (with its plant)
-with every attack. :func:`simulate` draws the runs of a scenario once, so that every
-estimator of the arena is fed the very same truth, measurements, channel and attacks.
+with every attack, and a ``[scenario.<name>]`` table adds one named scenario (a network and
+an attack, optionally its own horizon, runs and seed) outside the cross. More cards can be
+passed to :func:`cards`, :func:`scenario` and :func:`matrix` (``extra=``: a TOML file or the
+parsed tables) without editing the package's file. :func:`simulate` draws the runs of a
+scenario once, so that every estimator of the arena is fed the very same truth,
+measurements, channel and attacks.
 
 The model (every plant is linear and time-invariant)::
 
@@ -24,9 +28,11 @@ to whatever it exchanges (:meth:`Trial.received`).
 from __future__ import annotations
 
 import tomllib
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
 from importlib import resources
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -204,9 +210,40 @@ class Trial:
 # ---------------------------------------------------------------------------------- cards
 
 
-def _cards() -> dict[str, Any]:
+CARD_KINDS = ("plant", "network", "attack", "scenario")
+"""The tables of a cards file that hold named cards (``[<kind>.<name>]``)."""
+
+Extra = str | Path | Mapping[str, Any] | None
+"""More cards: a TOML file (path) or its parsed tables, laid out like ``cards.toml``."""
+
+
+def _cards(extra: Extra = None) -> dict[str, Any]:
     text = resources.files("secest").joinpath("cards.toml").read_text()
-    return tomllib.loads(text)
+    raw = tomllib.loads(text)
+    if extra is None:
+        return raw
+    if isinstance(extra, str | Path):
+        path = Path(extra)
+        if not path.is_file():
+            raise ValidationError(f"extra must be a cards file or a mapping; {str(path)!r} is no file")
+        with path.open("rb") as fh:
+            more = tomllib.load(fh)
+    elif isinstance(extra, Mapping):
+        more = dict(extra)
+    else:
+        raise ValidationError(f"extra must be a TOML path or a mapping, found {type(extra).__name__}")
+    unknown = sorted(set(more) - {*CARD_KINDS, "matrix"})
+    if unknown:
+        raise ValidationError(f"extra cards: unknown tables {unknown}; known: {[*CARD_KINDS, 'matrix']}")
+    for kind in CARD_KINDS:
+        for name, card in more.get(kind, {}).items():
+            if name in raw.get(kind, {}):
+                raise ValidationError(f"extra cards: {kind} {name!r} already exists in cards.toml")
+            raw.setdefault(kind, {})[name] = card
+    for key in ("networks", "attacks"):  # extra [matrix] lists extend the cross
+        added = [n for n in more.get("matrix", {}).get(key, []) if n not in raw["matrix"][key]]
+        raw["matrix"][key] = [*raw["matrix"][key], *added]
+    return raw
 
 
 def _plant(name: str, card: dict[str, Any]) -> Plant:
@@ -288,20 +325,50 @@ def _attack(name: str, card: dict[str, Any]) -> Attack:
     )
 
 
-def cards() -> dict[str, dict[str, Any]]:
-    """Every card of ``cards.toml``, checked.
+def cards(extra: Extra = None) -> dict[str, dict[str, Any]]:
+    """Every card of ``cards.toml`` (and of ``extra``), checked.
+
+    Parameters
+    ----------
+    extra : path or mapping, optional
+        More cards laid out like ``cards.toml``: ``[plant.<name>]``, ``[network.<name>]``,
+        ``[attack.<name>]`` and ``[scenario.<name>]`` tables are added (a name that already
+        exists is refused); the ``networks`` and ``attacks`` of an extra ``[matrix]`` are
+        appended to the cross. The package's file is never modified.
 
     Returns
     -------
     dict
         ``{"plant": {name: Plant}, "network": {name: Network}, "attack": {name: Attack},
-        "matrix": {...}}``.
+        "scenario": {name: table}, "matrix": {...}}``.
     """
-    raw = _cards()
+    raw = _cards(extra)
     plants = {n: _plant(n, c) for n, c in raw["plant"].items()}
     networks = {n: _network(n, c, plants) for n, c in raw["network"].items()}
     attacks = {n: _attack(n, c) for n, c in raw["attack"].items()}
-    return {"plant": plants, "network": networks, "attack": attacks, "matrix": raw.get("matrix", {})}
+    named = {n: _named(n, c, networks, attacks) for n, c in raw.get("scenario", {}).items()}
+    return {
+        "plant": plants,
+        "network": networks,
+        "attack": attacks,
+        "scenario": named,
+        "matrix": raw.get("matrix", {}),
+    }
+
+
+_NAMED_KEYS = {"network", "attack", "horizon", "runs", "seed", "title"}
+
+
+def _named(
+    name: str, card: dict[str, Any], networks: dict[str, Network], attacks: dict[str, Attack]
+) -> dict[str, Any]:
+    unknown = sorted(set(card) - _NAMED_KEYS)
+    if unknown:
+        raise ValidationError(f"scenario {name}: unknown keys {unknown}; known: {sorted(_NAMED_KEYS)}")
+    for kind, known in (("network", networks), ("attack", attacks)):
+        if card.get(kind) not in known:
+            raise ValidationError(f"scenario {name}: {kind} {card.get(kind)!r} has no card")
+    return dict(card)
 
 
 def scenario(
@@ -311,9 +378,14 @@ def scenario(
     horizon: int | None = None,
     runs: int | None = None,
     seed: int | None = None,
+    name: str | None = None,
+    extra: Extra = None,
 ) -> Scenario:
-    """The scenario of ``network`` (with its plant) under ``attack``; defaults from ``[matrix]``."""
-    c = cards()
+    """The scenario of ``network`` (with its plant) under ``attack``; defaults from ``[matrix]``.
+
+    ``name`` defaults to ``"<network>/<attack>"``; ``extra`` adds cards (see :func:`cards`).
+    """
+    c = cards(extra)
     if network not in c["network"]:
         raise ValidationError(f"network must be one of {sorted(c['network'])}, found {network!r}")
     if attack not in c["attack"]:
@@ -324,7 +396,7 @@ def scenario(
     if any(i >= net.N for i in att.nodes):
         raise ValidationError(f"attack {attack}: nodes {att.nodes} do not all exist in {network}")
     return Scenario(
-        name=f"{network}/{attack}",
+        name=name or f"{network}/{attack}",
         plant=c["plant"][net.plant],
         network=net,
         attack=att,
@@ -334,10 +406,43 @@ def scenario(
     )
 
 
-def matrix(**overrides: Any) -> list[Scenario]:
-    """Every scenario of the ``[matrix]``: each network (with its plant) under each attack."""
-    m = cards()["matrix"]
-    return [scenario(n, a, **overrides) for n in m["networks"] for a in m["attacks"]]
+def matrix(
+    *,
+    networks: list[str] | None = None,
+    attacks: list[str] | None = None,
+    extra: Extra = None,
+    **overrides: Any,
+) -> list[Scenario]:
+    """Every scenario of the arena: each network (with its plant) under each attack of the
+    ``[matrix]``, then each ``[scenario.<name>]`` table.
+
+    Parameters
+    ----------
+    networks, attacks : list of str, optional
+        The networks and attacks to cross (default: the ``[matrix]`` lists); when given,
+        they also select the named scenarios (default: every one). Every name must have
+        a card.
+    extra : path or mapping, optional
+        More cards (see :func:`cards`).
+    **overrides
+        ``horizon``, ``runs``, ``seed`` for every scenario (a named scenario's own values
+        are used where it gives them and no override does).
+    """
+    c = cards(extra)
+    m = c["matrix"]
+    nets = list(m["networks"]) if networks is None else list(networks)
+    atts = list(m["attacks"]) if attacks is None else list(attacks)
+    for kind, names in (("network", nets), ("attack", atts)):
+        unknown = [n for n in names if n not in c[kind]]
+        if unknown:
+            raise ValidationError(f"{kind}s {unknown} have no card; known: {sorted(c[kind])}")
+    out = [scenario(n, a, extra=extra, **overrides) for n in nets for a in atts]
+    for name, card in c["scenario"].items():
+        if (networks is None or card["network"] in nets) and (attacks is None or card["attack"] in atts):
+            own = {k: card[k] for k in ("horizon", "runs", "seed") if k in card}
+            out.append(scenario(card["network"], card["attack"], name=name, extra=extra,
+                                **(own | {k: v for k, v in overrides.items() if v is not None})))
+    return out
 
 
 # ---------------------------------------------------------------------------------- simulation

@@ -69,6 +69,7 @@ from scipy import stats
 
 from secest import graphs, systems
 from secest.estimators import CHI2_ALPHA, Estimate, Method, register
+from secest.results import SIGN_DRIVEN
 from secest.scenarios import Scenario, Trial
 from secest.validation import ValidationError, as_matrix, check_positive_int
 
@@ -785,6 +786,7 @@ class Lee2020(Method):
     name = "lee2020"
     title = "lee2020: partial observers + distributed median (sign) correction"
     kind = "paper"
+    tolerance = SIGN_DRIVEN  # sign-driven (Filippov) correction: last bits flip a sgn elsewhere
     reading = (
         "(5)+(6) in continuous time on Ac (exponential Euler, sub-steps by the chattering rule), y_k "
         "held over (t_{k-1}, t_k]; x_hat_i sent once per period and held in the consensus term as "
