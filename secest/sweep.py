@@ -22,7 +22,8 @@ Execution: a Dask ``LocalCluster`` with one single-threaded worker process per
 core by default, or an existing cluster with ``--scheduler tcp://host:port``
 (its workers must run this environment and see this repository's folder).
 Each point runs in its own folder ``build/sweeps/<key>/<id>/``, where ``<id>``
-hashes the point's parameters, the notebook source and the ``secest`` sources:
+hashes the point's parameters, the notebook source and the ``secest`` sources (the arena's
+methods and scenario cards included):
 a re-run reuses every finished point, a changed notebook or library re-runs
 them all. A failed point is reported with its parameters and the last line of
 its error, counted, and makes the command exit non-zero; it is never dropped.
@@ -61,11 +62,16 @@ OUTCOMES = ("holds", "fails", "fails-premise")
 
 
 def source_hash(key: str) -> str:
-    """Hash of ``notebooks/<key>.py`` and every ``secest/*.py``: what a point's result depends on."""
+    """Hash of ``notebooks/<key>.py`` and every source and card file of ``secest`` (its ``*.py``
+    and ``*.toml``, subpackages such as ``secest/methods`` included): what a point's result
+    depends on."""
     root = repo_root()
     h = hashlib.sha256()
-    for path in [root / "notebooks" / f"{key}.py", *sorted((root / "secest").glob("*.py"))]:
-        h.update(path.name.encode())
+    package = sorted(
+        p for p in (root / "secest").rglob("*") if p.suffix in (".py", ".toml") and p.is_file()
+    )
+    for path in [root / "notebooks" / f"{key}.py", *package]:
+        h.update(path.relative_to(root).as_posix().encode())
         h.update(path.read_bytes())
     return h.hexdigest()
 
