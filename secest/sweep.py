@@ -476,9 +476,23 @@ def _finish(
         old.unlink()
     for cid, entry in summary.items():
         if entry["verdict"] == "undetermined":
-            plot_claim(space, cid, rows, [p for _, p in swept], entry, folder / f"robustness_{cid}.png")
+            plot_claim(space, cid, rows, [p for _, p in swept], entry, folder / f"robustness_{cid}.png",
+                       threshold=_common_threshold(results, cid))
     failed = sum(1 for r in rows if r["status"] != "ok")
     return {"rows": rows, "summary": summary, "failed": failed}
+
+
+def _common_threshold(results: Mapping[str, dict], cid: str) -> float | None:
+    """The claim's threshold when it is one number, the same at every finished point."""
+    values = {
+        json.dumps(r["claims"][cid].get("threshold"))
+        for r in results.values()
+        if r["status"] == "ok" and cid in r["claims"]
+    }
+    if len(values) != 1:
+        return None
+    value = json.loads(values.pop())
+    return float(value) if isinstance(value, int | float) and not isinstance(value, bool) else None
 
 
 def _write_csv(path: Path, rows: Sequence[Mapping[str, Any]]) -> None:
@@ -496,12 +510,15 @@ def plot_claim(
     points: Sequence[Mapping[str, Any]],
     entry: Mapping[str, Any],
     path: Path,
+    *,
+    threshold: float | None = None,
 ) -> Path:
     """Where claim ``cid`` holds: its value (or outcome) against the most telling swept axis.
 
     One panel per level of a second set-valued axis with 2–4 levels; markers by
-    outcome (holds ●, fails ✕, premise fails ▲); the claim's threshold dashed
-    when it is a number. Saved deterministically as ``path``.
+    outcome (holds ●, fails ✕, premise fails ▲); ``threshold`` (the claim's, when it
+    is one number) dashed; a positive numeric axis spanning two decades or more on
+    a logarithmic scale. Saved deterministically as ``path``.
     """
     import matplotlib.pyplot as plt
 
@@ -535,6 +552,8 @@ def plot_claim(
     for ax, level in zip(panels[0], levels, strict=True):
         sel = [(r, p) for r, p in ok if level is None or spaces._same(p[facet], level)]
         _scatter(ax, space, x_axis, sel, cid, has_values)
+        if threshold is not None and has_values:
+            ax.axhline(threshold, color="0.4", ls="--", lw=0.9, label="threshold", zorder=2)
         title = f"{facet} = {space.axes[facet].label(level)}: " if facet else ""
         held = sum(r[f"{cid}.outcome"] == "holds" for r, _ in sel)
         ax.set_title(f"{title}holds at {held}/{len(sel)}", fontsize=8)
@@ -600,6 +619,10 @@ def _scatter(ax: Any, space: spaces.Space, x_axis: str, sel: list, cid: str, has
         ax.scatter(xs, ys, marker=marker, color=colour, s=18, label=outcome, zorder=3)
     if categorical:
         ax.set_xticks(range(len(axis.values)), [axis.label(v) for v in axis.values], rotation=20)
+    else:
+        xs_all = [p[x_axis] for _, p in sel]
+        if xs_all and min(xs_all) > 0 and max(xs_all) / min(xs_all) >= 100:
+            ax.set_xscale("log")
     if not has_values:
         ax.set_yticks([0, 1], ["fails", "holds"])
 
