@@ -30,9 +30,10 @@ def _harness():
 
 @pytest.fixture(scope="module")
 def nb():
-    """The notebook's namespace (fast mode: the weight table, no grid), its draws."""
-    ns = _harness().load_notebook("li2025", stop_before="DRAWS = draw_randomness", mode="fast", T=T_NB,
-                                  F=F_NB)
+    """The notebook's objects, by name (fast mode: the weight table, no grid), and its draws."""
+    ns = _harness().notebook_definitions(
+        "li2025", "AH_ALL", "BH", "CH", "E_ALL", "K_SETS", "N", "PSI", "SETS", "V", "W", "WEIGHTS", "XI",
+        "draw_randomness", "m", "simulate", "xi_star", mode="fast", T=T_NB, F=F_NB)
     ns["_draws"] = ns["draw_randomness"](montecarlo.spawn_rngs(5, 1)[0], F_NB, T_NB)
     return ns
 
