@@ -329,20 +329,23 @@ for i, sc in enumerate(SCENARIOS):
 starts = [i for i, sc in enumerate(SCENARIOS) if i == 0 or sc.plant.name != SCENARIOS[i - 1].plant.name]
 for i in starts[1:]:
     ax.axhline(i - 0.5, color="black", lw=1.2)
+for i, end in zip(starts, [*starts[1:], len(SCENARIOS)], strict=True):  # the plant of each group
+    ax.text(len(order) - 0.4, (i + end - 1) / 2, SCENARIOS[i].plant.name.replace("_", " "),
+            rotation=270, ha="left", va="center", fontsize=7.5, clip_on=False)
 ax.axvline(n_base - 0.5, color="black", lw=1.2)
 ax.set_xticks(range(len(order)), order, rotation=30, ha="right")
 ax.set_yticks(range(len(SCENARIOS)), [sc.name.replace("/", " / ") for sc in SCENARIOS])
 ax.tick_params(length=0)
 ax.grid(False)
 ax.set_xlabel("baselines | papers' methods")
-bar = fig.colorbar(image, ax=ax, fraction=0.04, pad=0.02,
+bar = fig.colorbar(image, ax=ax, fraction=0.04, pad=0.05,
                    extend="max" if finite.max() > norm.vmax else "neither")
 bar.set_label("mean RMSE / oracle RMSE (log scale)")
 ax.legend(handles=[Patch(facecolor="0.85", hatch="////", edgecolor="0.55",
                          label="N/A: a condition of the method's theory fails")],
           loc="upper left", bbox_to_anchor=(0.0, -0.16), frameon=False, fontsize=7)
 ax.set_title(f"Arena: network-mean RMSE relative to the oracle ({runs_used} runs, "
-             f"{horizon_used} steps, seed {seed}, attacks x {attack_scale:g})")
+             f"{horizon_used} steps, seed {seed}, attack magnitudes ×{attack_scale:g})")
 plotting.save_figure(fig, FIG_DIR, "extra_matrix_heatmap", data=matrix_data(), tolerance=TOL)
 plt.show()
 
@@ -406,7 +409,7 @@ def error_figure(plant: str) -> None:
                      fontsize=8)
         ax.set_xlim(t[0], t[-1])
     for ax in axes[:, 0]:
-        ax.set_ylabel("RMS error")
+        ax.set_ylabel("RMS error [units of x]")
     for ax in axes[-1]:
         ax.set_xlabel("time t [s]")
     spare = axes.flat[len(group)]
