@@ -235,6 +235,13 @@ def test_arena_notebook_fast_mode(run_notebook) -> None:
     assert claims["X8"]["holds"] == (claims["X8"]["measured"]["diverged"] == 0)
     x6 = claims["X6"]["measured"]
     assert claims["X6"]["holds"] == all(v <= 0.01 for v in x6["upper"].values())
+    x2, x3, x7 = (claims[c]["measured"] for c in ("X2", "X3", "X7"))
+    assert sorted(x2["within"]) == sorted(n for n, v in x2["upper"].items() if v <= 2.0)
+    assert claims["X2"]["holds"] == (bool(x2["upper"]) and not x2["outside"])
+    assert x3["min_lower"] == min(x3["lower"].values())
+    assert claims["X3"]["holds"] == all(v > 1.0 for v in x3["lower"].values())
+    assert x7["worst_lower"] == min(x7["lower"].values())
+    assert claims["X7"]["holds"] == all(v >= 0.5 for v in x7["lower"].values())
     for a in attacks:
         if a == "none":
             continue
