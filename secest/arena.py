@@ -106,6 +106,13 @@ def scaled(sc: Scenario, factor: float) -> Scenario:
 
     Bias, replacement and message attacks have a magnitude; ``none`` and ``dos`` are
     returned unchanged.
+
+    Parameters
+    ----------
+    sc : Scenario
+        The scenario.
+    factor : float
+        Positive finite factor on the attack magnitude.
     """
     if not (isinstance(factor, int | float) and not isinstance(factor, bool) and factor > 0
             and math.isfinite(factor)):
@@ -135,7 +142,13 @@ def error_curve(xhat: NDArray[np.float64], x: NDArray[np.float64]) -> NDArray[np
 
 
 def attack_activity(trial: Trial) -> NDArray[np.float64]:
-    """Fraction of runs in which the scenario's attack acts at each step, shape (K + 1,)."""
+    """Fraction of runs in which the scenario's attack acts at each step, shape (K + 1,).
+
+    Parameters
+    ----------
+    trial : Trial
+        One simulated scenario (``secest.scenarios.simulate``).
+    """
     kind = trial.scenario.attack.kind
     if kind in ("bias", "replacement"):
         acting = trial.attacked.any(axis=2)
@@ -223,7 +236,15 @@ def _sig(value: float, digits: int = 3) -> str:
 
 
 def fmt_interval(value: tuple[float, float, float] | None, *, percent: bool = False) -> str:
-    """``"1.23 [1.10, 1.40]"`` (3 significant digits; ``percent``: values as %), ``"–"`` for None."""
+    """``"1.23 [1.10, 1.40]"`` (3 significant digits; ``percent``: values as %), ``"–"`` for None.
+
+    Parameters
+    ----------
+    value : tuple of float or None
+        ``(value, low, high)``.
+    percent : bool
+        Show the numbers as percentages.
+    """
     if value is None:
         return "–"
     scale, unit = (100.0, " %") if percent else (1.0, "")
@@ -237,6 +258,11 @@ def cell_text(s: Score) -> dict[str, str]:
     A scored cell gives every number with its interval ("–" where the method has no
     detector, or the scenario no attacked sample); an N/A cell names the failed condition
     (``"N/A: <condition>"``); a diverged one says so.
+
+    Parameters
+    ----------
+    s : Score
+        The score of one (scenario, method) cell.
     """
     if s.status not in STATUSES:
         raise ValidationError(f"status must be one of {STATUSES}, found {s.status!r}")
@@ -260,7 +286,13 @@ def cell_text(s: Score) -> dict[str, str]:
 
 
 def table_rows(m: Matrix) -> list[dict[str, str]]:
-    """One row per (scenario, method), in scenario then method order, with :func:`cell_text`."""
+    """One row per (scenario, method), in scenario then method order, with :func:`cell_text`.
+
+    Parameters
+    ----------
+    m : Matrix
+        The scored matrix (:func:`run_matrix`).
+    """
     rows = []
     for sc in m.scenarios:
         for name in m.methods:

@@ -102,6 +102,12 @@ def escape_md(text: str) -> str:
     return _MD_SPECIAL.sub(r"\\\1", " ".join(str(text).split()))
 
 
+def escape_md_keep_maths(text: str) -> str:
+    """Like ``escape_md``, but inline maths ``$...$`` (a notebook heading's) is left to be typeset."""
+    parts = re.split(r"((?<!\\)\$[^$]+\$)", " ".join(str(text).split()))
+    return "".join(p if i % 2 else escape_md(p) for i, p in enumerate(parts))
+
+
 def myst_slug(title: str) -> str:
     """The anchor MyST gives a heading (``myst_heading_anchors``), from its markdown source.
 
@@ -153,17 +159,35 @@ def paper_keys(root: Path = ROOT) -> list[str]:
 
 
 def beyond_keys(root: Path = ROOT) -> list[str]:
-    """Keys of the committed executed notebooks that reproduce no paper (:data:`BEYOND_KEYS`)."""
+    """Keys of the committed executed notebooks that reproduce no paper (:data:`BEYOND_KEYS`).
+
+    Parameters
+    ----------
+    root : Path
+        Repository root.
+    """
     return [k for k in BEYOND_KEYS if (root / "notebooks" / f"{k}.ipynb").exists()]
 
 
 def notebook_keys(root: Path = ROOT) -> list[str]:
-    """Every notebook on the site: the papers', then those beyond them."""
+    """Every notebook on the site: the papers', then those beyond them.
+
+    Parameters
+    ----------
+    root : Path
+        Repository root.
+    """
     return paper_keys(root) + beyond_keys(root)
 
 
 def page_of(key: str) -> str:
-    """The site page of notebook ``key``, without suffix: ``papers/<key>`` or ``beyond/<key>``."""
+    """The site page of notebook ``key``, without suffix: ``papers/<key>`` or ``beyond/<key>``.
+
+    Parameters
+    ----------
+    key : str
+        Notebook key.
+    """
     return f"beyond/{key}" if key in BEYOND_KEYS else f"papers/{key}"
 
 
@@ -568,7 +592,7 @@ def _claim_row(
         anchor = section_anchor(heads, section)
         if anchor is None:
             raise SiteError(f"{key} claim {cid}: section {section!r} names no heading of the notebook")
-        where = f"measured in [§ {escape_md(section)}]({page_of(key)}.ipynb#{anchor})"
+        where = f"measured in [§ {escape_md_keep_maths(section)}]({page_of(key)}.ipynb#{anchor})"
     else:
         where = f"[§ Claims]({page_of(key)}.ipynb#{claims_anchor or ''})"
     source = entry.get("source") or "—"

@@ -28,6 +28,7 @@ from typing import Any
 from urllib.parse import unquote, urldefrag, urlsplit
 
 import pytest
+from docutils.nodes import make_id
 
 from secest.results import repo_root
 from secest.site import beyond_keys, load_manifest, notebook_keys, page_of, paper_keys, readme_papers
@@ -224,7 +225,7 @@ def test_claims_matrix_lists_every_claim(site: Path) -> None:
     for key in paper_keys(ROOT):
         claims = json.loads((ROOT / "figures" / key / "claims.json").read_text())
         for cid, entry in claims.items():
-            anchor = f'id="claim-{key}-{cid.lower()}"'
+            anchor = f'id="{make_id(f"claim-{key}-{cid}")}"'
             assert anchor in text, (key, cid)
             row = text[text.index(anchor) : text.index("</tr>", text.index(anchor))]
             assert f"secest-badge-{entry['verdict']}" in row, (key, cid, entry["verdict"])
@@ -252,7 +253,7 @@ def test_the_arena_is_on_the_site_but_not_a_paper(site: Path) -> None:
     assert "arena" not in table
     claims = (site / "claims.html").read_text()
     for cid in json.loads((ROOT / "figures" / "arena" / "claims.json").read_text()):
-        assert f'id="claim-arena-{cid.lower()}"' in claims, cid
+        assert f'id="{make_id(f"claim-arena-{cid}")}"' in claims, cid  # docutils: _ -> -
     page = (site / "beyond" / "arena.html").read_text()
     assert "Beyond the papers" in page and 'id="fig-arena-extra-matrix-heatmap"' in page
 
