@@ -8,13 +8,14 @@ section FAILED in the table, prints the traceback and makes the exit status 1.
 Prints one table and writes ``build/bench.json`` (machine-dependent, not committed).
 
 Usage: ``python benchmarks/bench.py [--only KEY[,KEY]] [--repeats N] [--json PATH]``
-with KEY among ding2020, guo2023, li2025, lee2020, ma2021, sweep, runs.
+with KEY among ding2020, guo2023, li2025, lee2020, ma2021, arena, sweep, runs.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import platform
 import subprocess
@@ -432,6 +433,143 @@ def bench_ma2021(repeats: int) -> list[Row]:
     return rows
 
 
+# ---------------------------------------------------------------------------- arena
+ARENA_GROWTH = (20, 200, 2000)
+"""Network sizes of the arena's growth rows (target plant on a ring, each node linked to 2 per side)."""
+ARENA_CALL_BUDGET_S = 20.0
+"""A size is not measured when the previous size predicts a call longer than this (per-node cost
+assumed to grow like N, the dense N x N message arrays of secest.scenarios.Trial.received)."""
+ARENA_DESIGN_BUDGET_S = 300.0
+"""... or conditions and design (once per network) longer than this, assumed to grow like N^2."""
+ARENA_MAX_SUBSETS = 100_000
+"""Designs that enumerate subsets of sensor banks are not run beyond this many subsets."""
+ARENA_ENUMERATIONS = {
+    "lee2020": lambda m, N: (math.comb(N, 2 * m.q),
+                             f"C(N, 2q) = C({N}, {2 * m.q}) bank subsets, each an observability "
+                             "rank test (2q-redundant observability, Assumption 2)"),
+}
+"""Methods whose design enumerates sets of nodes: (count, what) at N nodes."""
+ARENA_CENTRALISED = ("oracle", "kf", "chi2-kf")
+"""Baselines that process every node's data in one update: they have no per-node step."""
+
+
+def _arena_ring(N: int, horizon: int) -> object:
+    from secest import scenarios
+
+    extra = {"network": {f"bench-ring{N}": {
+        "title": f"target plant, {N} nodes on a ring (bench)", "plant": "target", "N": N,
+        "graph": "ring", "degree": 4, "measures": [[i % 2] for i in range(N)]}}}
+    return scenarios.scenario(f"bench-ring{N}", "none", runs=2, horizon=horizon, seed=N, extra=extra)
+
+
+def bench_arena(repeats: int) -> list[Row]:
+    """Per-node step cost of every arena method on one common scenario, and its growth with N.
+
+    Common scenario: the arena's ``target20/none`` with 4 runs of 50 steps (a method's call
+    estimates every node of every run at every step; its time is divided by runs x (K + 1) x N).
+    Growth: the target plant on rings of N = 20, 200, 2000 nodes, two runs of 10 steps (3 at
+    N = 2000), each distributed method's per-node step cost at N against N = 20 (a ratio near 1:
+    the per-node cost does not grow with N); the centralised baselines are reported as such.
+    Design work that a method caches per network (lee2020's observers) is done before timing;
+    a method whose conditions fail at a size, whose design enumerates more than
+    ``ARENA_MAX_SUBSETS`` sets of nodes (lee2020's 2q-redundant observability), or whose
+    previous size predicts a call over ``ARENA_CALL_BUDGET_S`` or a design over
+    ``ARENA_DESIGN_BUDGET_S``, is reported as not measured with the reason.
+    """
+    import secest.methods  # noqa: F401  (registers the papers' methods)
+    from secest import scenarios
+    from secest.estimators import METHODS
+
+    def runner(method, trial):  # noqa: ANN001, ANN202
+        def run():  # noqa: ANN202
+            return method.run(trial).xhat
+        return run
+
+    def finite(x: np.ndarray) -> str:
+        if not np.all(np.isfinite(x)):
+            raise AssertionError("non-finite estimate")
+        return f"finite estimates, shape {tuple(x.shape)}"
+
+    rows: list[Row] = []
+    common = scenarios.scenario("target20", "none", runs=4, horizon=50)
+    trial = scenarios.simulate(common)
+    per = common.runs * (common.horizon + 1) * common.network.N
+    for name, method in METHODS.items():
+        reason = method.not_applicable(common)
+        what = f"arena {name}: per-node step cost on target20/none (20 nodes, 4 runs x 50 steps)"
+        if reason is not None:
+            rows.append(not_measured(what, f"N/A on the common scenario: {reason}"))
+            continue
+        rows.append(measure(what, (name, runner(method, trial)), finite, repeats=repeats, per=per,
+                            unit="node-step"))
+
+    trials = {}
+    for N in ARENA_GROWTH:
+        sc = _arena_ring(N, 10 if N < 2000 else 3)
+        trials[N] = (sc, scenarios.simulate(sc), sc.runs * (sc.horizon + 1) * N)
+    for name, method in METHODS.items():
+        if name in ARENA_CENTRALISED:
+            rows.append(not_measured(
+                f"arena {name}: growth of the per-node step cost with N",
+                "centralised: one Kalman update of all N ny measurement rows per step (an "
+                "(N ny) x (N ny) innovation covariance), no per-node step to compare"))
+            continue
+        base_sc, base_trial, base_per = trials[ARENA_GROWTH[0]]
+        t0 = time.perf_counter()
+        reason = method.not_applicable(base_sc)  # also builds what a method caches per network
+        design = (ARENA_GROWTH[0], time.perf_counter() - t0)
+        if reason is not None:
+            rows.append(not_measured(f"arena {name}: growth of the per-node step cost with N",
+                                     f"N/A at N = {ARENA_GROWTH[0]}: {reason}"))
+            continue
+        t0 = time.perf_counter()
+        method.run(base_trial)
+        last = (ARENA_GROWTH[0], time.perf_counter() - t0)
+        for N in ARENA_GROWTH[1:]:
+            sc, tr, per_n = trials[N]
+            what = (f"arena {name}: per-node step cost at N = {N} vs N = {ARENA_GROWTH[0]} "
+                    f"(target plant, ring, degree 4)")
+            if name in ARENA_ENUMERATIONS:
+                count, enumerated = ARENA_ENUMERATIONS[name](method, N)
+                if count > ARENA_MAX_SUBSETS:
+                    rows.append(not_measured(what, f"its design enumerates {enumerated}: "
+                                             f"{count:.2e} > {ARENA_MAX_SUBSETS:.0e}"))
+                    break
+            size0, t_last = last
+            steps_ratio = (sc.horizon + 1) / (trials[size0][0].horizon + 1)
+            predicted = t_last * (N / size0) ** 2 * steps_ratio
+            design_predicted = design[1] * (N / design[0]) ** 2
+            if design_predicted > ARENA_DESIGN_BUDGET_S:
+                rows.append(not_measured(what, (
+                    f"its conditions and design (once per network) took {design[1]:.1f} s at "
+                    f"N = {design[0]}; growing like N^2 they predict {design_predicted:.0f} s "
+                    f"(> {ARENA_DESIGN_BUDGET_S:g} s budget)")))
+                break
+            if predicted > ARENA_CALL_BUDGET_S:
+                rows.append(not_measured(what, f"one call predicted at {predicted:.0f} s from N = "
+                                         f"{size0} (> {ARENA_CALL_BUDGET_S:g} s budget)"))
+                break
+            t0 = time.perf_counter()
+            reason = method.not_applicable(sc)
+            design = (N, time.perf_counter() - t0)
+            if reason is not None:
+                rows.append(not_measured(what, f"N/A at N = {N}: {reason}"))
+                break
+            row = compare(what, (f"N = {ARENA_GROWTH[0]}", runner(method, base_trial)),
+                          (f"N = {N}", runner(method, tr)),
+                          lambda a, b: f"{finite(a)}; {finite(b)}", repeats=repeats, per=1.0,
+                          unit="node-step")
+            # compare() divides both sides by one `per`: rescale each side to its own node-steps
+            row.ours_s, row.alternative_s = row.ours_s / base_per, row.alternative_s / per_n
+            row.ratio = row.alternative_s / row.ours_s
+            row.target, row.met = "ratio <= 2 (per-node cost flat in N)", bool(row.ratio <= 2.0)
+            rows.append(row)
+            last = (N, row.alternative_s * per_n)
+            if not math.isfinite(row.ratio):
+                break
+    return rows
+
+
 # ---------------------------------------------------------------------------- run manifests
 def bench_runs(repeats: int) -> list[Row]:
     """Per-notebook wall times from the run manifests (no timing here)."""
@@ -520,6 +658,7 @@ SECTIONS: dict[str, Callable[[int], list[Row]]] = {
     "li2025": bench_li2025,
     "lee2020": bench_lee2020,
     "ma2021": bench_ma2021,
+    "arena": bench_arena,
     "sweep": bench_sweep,
     "runs": bench_runs,
 }

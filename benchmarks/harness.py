@@ -14,6 +14,7 @@ from __future__ import annotations
 import ast
 import contextlib
 import io
+import symtable
 import sys
 import time
 import types
@@ -33,6 +34,7 @@ __all__ = [
     "format_table",
     "load_notebook",
     "measure",
+    "notebook_definitions",
     "not_measured",
 ]
 
@@ -224,4 +226,141 @@ def load_notebook(
             exec(compile(cell.source, f"{key}.py", "exec"), namespace)  # noqa: S102
             if cell is tagged[0]:
                 namespace.update(parameters)
+    return namespace
+
+
+def _global_names(statement: ast.stmt) -> set[str]:
+    """Names a top-level statement reads from the module namespace (symtable: locals of its
+    functions, comprehension variables and closures excluded)."""
+    names: set[str] = set()
+
+    def visit(table: symtable.SymbolTable, top: bool) -> None:
+        for sym in table.get_symbols():
+            if sym.is_referenced() and (top or sym.is_global()):
+                names.add(sym.get_name())
+        for child in table.get_children():
+            visit(child, False)
+
+    visit(symtable.symtable(ast.unparse(statement), "<notebook>", "exec"), True)
+    # what the statement binds itself (loop variables, names assigned in its body) is not a need:
+    # if such a name is wanted elsewhere, all its definers run anyway; if not, a read before the
+    # binding fails loudly (NameError), never silently
+    names -= _bound_names(statement)
+    # a module-level ``x += 1`` reads x, which symtable does not count as a reference
+    names |= {n.target.id for n in _module_level_nodes(statement)
+              if isinstance(n, ast.AugAssign) and isinstance(n.target, ast.Name)}
+    return names
+
+
+def _module_level_nodes(statement: ast.stmt) -> list[ast.AST]:
+    """The nodes of a top-level statement that run in module scope (not inside a function,
+    class, lambda or comprehension); nested ``def`` / ``class`` nodes themselves are included."""
+    nodes: list[ast.AST] = []
+    todo: list[ast.AST] = [statement]
+    while todo:
+        node = todo.pop()
+        nodes.append(node)
+        if not isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef | ast.Lambda
+                          | ast.ListComp | ast.SetComp | ast.DictComp | ast.GeneratorExp):
+            todo.extend(ast.iter_child_nodes(node))
+    return nodes
+
+
+def _bound_names(statement: ast.stmt) -> set[str]:
+    """Module-level names a top-level statement binds (in ``if`` / ``for`` / ``with`` / ``try``
+    blocks too; not the locals of the functions, classes, lambdas or comprehensions in it)."""
+    if isinstance(statement, ast.Import | ast.ImportFrom):
+        return set()
+    names: set[str] = set()
+    for node in _module_level_nodes(statement):
+        if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef):
+            names.add(node.name)
+        elif isinstance(node, ast.Name) and isinstance(node.ctx, ast.Store):
+            names.add(node.id)
+    return names
+
+
+def _root(node: ast.expr) -> str | None:
+    while isinstance(node, ast.Subscript | ast.Attribute):
+        node = node.value
+    return node.id if isinstance(node, ast.Name) else None
+
+
+def _mutated_names(statement: ast.stmt) -> set[str]:
+    """Names a top-level statement changes in place: ``x[k] = ...``, ``x.a = ...``, ``x += ...``
+    anywhere in it (loops included), and a top-level ``x.method(...)`` call."""
+    if isinstance(statement, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef | ast.Import
+                  | ast.ImportFrom):
+        return set()
+    names: set[str | None] = set()
+    for node in _module_level_nodes(statement):
+        if isinstance(node, ast.Subscript | ast.Attribute) and isinstance(node.ctx, ast.Store):
+            names.add(_root(node))
+        elif isinstance(node, ast.AugAssign):
+            names.add(_root(node.target))
+    if (isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Call)
+            and isinstance(statement.value.func, ast.Attribute)):
+        names.add(_root(statement.value.func.value))
+    return {n for n in names if n is not None}
+
+
+def notebook_definitions(key: str, *names: str, **parameters: Any) -> dict[str, Any]:
+    """The named functions / classes / values of ``notebooks/<key>.py``, by name, nothing else.
+
+    No text marker: the code cells are parsed with ``ast`` and only what the named objects
+    need is executed, in notebook order: the ``parameters`` cell (``parameters`` replacing its
+    defaults, unknown names refused as in ``load_notebook``), every import, and the top-level
+    statements binding the names asked for (``def``, ``class``, assignments, also inside a
+    top-level ``if`` / ``for`` / ``with`` / ``try``), the statements
+    that change them in place (``x[k] = ...``, ``x += ...``, ``x.update(...)``, loops doing so)
+    and, transitively, the same for the module-level names these read (found with ``symtable``,
+    so a function's local variables never pull in a computation that happens to share their
+    name). The notebook's other statements (prints, figures, computations the named objects do
+    not need) are not run. Import modules such as ``np`` are never "changed in place".
+
+    Raises
+    ------
+    ValueError
+        A name the notebook does not define at top level, or an undeclared parameter.
+    """
+    nb = jupytext.read(repo_root() / "notebooks" / f"{key}.py")
+    code = [c for c in nb.cells if c.cell_type == "code"]
+    tagged = [c for c in code if "parameters" in c.metadata.get("tags", [])]
+    if len(tagged) != 1:
+        raise ValueError(f"notebook {key} must have exactly one cell tagged 'parameters'")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    declared = _parameter_names(tagged[0].source)
+    unknown = set(parameters) - declared
+    if unknown:
+        raise ValueError(f"parameters {sorted(unknown)} are not declared by notebook {key}")
+    statements = [node for c in code if c is not tagged[0] for node in ast.parse(c.source).body]
+    imports = [s for s in statements if isinstance(s, ast.Import | ast.ImportFrom)]
+    imported = {(a.asname or a.name).split(".")[0] for s in imports for a in s.names}
+    definers: dict[str, list[int]] = {}
+    for i, s in enumerate(statements):
+        for name in _bound_names(s):
+            definers.setdefault(name, []).append(i)
+    missing = [n for n in names if n not in definers and n not in declared]
+    if missing:
+        raise ValueError(f"notebook {key} defines no top-level {', '.join(map(repr, missing))}")
+    needed: set[int] = set()
+    wanted = {n for n in names if n not in declared}
+    while True:  # to a fixed point: what the needed statements read is needed in turn
+        grown = {i for name in wanted for i in definers.get(name, [])}
+        grown |= {i for i, s in enumerate(statements) if _mutated_names(s) & (wanted - imported)}
+        if grown <= needed:
+            break
+        for i in grown - needed:
+            wanted |= {n for n in _global_names(statements[i]) if n not in declared}
+        needed |= grown
+    module = types.ModuleType(f"notebook_{key}_definitions")  # registered: dataclasses look it up
+    sys.modules[module.__name__] = module
+    namespace: dict[str, Any] = module.__dict__
+    body = ast.Module(body=imports + [statements[i] for i in sorted(needed)], type_ignores=[])
+    with contextlib.redirect_stdout(io.StringIO()):
+        exec(compile(tagged[0].source, f"{key}.py", "exec"), namespace)  # noqa: S102
+        namespace.update(parameters)
+        exec(compile(body, f"{key}.py", "exec"), namespace)  # noqa: S102
     return namespace

@@ -318,6 +318,7 @@ def consensus_prediction(
     A: ArrayLike,
     kappa: float,
     *,
+    received: ArrayLike | None = None,
     validate: bool = True,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Consensus prediction (7) of every node over the shared channel (3)-(4).
@@ -338,6 +339,10 @@ def consensus_prediction(
         System matrix.
     kappa : float
         Coupling strength, ``kappa >= 0``.
+    received : (..., m, m, n) array_like, optional
+        What node ``i`` receives from ``j`` before the channel, ``received[..., i, j, :]``
+        (the arena's falsified messages); by default ``x_{j,k}^+`` itself, as in (3).
+        Entries off the edges are ignored. Dense ``adj`` and ``weights`` are used then.
     validate : bool, default True
         Check shapes, values and the standing assumptions on the graph.
 
@@ -356,10 +361,30 @@ def consensus_prediction(
         _check_network(adj, weights, x.shape[-2])
     x = np.asarray(x_post, dtype=float)
     H = _operator("weights", weights, x.shape[-2])
-    xr, dr = _received(x, delta, _operator("adj", adj, x.shape[-2]))
     row_sums = np.asarray(H.sum(axis=1)).ravel()
-    xi = _mix(H, xr, -2) - dr[..., None] * row_sums[:, None] * x
+    if received is None:
+        xr, dr = _received(x, delta, _operator("adj", adj, x.shape[-2]))
+        mixed = _mix(H, xr, -2)
+    else:
+        mixed, dr = _received_per_link(x, received, delta, adj, weights, validate)
+    xi = mixed - dr[..., None] * row_sums[:, None] * x
     return (x + kappa * xi) @ np.asarray(A, dtype=float).T, dr
+
+
+def _received_per_link(
+    x: NDArray[np.float64], received: ArrayLike, delta: ArrayLike, adj: ArrayLike, weights: ArrayLike,
+    validate: bool,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``sum_j h_ij delta_k r_ij`` and the indicator (4) when each link carries its own message."""
+    m = x.shape[-2]
+    r = np.asarray(received, dtype=float)
+    if validate:
+        r = as_matrix("received", r, (*x.shape[:-1], m, x.shape[-1]), note="to match x_post")
+    d = np.asarray(delta, dtype=float)[..., None, None, None]
+    xr = d * r
+    a, h = (W.toarray() if sp.issparse(W) else np.asarray(W, dtype=float) for W in (adj, weights))
+    heard = np.einsum("ij,...ij->...i", a, np.linalg.norm(xr, axis=-1))
+    return np.einsum("ij,...ijn->...in", h, xr), (heard > 0).astype(float)
 
 
 class SecureStep(NamedTuple):
@@ -503,6 +528,7 @@ def secure_filter_step(
     joseph: bool = False,
     rejections: ArrayLike | None = None,
     lockout_steps: int = 10,
+    received: ArrayLike | None = None,
     validate: bool = True,
 ) -> SecureStep:
     """One step ``k -> k+1`` of the distributed secure filter (7)/(34), all nodes at once.
@@ -559,6 +585,9 @@ def secure_filter_step(
     lockout_steps : int, default 10
         A node is flagged (``locked_out``) and a :class:`FilterHealthWarning` is issued
         when it has rejected this many consecutive measurements.
+    received : (..., m, m, n) array_like, optional
+        Per-link messages ``received[..., i, j, :]`` replacing ``x_{j,k}^+`` in (3), e.g.
+        falsified in transit (see :func:`consensus_prediction`); by default (3) as printed.
     validate : bool, default True
         Check shapes, values and the standing assumptions (switch off inside tight loops;
         the health checks run at every step regardless).
@@ -579,6 +608,9 @@ def secure_filter_step(
                                                                 "joseph": joseph, "validate": validate})
         V.check_int("lockout_steps", lockout_steps, minimum=1)
         _validate_step(x_post, Pi_post, Gamma_post, delta, y, A, BBt, C, DDt, adj, weights, tol)
+        if received is not None:
+            shape = np.shape(x_post)
+            as_matrix("received", received, (*shape[:-1], shape[-2], shape[-1]), note="to match x_post")
     x = np.asarray(x_post, dtype=float)
     Pi = np.asarray(Pi_post, dtype=float)
     Gam = np.asarray(Gamma_post, dtype=float)
@@ -595,7 +627,7 @@ def secure_filter_step(
     rejections = _check_rejections(rejections, x.shape[:-1])
 
     # (3), (4), (7): channel indicator and consensus prediction
-    x_prior, dr = consensus_prediction(x, delta, adj, H, A, kappa, validate=False)
+    x_prior, dr = consensus_prediction(x, delta, adj, H, A, kappa, received=received, validate=False)
     d = dr[..., None, None]
     # (19): Xi_i = 2 sum_{j in N_i u {i}} Pi_j^+
     AXiA = A @ (2.0 * (Pi + _mix(adj, Pi, -3))) @ A.T

@@ -17,6 +17,9 @@ page                   generated from
                        ``|`` inside maths in table rows read as Jupyter reads it;
                        figures are captioned and numbered by the Sphinx extension
                        ``docs/_ext/secest_sphinx.py`` from the manifest
+``beyond/<key>``       the same for the notebooks that reproduce no paper
+                       (:data:`BEYOND_KEYS`: the arena), with a header cell of
+                       downloads and links instead of the citation
 ``claims``             every ``figures/<key>/claims.json``
 ``gallery``            ``figures/manifest.toml``
 ``errata``             ``ERRATA.md``, links rewritten to the paper pages
@@ -54,6 +57,9 @@ __all__ = [
     "mathjax_dir",
     "myst_slug",
     "notebook_headings",
+    "beyond_keys",
+    "notebook_keys",
+    "page_of",
     "paper_keys",
     "prepare",
     "readme_papers",
@@ -64,6 +70,8 @@ __all__ = [
 ROOT = Path(__file__).resolve().parent.parent
 DOCS = ROOT / "docs"
 VERDICT_TAGS = ("[Re]", "[Re, partial]", "[¬Re]")
+BEYOND_KEYS = ("arena",)
+"""Notebooks that reproduce no paper (the arena): their pages live under ``beyond/``."""
 CLAIM_VERDICTS = ("holds", "fails", "undetermined", "fails-premise")
 _MD_SPECIAL = re.compile(r"([\\`*_{}\[\]<>#|~$^])")
 
@@ -108,6 +116,12 @@ def escape_md(text: str) -> str:
     joined = " ".join(str(text).split())
     parts = re.split(r"(\$[^$]+\$)", joined)
     return "".join(p if i % 2 else _MD_SPECIAL.sub(r"\\\1", p) for i, p in enumerate(parts))
+
+
+def escape_md_keep_maths(text: str) -> str:
+    """Like ``escape_md``, but inline maths ``$...$`` (a notebook heading's) is left to be typeset."""
+    parts = re.split(r"((?<!\\)\$[^$]+\$)", " ".join(str(text).split()))
+    return "".join(p if i % 2 else escape_md(p) for i, p in enumerate(parts))
 
 
 def myst_slug(title: str) -> str:
@@ -177,7 +191,7 @@ def load_manifest(root: Path = ROOT) -> dict[str, Any]:
 
 
 def paper_keys(root: Path = ROOT) -> list[str]:
-    """Paper keys with a committed executed notebook, sorted.
+    """Paper keys with a committed executed notebook, sorted (the arena is not a paper).
 
     Parameters
     ----------
@@ -187,9 +201,42 @@ def paper_keys(root: Path = ROOT) -> list[str]:
     Returns
     -------
     list of str
-        The stems of ``notebooks/*.ipynb``, sorted.
+        The stems of ``notebooks/*.ipynb`` not in :data:`BEYOND_KEYS`, sorted.
     """
-    return sorted(p.stem for p in (root / "notebooks").glob("*.ipynb"))
+    return sorted(p.stem for p in (root / "notebooks").glob("*.ipynb") if p.stem not in BEYOND_KEYS)
+
+
+def beyond_keys(root: Path = ROOT) -> list[str]:
+    """Keys of the committed executed notebooks that reproduce no paper (:data:`BEYOND_KEYS`).
+
+    Parameters
+    ----------
+    root : Path
+        Repository root.
+    """
+    return [k for k in BEYOND_KEYS if (root / "notebooks" / f"{k}.ipynb").exists()]
+
+
+def notebook_keys(root: Path = ROOT) -> list[str]:
+    """Every notebook on the site: the papers', then those beyond them.
+
+    Parameters
+    ----------
+    root : Path
+        Repository root.
+    """
+    return paper_keys(root) + beyond_keys(root)
+
+
+def page_of(key: str) -> str:
+    """The site page of notebook ``key``, without suffix: ``papers/<key>`` or ``beyond/<key>``.
+
+    Parameters
+    ----------
+    key : str
+        Notebook key.
+    """
+    return f"beyond/{key}" if key in BEYOND_KEYS else f"papers/{key}"
 
 
 def _markdown_tables(text: str) -> Iterable[list[list[str]]]:
@@ -540,11 +587,12 @@ def _rewrite_links(text: str, root: Path, docdir: Path) -> str:
                 anchor = section_anchor(notebook_headings(read_notebook(root / path)), frag)
                 if anchor is None:
                     raise SiteError(f"link to {target}: notebook {key} has no heading {frag!r}")
-                return f"[{label}]({up}papers/{key}.ipynb#{anchor})"
-            return f"[{label}]({up}papers/{key}.ipynb)"
+                return f"[{label}]({up}{page_of(key)}.ipynb#{anchor})"
+            return f"[{label}]({up}{page_of(key)}.ipynb)"
         if path.startswith("build/html/"):  # the site itself (README's link to the build)
             page = path.removeprefix("build/html/").removesuffix(".html") or "index"
-            return f"[{label}]({up}{page}.md{'#' + frag if frag else ''})"
+            suffix = ".ipynb" if page in {page_of(k) for k in notebook_keys(root)} else ".md"
+            return f"[{label}]({up}{page}{suffix}{'#' + frag if frag else ''})"
         fig = re.fullmatch(r"figures/(\w+)/?", path)
         if fig and (root / path).is_dir():
             return "{ref}`" + label.replace("`", "") + f" <gallery-{fig.group(1)}>`"
@@ -651,11 +699,11 @@ def claims_markdown(root: Path = ROOT) -> str:
         "  - Verdicts",
     ]
     sections: list[str] = []
-    for key in paper_keys(root):
+    for key in notebook_keys(root):
         claims = _claims(root, key)
         nb = read_notebook(root / "notebooks" / f"{key}.ipynb")
         heads = notebook_headings(nb)
-        claims_anchor = section_anchor(heads, "Claims")
+        claims_anchor = section_anchor(heads, "Claims") or section_anchor(heads, "Findings (claims)")
         summary += [
             f"* - {{ref}}`{key} <claims-{key}>`",
             f"  - {len(claims)}",
@@ -672,7 +720,7 @@ def claims_markdown(root: Path = ROOT) -> str:
         repo = _rel(root, Path("."))
         sections += [
             f"{len(claims)} claims: {_counts(claims)}. Measured in the "
-            f"[notebook](papers/{key}.ipynb#{claims_anchor or ''}); full record: "
+            f"[notebook]({page_of(key)}.ipynb#{claims_anchor or ''}); full record: "
             "{download}`claims.json <" + f"{repo}/figures/{key}/claims.json" + ">`.",
             "",
             ":::{list-table}",
@@ -681,7 +729,7 @@ def claims_markdown(root: Path = ROOT) -> str:
             ":class: secest-claims",
             "",
             "* - Claim, verdict",
-            "  - The paper states",
+            "  - The paper states" if key not in BEYOND_KEYS else "  - The finding (ours)",
             "  - What we measured",
         ]
         for cid in sorted(claims, key=_natural):
@@ -703,9 +751,9 @@ def _claim_row(
         anchor = section_anchor(heads, section)
         if anchor is None:
             raise SiteError(f"{key} claim {cid}: section {section!r} names no heading of the notebook")
-        where = f"measured in [§ {escape_md(section)}](papers/{key}.ipynb#{anchor})"
+        where = f"measured in [§ {escape_md_keep_maths(section)}]({page_of(key)}.ipynb#{anchor})"
     else:
-        where = f"[§ Claims](papers/{key}.ipynb#{claims_anchor or ''})"
+        where = f"[§ Claims]({page_of(key)}.ipynb#{claims_anchor or ''})"
     source = entry.get("source") or "—"
     parts = [escape_md(entry.get("check", "")), f"**measured:** {escape_md(_headline(entry))}"]
     iv = _interval(entry.get("interval"))
@@ -789,14 +837,14 @@ def gallery_markdown(root: Path = ROOT) -> str:
         "plotted numbers (CSV) next to it. The figure number links to the figure in its notebook page.",
         "",
     ]
-    for key in paper_keys(root):
+    for key in notebook_keys(root):
         entry = manifest.get(key, {})
         nb = read_notebook(root / "notebooks" / f"{key}.ipynb")
         out += [
             f"(gallery-{key})=",
             f"## {key} — {escape_md(notebook_title(nb, key))}",
             "",
-            f"Notebook page: [{key}](papers/{key}.ipynb).",
+            f"Notebook page: [{key}]({page_of(key)}.ipynb).",
             "",
             ":::{list-table}",
             ":header-rows: 1",
@@ -875,7 +923,7 @@ def lock_markdown(root: Path = ROOT) -> str:
 def parameters_markdown(root: Path = ROOT) -> str:
     """Each notebook's declared parameters with their defaults (from its ``parameters`` cell)."""
     out: list[str] = []
-    for key in paper_keys(root):
+    for key in notebook_keys(root):
         nb = read_notebook(root / "notebooks" / f"{key}.ipynb")
         cell = next(
             (c for c in nb["cells"] if "parameters" in c.get("metadata", {}).get("tags", [])), None
@@ -1048,6 +1096,33 @@ def protect_table_maths(markdown: str) -> str:
     return "\n".join(lines)
 
 
+def beyond_header_cell(key: str, root: Path = ROOT) -> dict[str, Any]:
+    """The markdown cell added under the title of a notebook that reproduces no paper."""
+    repo = _rel(root, Path("beyond"))
+    downloads = [
+        "{download}`" + f"{key}.ipynb <{repo}/notebooks/{key}.ipynb>` (executed notebook)",
+        "{download}`" + f"{key}.py <{repo}/notebooks/{key}.py>` (jupytext source, the one to edit)",
+        "{download}`" + f"claims.json <{repo}/figures/{key}/claims.json>`",
+    ]
+    text = "\n".join(
+        [
+            ":::{admonition} On this site",
+            ":class: secest-paper-box",
+            "**Beyond the papers:** no paper makes these comparisons; the scenarios, the baselines, "
+            f"the scores and the findings are ours. See its {{ref}}`findings <claims-{key}>` in the "
+            f"claims matrix and its {{ref}}`figures <gallery-{key}>` in the gallery.",
+            "",
+            "**Download:** " + " · ".join(downloads) + "; each figure's data (CSV) is linked "
+            "in its caption.",
+            "",
+            f"This page is the committed executed notebook `notebooks/{key}.ipynb`, rendered without "
+            "re-running it. To re-run it with other parameters see {ref}`re-running`.",
+            ":::",
+        ]
+    )
+    return {"cell_type": "markdown", "metadata": {"tags": ["secest-site"]}, "source": text}
+
+
 def paper_notebook(key: str, root: Path = ROOT) -> str:
     """The committed notebook for its page: a header cell after the title cell; maths in
     table rows protected as Jupyter does (:func:`protect_table_maths`); nothing else changes."""
@@ -1058,7 +1133,8 @@ def paper_notebook(key: str, root: Path = ROOT) -> str:
             fixed = protect_table_maths(text)
             if fixed != text:
                 cell["source"] = fixed
-    nb["cells"].insert(1, paper_header_cell(key, root))
+    header = beyond_header_cell if key in BEYOND_KEYS else paper_header_cell
+    nb["cells"].insert(1, header(key, root))
     return json.dumps(nb, indent=1, ensure_ascii=False) + "\n"
 
 
@@ -1115,8 +1191,8 @@ def prepare(srcdir: str | Path, root: Path = ROOT) -> list[Path]:
     _write(src / "api" / "index.md", api_markdown(root), written)
     for module in api_modules(root):
         _write(src / "api" / f"{module}.md", api_module_markdown(module, root), written)
-    for key in paper_keys(root):
-        _write(src / "papers" / f"{key}.ipynb", paper_notebook(key, root), written)
+    for key in notebook_keys(root):
+        _write(src / f"{page_of(key)}.ipynb", paper_notebook(key, root), written)
     for path in sorted(src.rglob("*"), reverse=True):
         if path.is_file() and path.resolve() not in written:
             path.unlink()

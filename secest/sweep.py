@@ -22,8 +22,8 @@ Execution: a Dask ``LocalCluster`` with one single-threaded worker process per
 core by default, or an existing cluster with ``--scheduler tcp://host:port``
 (its workers must run this environment and see this repository's folder).
 Each point runs in its own folder ``build/sweeps/<key>/<id>/``, where ``<id>``
-hashes the point's parameters, the notebook source and the ``secest`` sources
-(not the tooling: this module, ``verify``, ``site``):
+hashes the point's parameters, the notebook source and the ``secest`` sources (the arena's
+methods and scenario cards included; not the tooling: this module, ``verify``, ``site``):
 a re-run reuses every finished point, a changed notebook or library re-runs
 them all. A failed point is reported with its parameters and the last line of
 its error, counted, and makes the command exit non-zero; it is never dropped.
@@ -61,18 +61,23 @@ OUTCOMES = ("holds", "fails", "fails-premise")
 # ---------------------------------------------------------------------------- points and caching
 
 
-TOOLING = frozenset({"sweep.py", "verify.py", "site.py"})
+TOOLING = frozenset({"secest/sweep.py", "secest/verify.py", "secest/site.py"})
 """Modules that never run inside a notebook: they do not enter a point's id."""
 
 
 def source_hash(key: str) -> str:
-    """Hash of ``notebooks/<key>.py`` and every ``secest/*.py`` a notebook can run (not
+    """Hash of ``notebooks/<key>.py`` and every source and card file of ``secest`` a notebook
+    can run (its ``*.py`` and ``*.toml``, subpackages such as ``secest/methods`` included; not
     :data:`TOOLING`): what a point's result depends on."""
     root = repo_root()
     h = hashlib.sha256()
-    library = [p for p in sorted((root / "secest").glob("*.py")) if p.name not in TOOLING]
-    for path in [root / "notebooks" / f"{key}.py", *library]:
-        h.update(path.name.encode())
+    package = sorted(
+        p
+        for p in (root / "secest").rglob("*")
+        if p.suffix in (".py", ".toml") and p.is_file() and p.parent.name + "/" + p.name not in TOOLING
+    )
+    for path in [root / "notebooks" / f"{key}.py", *package]:
+        h.update(path.relative_to(root).as_posix().encode())
         h.update(path.read_bytes())
     return h.hexdigest()
 
@@ -554,9 +559,23 @@ def _finish(
         old.unlink()
     for cid, entry in summary.items():
         if entry["verdict"] == "undetermined":
-            plot_claim(space, cid, rows, [p for _, p in swept], entry, folder / f"robustness_{cid}.png")
+            plot_claim(space, cid, rows, [p for _, p in swept], entry, folder / f"robustness_{cid}.png",
+                       threshold=_common_threshold(results, cid))
     failed = sum(1 for r in rows if r["status"] != "ok")
     return {"rows": rows, "summary": summary, "failed": failed}
+
+
+def _common_threshold(results: Mapping[str, dict], cid: str) -> float | None:
+    """The claim's threshold when it is one number, the same at every finished point."""
+    values = {
+        json.dumps(r["claims"][cid].get("threshold"))
+        for r in results.values()
+        if r["status"] == "ok" and cid in r["claims"]
+    }
+    if len(values) != 1:
+        return None
+    value = json.loads(values.pop())
+    return float(value) if isinstance(value, int | float) and not isinstance(value, bool) else None
 
 
 def _write_csv(path: Path, rows: Sequence[Mapping[str, Any]]) -> None:
@@ -574,12 +593,15 @@ def plot_claim(
     points: Sequence[Mapping[str, Any]],
     entry: Mapping[str, Any],
     path: Path,
+    *,
+    threshold: float | None = None,
 ) -> Path:
     """Where claim ``cid`` holds: its value (or outcome) against the most telling swept axis.
 
     One panel per level of a second set-valued axis with 2–4 levels; markers by
-    outcome (holds ●, fails ✕, premise fails ▲); the claim's threshold dashed
-    when it is a number. Saved deterministically as ``path``.
+    outcome (holds ●, fails ✕, premise fails ▲); ``threshold`` (the claim's, when it
+    is one number) dashed; a positive numeric axis spanning two decades or more on
+    a logarithmic scale. Saved deterministically as ``path``.
     """
     import matplotlib.pyplot as plt
 
@@ -613,6 +635,8 @@ def plot_claim(
     for ax, level in zip(panels[0], levels, strict=True):
         sel = [(r, p) for r, p in ok if level is None or spaces._same(p[facet], level)]
         _scatter(ax, space, x_axis, sel, cid, has_values)
+        if threshold is not None and has_values:
+            ax.axhline(threshold, color="0.4", ls="--", lw=0.9, label="threshold", zorder=2)
         title = f"{facet} = {space.axes[facet].label(level)}: " if facet else ""
         held = sum(r[f"{cid}.outcome"] == "holds" for r, _ in sel)
         ax.set_title(f"{title}holds at {held}/{len(sel)}", fontsize=8)
@@ -679,6 +703,10 @@ def _scatter(ax: Any, space: spaces.Space, x_axis: str, sel: list, cid: str, has
         ax.scatter(xs, ys, marker=marker, color=colour, s=18, label=outcome, zorder=3)
     if categorical:
         ax.set_xticks(range(len(axis.values)), [axis.label(v) for v in axis.values], rotation=20)
+    else:
+        xs_all = [p[x_axis] for _, p in sel]
+        if xs_all and min(xs_all) > 0 and max(xs_all) / min(xs_all) >= 100:
+            ax.set_xscale("log")
     if not has_values:
         ax.set_yticks([0, 1], ["fails", "holds"])
 

@@ -91,3 +91,24 @@ def test_load_notebook_overrides_parameters_and_stops_at_the_marker() -> None:
     assert ns["n_steps"] == 250 and ns["mode"] == "paper"
     assert callable(ns["example_model"])  # definitions of the stop cell are executed
     assert "model" not in ns  # its other statements are not
+
+
+def test_notebook_definitions_takes_objects_by_name_and_runs_nothing_else() -> None:
+    ns = harness.notebook_definitions("guo2023", "run_estimator", "signal", n_steps=40)
+    assert callable(ns["run_estimator"]) and callable(ns["local_update"])  # and what it calls
+    assert ns["n_steps"] == 40 and callable(ns["signal"]) and "SIGNAL_NODES" in ns
+    assert "model" not in ns and "noise" not in ns  # the notebook's computations are not run
+    assert ns["signal"]("d", "2*k", 3).tolist() == [0.0, 2.0, 4.0, 6.0]
+
+
+def test_notebook_definitions_follows_values_and_in_place_changes() -> None:
+    ns = harness.notebook_definitions("guo2023", "d_true", mode="fast", n_steps=10)
+    assert ns["d_true"].shape == (11,)
+    assert "zero" in ns["signal_sets"]  # signal_sets["zero"] = ... is an in-place change: kept
+
+
+def test_notebook_definitions_rejects_unknown_names_and_parameters() -> None:
+    with pytest.raises(ValueError, match="defines no top-level 'no_such_function_8c1f'"):
+        harness.notebook_definitions("guo2023", "no_such_function_8c1f")
+    with pytest.raises(ValueError, match=r"parameters \['no_such_parameter'\] are not declared"):
+        harness.notebook_definitions("guo2023", "signal", no_such_parameter=1)

@@ -30,7 +30,15 @@ from urllib.parse import unquote, urldefrag, urlsplit
 import pytest
 
 from secest.results import repo_root
-from secest.site import claim_label, load_manifest, paper_keys, readme_papers
+from secest.site import (
+    beyond_keys,
+    claim_label,
+    load_manifest,
+    notebook_keys,
+    page_of,
+    paper_keys,
+    readme_papers,
+)
 
 ROOT = repo_root()
 SRC = ROOT / "build" / "site-src"
@@ -170,7 +178,8 @@ def test_site_lists_every_page(pages: list[Path]) -> None:
         "references",
         "api/index",
     }
-    expected |= {f"papers/{key}" for key in paper_keys(ROOT)}
+    expected |= {page_of(key) for key in notebook_keys(ROOT)}
+    assert "beyond/arena" in expected, "the arena has no page"
     assert expected <= names, f"pages not reachable from index.html: {sorted(expected - names)}"
     built = {_name(p) for p in HTML.rglob("*.html") if "_static" not in p.parts}
     assert built <= names, f"pages built but not reachable: {sorted(built - names)}"
@@ -230,13 +239,28 @@ def test_claims_matrix_lists_every_claim(site: Path) -> None:
 def test_gallery_and_paper_pages_carry_every_manifest_figure(site: Path) -> None:
     gallery = (site / "gallery.html").read_text()
     for key, entry in load_manifest(ROOT).items():
-        page = (site / "papers" / f"{key}.html").read_text()
+        page = (site / f"{page_of(key)}.html").read_text()
         for fig in entry["figures"]:
             for f in fig["files"]:
                 assert Path(f).name in gallery, (key, f)
                 if f.endswith(".png"):
                     fid = "fig-" + re.sub(r"[^a-z0-9]+", "-", f"{key}-{Path(f).stem}".lower())
                     assert f'id="{fid}"' in page, (key, fid)
+
+
+def test_the_arena_is_on_the_site_but_not_a_paper(site: Path) -> None:
+    """The arena has its own page under "Beyond the papers", its findings in the claims matrix,
+    its figures numbered, and no row in the papers' verdict table."""
+    assert beyond_keys(ROOT) == ["arena"] and "arena" not in paper_keys(ROOT)
+    index = (site / "index.html").read_text()
+    assert "beyond/arena.html" in index and "Beyond the papers" in index
+    table = re.search(r'<table class="[^"]*secest-verdicts.*?</table>', index, flags=re.S).group(0)
+    assert "arena" not in table
+    claims = (site / "claims.html").read_text()
+    for cid in json.loads((ROOT / "figures" / "arena" / "claims.json").read_text()):
+        assert f'id="{claim_label("arena", cid)}"' in claims, cid
+    page = (site / "beyond" / "arena.html").read_text()
+    assert "Beyond the papers" in page and 'id="fig-arena-extra-matrix-heatmap"' in page
 
 
 def test_errata_links_land_on_the_deviations_heading(site: Path) -> None:
@@ -251,15 +275,15 @@ def test_errata_links_land_on_the_deviations_heading(site: Path) -> None:
 
 
 def test_downloads_are_the_committed_files(site: Path) -> None:
-    for key in paper_keys(ROOT):
-        page = site / "papers" / f"{key}.html"
+    for key in notebook_keys(ROOT):
+        page = site / f"{page_of(key)}.html"
         downloads = [h for h in parsed(page).links if h.startswith("../_downloads/")]
         for name in (f"{key}.ipynb", f"{key}.py", "claims.json"):
             hits = [h for h in downloads if h.endswith("/" + name)]
             assert hits, (key, name)
             repo_file = ROOT / ("figures/" + key if name == "claims.json" else "notebooks") / name
             assert (page.parent / hits[0]).read_bytes() == repo_file.read_bytes()
-        source = site / "_sources" / "papers" / f"{key}.ipynb"
+        source = site / "_sources" / f"{page_of(key)}.ipynb"
         assert source.read_bytes() == (ROOT / "notebooks" / f"{key}.ipynb").read_bytes()
 
 
@@ -436,7 +460,8 @@ def browsed(browser_context: Any, server: str, pages: list[Path]) -> dict[str, d
         url = f"{server}/{path.relative_to(HTML).as_posix()}"
         page, errors, outside = _open(browser_context, url)
         maths = _check_maths(page, name)
-        figures = _check_figures(page, name.split("/")[1]) if name.startswith("papers/") else []
+        figures = (_check_figures(page, name.split("/")[1])
+                   if name.startswith(("papers/", "beyond/")) else [])
         page.screenshot(path=str(SHOTS / (name.replace("/", "__") + ".png")), full_page=True)
         landings = {frag: _land(page, url, frag) for frag in errata.get(name, [])}
         page.close()
@@ -466,7 +491,7 @@ def test_maths_is_typeset_on_every_page(browsed: dict[str, Any]) -> None:
 
 
 def test_paper_pages_show_every_manifest_figure(browsed: dict[str, Any]) -> None:
-    assert {f"papers/{key}" for key in paper_keys(ROOT)} <= set(browsed)
+    assert {page_of(key) for key in notebook_keys(ROOT)} <= set(browsed)
     problems = [p for f in browsed.values() for p in f["figures"]]
     assert not problems, "\n".join(problems)
 
@@ -604,8 +629,8 @@ def test_heading_anchors_match_the_built_pages(site: Path) -> None:
     """The anchors secest.site computes for notebook headings (claim links) exist on the pages."""
     from secest.site import notebook_headings, read_notebook
 
-    for key in paper_keys(ROOT):
-        ids = parsed(site / "papers" / f"{key}.html").ids
+    for key in notebook_keys(ROOT):
+        ids = parsed(site / f"{page_of(key)}.html").ids
         heads = notebook_headings(read_notebook(ROOT / "notebooks" / f"{key}.ipynb"))
         missing = [(title, slug) for level, title, slug in heads if level > 1 and slug not in ids]
         assert not missing, (key, missing)

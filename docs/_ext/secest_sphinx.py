@@ -2,8 +2,9 @@
 
 * ``{badge}`text``` — a coloured verdict / status badge (``holds``, ``fails``,
   ``[Re, partial]``, ``reproduced``, ``ours`` ...).
-* Numbered, captioned figures on the paper pages. Each figure a notebook saves
-  is displayed inline with output metadata ``{"secest": {"figure": "<stem>"}}``;
+* Numbered, captioned figures on the notebook pages (``papers/<key>``,
+  ``beyond/<key>``). Each figure a notebook saves is displayed inline with output
+  metadata ``{"secest": {"figure": "<stem>"}}``;
   myst-nb names an image output by the SHA-256 of its bytes, so the extension
   maps those hashes back to the stems (reading the notebook copies) and wraps
   each image in a ``figure`` node captioned from ``figures/manifest.toml``
@@ -11,7 +12,8 @@
   ``fig-<key>-<stem>`` for ``{numref}`` from the gallery. The notebooks are not
   edited for this.
 * After the build, the ``.ipynb`` that the theme's download button serves
-  (``_sources/papers/<key>.ipynb``) is replaced by the committed notebook, so
+  (``_sources/papers/<key>.ipynb``, ``_sources/beyond/<key>.ipynb``) is replaced by the
+  committed notebook, so
   the download is byte for byte the file in the repository.
 """
 
@@ -53,7 +55,8 @@ def _figure_index(app: Sphinx) -> dict[str, dict[str, dict[str, Any]]]:
     """docname -> image hash -> figure info, from the notebook copies and the manifest."""
     manifest = load_manifest(ROOT)
     index: dict[str, dict[str, dict[str, Any]]] = {}
-    for path in sorted(Path(app.srcdir, "papers").glob("*.ipynb")):
+    for path in sorted([*Path(app.srcdir, "papers").glob("*.ipynb"),
+                        *Path(app.srcdir, "beyond").glob("*.ipynb")]):
         key = path.stem
         listed = {}
         for fig in manifest.get(key, {}).get("figures", []):
@@ -71,7 +74,7 @@ def _figure_index(app: Sphinx) -> dict[str, dict[str, dict[str, Any]]]:
                 raw = base64.b64decode("".join(data) if isinstance(data, list) else data)
                 digest = hashlib.sha256(raw).hexdigest()
                 hashes[digest] = {"key": key, "stem": stem, "manifest": listed.get(stem)}
-        index[f"papers/{key}"] = hashes
+        index[f"{path.parent.name}/{key}"] = hashes
     return index
 
 
@@ -126,7 +129,7 @@ class NumberNotebookFigures(SphinxTransform):
             csv = ROOT / "figures" / key / f"{stem}.csv"
             if csv.is_file():
                 caption += nodes.Text(" Data: ")
-                target = os.path.relpath(csv, Path(self.env.srcdir) / "papers")
+                target = os.path.relpath(csv, Path(self.env.srcdir, docname).parent)
                 ref = addnodes.download_reference(
                     "", "", refdoc=docname, reftarget=target, refexplicit=True, refwarn=False
                 )
@@ -153,10 +156,11 @@ def _replace_sources(app: Sphinx, exc: Exception | None) -> None:
     """Serve the committed notebooks (not the copies with a header cell) as downloads."""
     if exc is not None or app.builder.format != "html":
         return
-    for path in Path(app.srcdir, "papers").glob("*.ipynb"):
-        target = Path(app.outdir, "_sources", "papers", path.name)
-        if target.parent.is_dir():
-            shutil.copyfile(ROOT / "notebooks" / path.name, target)
+    for folder in ("papers", "beyond"):
+        for path in Path(app.srcdir, folder).glob("*.ipynb"):
+            target = Path(app.outdir, "_sources", folder, path.name)
+            if target.parent.is_dir():
+                shutil.copyfile(ROOT / "notebooks" / path.name, target)
 
 
 def setup(app: Sphinx) -> dict[str, Any]:

@@ -1,0 +1,300 @@
+"""The arena: every registered method on every scenario, scored against the oracle on shared runs.
+
+:func:`run_matrix` runs :func:`secest.estimators.evaluate` once per scenario, so that every
+method of a scenario is fed the same :class:`~secest.scenarios.Trial` (truth, noises,
+attacks, channel), and keeps, besides the :class:`~secest.estimators.Score` of each cell,
+the network-mean RMS error of each method over time (:class:`Curves`) and what each method
+cost (wall time, machine-dependent: never written to a committed file). :func:`cell_text`
+and :func:`table_rows` turn a cell into the words of the arena's table: every number with
+its 95 % interval, or ``N/A: <the failed condition>``, or ``diverged``.
+
+A new scenario is one card (``secest/cards.toml`` or ``extra=`` of
+:func:`secest.scenarios.matrix`); a new method is one :class:`~secest.estimators.Method`
+passed to :func:`~secest.estimators.register`. Both appear in the matrix without any change
+here.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+from numpy.typing import NDArray
+
+from secest import estimators
+from secest.estimators import METHODS, Estimate, Score
+from secest.scenarios import Scenario, Trial, simulate
+from secest.validation import ValidationError
+
+__all__ = [
+    "STATUSES",
+    "Curves",
+    "Matrix",
+    "attack_activity",
+    "cell_text",
+    "error_curve",
+    "fmt_interval",
+    "run_matrix",
+    "scaled",
+    "table_rows",
+]
+
+STATUSES = ("ok", "n/a", "diverged")
+"""What a cell of the matrix can be: scored, not applicable (condition named), diverged."""
+
+
+@dataclass
+class Curves:
+    """Error over time of every method that ran on one scenario.
+
+    Attributes
+    ----------
+    t : (K + 1,) array
+        Time of each step in seconds (``k dt``).
+    rms : dict
+        Method name -> (K + 1,) network-mean RMS error: ``sqrt(mean over runs and nodes of
+        ||x_hat_i(k) - x(k)||^2)``; NaN where an estimate is not finite.
+    active : (K + 1,) array
+        Fraction of runs in which the attack acts at step ``k`` (a sensor attacked, a
+        falsified message, a link down); zero without attack.
+    burn_in : int
+        Steps before ``burn_in`` are not scored (the filters' initial transient).
+    """
+
+    t: NDArray[np.float64]
+    rms: dict[str, NDArray[np.float64]]
+    active: NDArray[np.float64]
+    burn_in: int
+
+
+@dataclass
+class Matrix:
+    """The arena's result: a :class:`~secest.estimators.Score` per (scenario, method).
+
+    Attributes
+    ----------
+    scenarios : list of Scenario
+    methods : list of str
+        Method names in registration order.
+    cells : dict
+        ``(scenario name, method name) -> Score``.
+    curves : dict
+        Scenario name -> :class:`Curves`.
+    seconds : dict
+        ``(scenario name, method name) -> wall time of its run`` (machine-dependent).
+    """
+
+    scenarios: list[Scenario]
+    methods: list[str]
+    cells: dict[tuple[str, str], Score]
+    curves: dict[str, Curves] = field(default_factory=dict)
+    seconds: dict[tuple[str, str], float] = field(default_factory=dict)
+
+    def cell(self, scenario: str, method: str) -> Score:
+        """The score of ``method`` on the scenario named ``scenario``."""
+        try:
+            return self.cells[(scenario, method)]
+        except KeyError:
+            raise ValidationError(f"no cell ({scenario!r}, {method!r}) in the matrix") from None
+
+
+def scaled(sc: Scenario, factor: float) -> Scenario:
+    """``sc`` with its attack's magnitude multiplied by ``factor`` (same random draws).
+
+    Bias, replacement and message attacks have a magnitude; ``none`` and ``dos`` are
+    returned unchanged.
+
+    Parameters
+    ----------
+    sc : Scenario
+        The scenario.
+    factor : float
+        Positive finite factor on the attack magnitude.
+    """
+    if not (isinstance(factor, int | float) and not isinstance(factor, bool) and factor > 0
+            and math.isfinite(factor)):
+        raise ValidationError(f"factor must be a positive finite number, found {factor!r}")
+    if sc.attack.kind not in ("bias", "replacement", "message") or factor == 1:
+        return sc
+    return replace(sc, attack=replace(sc.attack, magnitude=sc.attack.magnitude * float(factor)))
+
+
+def error_curve(xhat: NDArray[np.float64], x: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Network-mean RMS error over time: ``sqrt(mean_{runs, nodes} ||xhat - x||^2)``, shape (K + 1,).
+
+    Parameters
+    ----------
+    xhat : (runs, K + 1, N, n) array
+    x : (runs, K + 1, n) array
+    """
+    if xhat.ndim != 4 or x.ndim != 3 or xhat.shape[:2] != x.shape[:2] or xhat.shape[3] != x.shape[2]:
+        raise ValidationError(
+            f"Incompatible dimensions of xhat and x: expected (runs, K+1, N, n) and (runs, K+1, n), "
+            f"found {xhat.shape} and {x.shape}"
+        )
+    with np.errstate(all="ignore"):
+        sq = np.sum((xhat - x[:, :, None, :]) ** 2, axis=-1)
+        out = np.sqrt(np.mean(sq, axis=(0, 2)))
+    return np.where(np.isfinite(out), out, np.nan)
+
+
+def attack_activity(trial: Trial) -> NDArray[np.float64]:
+    """Fraction of runs in which the scenario's attack acts at each step, shape (K + 1,).
+
+    Parameters
+    ----------
+    trial : Trial
+        One simulated scenario (``secest.scenarios.simulate``).
+    """
+    kind = trial.scenario.attack.kind
+    if kind in ("bias", "replacement"):
+        acting = trial.attacked.any(axis=2)
+    elif kind == "message":
+        acting = trial.hits.any(axis=(2, 3))
+    elif kind == "dos":
+        acting = trial.link == 0
+    else:
+        acting = np.zeros(trial.x.shape[:2], bool)
+    return acting.mean(axis=0)
+
+
+def run_matrix(
+    scenarios: Sequence[Scenario],
+    methods: Sequence[str] | None = None,
+    *,
+    curves: bool = True,
+    burn_in: int | None = None,
+) -> Matrix:
+    """Score ``methods`` (default: every registered one) on every scenario.
+
+    One :func:`~secest.scenarios.simulate` per scenario feeds every method
+    (:func:`secest.estimators.evaluate`); the oracle is the reference of each ratio.
+
+    Parameters
+    ----------
+    scenarios : sequence of Scenario
+        Names must be unique.
+    methods : sequence of str, optional
+        Registered method names; the oracle is always scored (it is the reference).
+    curves : bool
+        Keep each method's error over time (:class:`Curves`).
+    burn_in : int, optional
+        Steps not scored; default ``K // 5`` (as :func:`secest.estimators.score`).
+    """
+    names = list(METHODS) if methods is None else list(methods)
+    unknown = [n for n in names if n not in METHODS]
+    if unknown:
+        raise ValidationError(f"methods {unknown} are not registered; registered: {list(METHODS)}")
+    if "oracle" not in names:
+        names.insert(0, "oracle")
+    seen = [sc.name for sc in scenarios]
+    if len(set(seen)) != len(seen):
+        raise ValidationError(f"scenario names must be unique, found {seen}")
+    out = Matrix(list(scenarios), names, {})
+    for sc in scenarios:
+        kept: dict[str, NDArray[np.float64]] = {}
+
+        def observe(name: str, trial: Trial, est: Estimate, kept: dict = kept) -> None:
+            if curves:
+                kept[name] = error_curve(est.xhat, trial.x)
+
+        def timed(method: estimators.Method, trial: Trial, sc: Scenario = sc) -> Estimate:
+            t0 = time.perf_counter()
+            est = method.run(trial)
+            out.seconds[(sc.name, method.name)] = time.perf_counter() - t0
+            return est
+
+        trial = simulate(sc)
+        scores = estimators.evaluate(sc, names, timed, observe=observe, trial=trial, burn_in=burn_in)
+        for name, s in scores.items():
+            out.cells[(sc.name, name)] = s
+        if curves:
+            K = sc.horizon
+            out.curves[sc.name] = Curves(
+                t=np.arange(K + 1) * sc.plant.dt,
+                rms=kept,
+                active=attack_activity(trial),
+                burn_in=K // 5 if burn_in is None else burn_in,
+            )
+    return out
+
+
+# ---------------------------------------------------------------------------------- words
+
+
+def _sig(value: float, digits: int = 3) -> str:
+    if value == 0 or not math.isfinite(value):
+        return f"{value:g}"
+    text = f"{value:.{digits}g}"
+    if "e" in text:
+        mant, exp = text.split("e")
+        return f"{mant}e{int(exp)}"
+    return text
+
+
+def fmt_interval(value: tuple[float, float, float] | None, *, percent: bool = False) -> str:
+    """``"1.23 [1.10, 1.40]"`` (3 significant digits; ``percent``: values as %), ``"–"`` for None.
+
+    Parameters
+    ----------
+    value : tuple of float or None
+        ``(value, low, high)``.
+    percent : bool
+        Show the numbers as percentages.
+    """
+    if value is None:
+        return "–"
+    scale, unit = (100.0, " %") if percent else (1.0, "")
+    v, lo, hi = (scale * float(u) for u in value)
+    return f"{_sig(v)}{unit} [{_sig(lo)}, {_sig(hi)}]"
+
+
+def cell_text(s: Score) -> dict[str, str]:
+    """The words of one cell: status, mean ratio, worst ratio, detection, false alarm.
+
+    A scored cell gives every number with its interval ("–" where the method has no
+    detector, or the scenario no attacked sample); an N/A cell names the failed condition
+    (``"N/A: <condition>"``); a diverged one says so.
+
+    Parameters
+    ----------
+    s : Score
+        The score of one (scenario, method) cell.
+    """
+    if s.status not in STATUSES:
+        raise ValidationError(f"status must be one of {STATUSES}, found {s.status!r}")
+    if s.status == "n/a":
+        if not s.reason:
+            raise ValidationError("an N/A cell must name the failed condition (reason)")
+        text = f"N/A: {s.reason}"
+        return {"status": "N/A", "mean": text, "worst": "", "detection": "", "false_alarm": ""}
+    if s.status == "diverged":
+        text = f"diverged: {s.reason}" if s.reason else "diverged"
+        return {"status": "diverged", "mean": text, "worst": "", "detection": "", "false_alarm": ""}
+    if s.rmse_mean is None or s.rmse_worst is None:
+        raise ValidationError("a scored cell must carry its mean and worst RMSE ratios")
+    return {
+        "status": "ok",
+        "mean": fmt_interval(s.rmse_mean),
+        "worst": fmt_interval(s.rmse_worst),
+        "detection": fmt_interval(s.detection, percent=True),
+        "false_alarm": fmt_interval(s.false_alarm, percent=True),
+    }
+
+
+def table_rows(m: Matrix) -> list[dict[str, str]]:
+    """One row per (scenario, method), in scenario then method order, with :func:`cell_text`.
+
+    Parameters
+    ----------
+    m : Matrix
+        The scored matrix (:func:`run_matrix`).
+    """
+    rows = []
+    for sc in m.scenarios:
+        for name in m.methods:
+            rows.append({"scenario": sc.name, "method": name} | cell_text(m.cell(sc.name, name)))
+    return rows

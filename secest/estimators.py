@@ -1,0 +1,481 @@
+"""The arena's estimators behind one interface, and how they are scored.
+
+Every estimator, the five papers' and the baselines', is a :class:`Method`: it names the
+conditions its theory needs (:meth:`Method.conditions`), checked on a scenario before it
+runs, and :meth:`Method.run` turns one :class:`secest.scenarios.Trial` (all Monte Carlo runs
+at once) into an :class:`Estimate`: every node's estimate at every step, and the method's
+alarms and covariance bounds where it has them. A method whose condition fails on a
+scenario does not run there; the arena reports "not applicable: <condition>".
+
+Register a new method with :func:`register` (a test registers a toy method and finds it in
+the matrix). :func:`score` compares an estimate with the oracle's on the same runs.
+
+Baselines (every scenario):
+
+``oracle``       centralised Kalman filter fed the clean measurements of every node;
+``kf``           the same fed the measurements as delivered (attacks included), no defence;
+``consensus-kf`` distributed Kalman filter with consensus on measurement information
+                 (``CONSENSUS_ROUNDS`` rounds per step, Metropolis weights), no defence;
+``chi2-kf``      centralised Kalman filter that drops every node's measurement whose
+                 normalised innovation exceeds the chi-square quantile ``1 - CHI2_ALPHA``
+                 (the classic bad-data detector); its drops are its alarms.
+
+The centralised baselines have no inter-node links: falsified messages and denial of
+service do not reach them (they are the references, not competitors, on those columns).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy import stats
+
+from secest.results import DETERMINISTIC, Tolerance
+from secest.scenarios import Scenario, Trial
+from secest.validation import ValidationError
+
+__all__ = [
+    "CHI2_ALPHA",
+    "CONSENSUS_ROUNDS",
+    "METHODS",
+    "Estimate",
+    "Method",
+    "Score",
+    "evaluate",
+    "rate",
+    "register",
+    "score",
+]
+
+CONSENSUS_ROUNDS = 5
+"""Average-consensus rounds per step of the ``consensus-kf`` baseline."""
+CHI2_ALPHA = 1e-3
+"""False-alarm probability per measurement of the ``chi2-kf`` baseline's test."""
+
+
+@dataclass
+class Estimate:
+    """What a method returns for one trial.
+
+    Attributes
+    ----------
+    xhat : (runs, K + 1, N, n)
+        Node ``i``'s estimate of ``x_k`` after using the data of step ``k``.
+    alarms : (runs, K + 1, N) bool, optional
+        Where the method flags node ``i``'s data at step ``k`` as attacked.
+    bound : array, optional
+        The covariance (or bound) the method reports, broadcastable to (runs, K + 1, N, n, n).
+    notes : dict
+        Anything else worth reporting (e.g. how a method was read on this scenario).
+    """
+
+    xhat: NDArray[np.float64]
+    alarms: NDArray[np.bool_] | None = None
+    bound: NDArray[np.float64] | None = None
+    notes: dict[str, Any] = field(default_factory=dict)
+
+
+class Method:
+    """One estimator of the arena. Subclass it, set the attributes, implement :meth:`run`.
+
+    Attributes
+    ----------
+    name : str
+        Short id used in the matrix (e.g. ``"ding2020"``).
+    title : str
+        One line for tables and legends.
+    kind : str
+        ``"paper"`` (one of the five reproduced estimators) or ``"baseline"``.
+    reading : str
+        How the method is read on the shared scenarios where its paper's setting differs.
+    tolerance : secest.results.Tolerance
+        How closely a re-run on another machine reproduces its estimates (and the scores
+        made of them): :data:`~secest.results.DETERMINISTIC` unless the method amplifies
+        rounding (sign-driven dynamics, interior-point solves).
+    """
+
+    name: str = ""
+    title: str = ""
+    kind: str = "baseline"
+    reading: str = ""
+    tolerance: Tolerance = DETERMINISTIC
+
+    def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
+        """The conditions the method's theory needs on ``sc``: (statement, holds) pairs."""
+        return []
+
+    def not_applicable(self, sc: Scenario) -> str | None:
+        """The first condition that fails on ``sc``, or None when the method applies."""
+        return next((text for text, ok in self.conditions(sc) if not ok), None)
+
+    def run(self, trial: Trial) -> Estimate:  # pragma: no cover - abstract
+        """Estimate every node's state over every run of ``trial``."""
+        raise NotImplementedError
+
+
+METHODS: dict[str, Method] = {}
+"""Every registered method by name, in registration order (baselines first)."""
+
+
+def register(method: Method | type[Method]) -> Method | type[Method]:
+    """Add ``method`` to :data:`METHODS` and return it unchanged (usable as a class decorator).
+
+    Parameters
+    ----------
+    method : Method instance, or a Method subclass
+        A class is instantiated without arguments for the registry; the class itself
+        is returned, so it stays constructible with other design parameters.
+
+    Returns
+    -------
+    Method or type
+        ``method`` itself.
+    """
+    inst = method() if isinstance(method, type) and issubclass(method, Method) else method
+    if not isinstance(inst, Method) or not inst.name:
+        raise ValidationError("method must be a secest.estimators.Method with a non-empty name")
+    METHODS[inst.name] = inst
+    return method
+
+
+# ---------------------------------------------------------------------------------- Kalman filters
+
+
+def _stacked(sc: Scenario) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """All nodes' measurement matrices and noise covariances stacked: (N ny, n), (N ny, N ny)."""
+    C = sc.C.reshape(-1, sc.plant.n)
+    R = np.diag(np.concatenate([np.diag(r) for r in sc.R]))
+    return C, R
+
+
+def _prior(sc: Scenario, runs: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    n = sc.plant.n
+    return np.zeros((runs, n)), sc.plant.x0_std**2 * np.eye(n)
+
+
+def centralised_kf(
+    sc: Scenario, y: NDArray[np.float64], use: NDArray[np.bool_] | None = None
+) -> NDArray[np.float64]:
+    """Kalman filter on every node's measurements; ``use[r, k, i]`` False drops node i's rows.
+
+    Vectorised over runs; with ``use`` the covariance depends on the run and is carried
+    per run. Returns the filtered estimates, shape (runs, K + 1, n).
+    """
+    runs, K1 = y.shape[:2]
+    C, R = _stacked(sc)
+    A, Q = sc.plant.A, sc.plant.Q
+    ny = sc.C.shape[1]
+    x, P = _prior(sc, runs)
+    P = np.broadcast_to(P, (runs, *P.shape)).copy()
+    out = np.empty((runs, K1, sc.plant.n))
+    for k in range(K1):
+        if k > 0:
+            x = x @ A.T
+            P = A @ P @ A.T + Q
+        rows = np.ones((runs, C.shape[0]), bool) if use is None else np.repeat(use[:, k], ny, axis=1)
+        x, P = _update(x, P, y[:, k].reshape(runs, -1), C, R, rows)
+        out[:, k] = x
+    return out
+
+
+def _update(
+    x: NDArray[np.float64],
+    P: NDArray[np.float64],
+    y: NDArray[np.float64],
+    C: NDArray[np.float64],
+    R: NDArray[np.float64],
+    rows: NDArray[np.bool_],
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Kalman update (Joseph form) of every run, using only the measurement rows ``rows[r]``.
+
+    A dropped row has its row of ``C`` and its measurement set to zero: it carries no
+    information and its gain column is exactly zero.
+    """
+    Cm = C[None] * rows[:, :, None]
+    S = Cm @ P @ np.swapaxes(Cm, -1, -2) + R
+    K = np.swapaxes(np.linalg.solve(S, Cm @ P), -1, -2)
+    x = x + np.einsum("rnm,rm->rn", K, y * rows - np.einsum("rmn,rn->rm", Cm, x))
+    IKC = np.eye(P.shape[-1]) - K @ Cm
+    P = IKC @ P @ np.swapaxes(IKC, -1, -2) + K @ R @ np.swapaxes(K, -1, -2)
+    return x, 0.5 * (P + np.swapaxes(P, -1, -2))
+
+
+def _every_node(x: NDArray[np.float64], N: int) -> NDArray[np.float64]:
+    return np.broadcast_to(x[:, :, None, :], (x.shape[0], x.shape[1], N, x.shape[2])).copy()
+
+
+@register
+class Oracle(Method):
+    """Centralised Kalman filter on the clean measurements (the reference of every score)."""
+
+    name = "oracle"
+    title = "oracle: centralised KF, clean data"
+    reading = "sees every node's measurement without the attack"
+
+    def run(self, trial: Trial) -> Estimate:
+        sc = trial.scenario
+        return Estimate(_every_node(centralised_kf(sc, trial.y_clean), sc.network.N))
+
+
+@register
+class UndefendedKF(Method):
+    """Centralised Kalman filter on the delivered (attacked) measurements, no defence."""
+
+    name = "kf"
+    title = "centralised KF, no defence"
+    reading = "no inter-node links: message and DoS attacks do not reach it"
+
+    def run(self, trial: Trial) -> Estimate:
+        sc = trial.scenario
+        return Estimate(_every_node(centralised_kf(sc, trial.y), sc.network.N))
+
+
+@register
+class Chi2KF(Method):
+    """Centralised Kalman filter with a chi-square bad-data test on every node's innovation."""
+
+    name = "chi2-kf"
+    title = "centralised KF + chi-square bad-data detector"
+    reading = "drops node i's data when its normalised innovation exceeds chi2(1 - 1e-3, ny)"
+
+    def run(self, trial: Trial) -> Estimate:
+        sc = trial.scenario
+        runs, K1, N, ny = trial.y.shape
+        threshold = float(stats.chi2.ppf(1 - CHI2_ALPHA, ny))
+        C, R = _stacked(sc)
+        A, Q = sc.plant.A, sc.plant.Q
+        x, P0 = _prior(sc, runs)
+        P = np.broadcast_to(P0, (runs, *P0.shape)).copy()
+        out = np.empty((runs, K1, sc.plant.n))
+        alarms = np.zeros((runs, K1, N), bool)
+        for k in range(K1):
+            if k > 0:
+                x, P = x @ A.T, A @ P @ A.T + Q
+            eta = trial.y[:, k] - np.einsum("iyn,rn->riy", sc.C, x)
+            S = np.einsum("iyn,rnm,izm->riyz", sc.C, P, sc.C) + sc.R
+            nis = np.einsum("riy,riy->ri", eta, np.linalg.solve(S, eta[..., None])[..., 0])
+            alarms[:, k] = nis > threshold
+            x, P = _update(
+                x, P, trial.y[:, k].reshape(runs, -1), C, R, np.repeat(~alarms[:, k], ny, axis=1)
+            )
+            out[:, k] = x
+        return Estimate(_every_node(out, N), alarms=alarms)
+
+
+def metropolis_weights(adj: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Metropolis-Hastings weights of an undirected graph: symmetric and doubly stochastic."""
+    deg = adj.sum(axis=1)
+    W = adj / (1.0 + np.maximum(deg[:, None], deg[None, :]))
+    return W + np.diag(1.0 - W.sum(axis=1))
+
+
+@register
+class ConsensusKF(Method):
+    """Distributed Kalman filter with consensus on measurement information, no defence.
+
+    At every step each node forms ``u_i = C_i^T R_i^{-1} y_i`` and ``U_i = C_i^T R_i^{-1} C_i``,
+    runs ``CONSENSUS_ROUNDS`` rounds of average consensus on them with Metropolis weights
+    (what it receives from neighbours may be falsified or lost), and updates its
+    information filter with ``N`` times the averages (the centralised update when the
+    rounds converge).
+    """
+
+    name = "consensus-kf"
+    title = f"distributed KF, {CONSENSUS_ROUNDS} consensus rounds on measurement information"
+    reading = "messages are the information vectors u_j; a lost message leaves the receiver's own value"
+
+    def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
+        sym = bool(np.array_equal(sc.network.adj, sc.network.adj.T))
+        return [("the graph is undirected (Metropolis weights)", sym)]
+
+    def run(self, trial: Trial) -> Estimate:
+        sc = trial.scenario
+        runs, K1, N, ny = trial.y.shape
+        n = sc.plant.n
+        A, Q = sc.plant.A, sc.plant.Q
+        W = metropolis_weights(sc.network.adj)
+        Rinv = np.linalg.inv(sc.R)
+        U0 = np.einsum("iyn,iyz,izm->inm", sc.C, Rinv, sc.C)
+        scale = sc.plant.x0_std * float(np.abs(U0).max())
+        x = np.zeros((runs, N, n))
+        P = np.broadcast_to(sc.plant.x0_std**2 * np.eye(n), (runs, N, n, n)).copy()
+        out = np.empty((runs, K1, N, n))
+        for k in range(K1):
+            if k > 0:
+                x, P = x @ A.T, A @ P @ A.T + Q
+            u = np.einsum("iyn,iyz,riz->rin", sc.C, Rinv, trial.y[:, k])
+            U = np.broadcast_to(U0, (runs, N, n, n)).copy()
+            for _ in range(CONSENSUS_ROUNDS):
+                u, U = self._round(trial, k, W, u, U, scale)
+            Y_prior = np.linalg.inv(P)
+            P = np.linalg.inv(Y_prior + N * U)
+            P = 0.5 * (P + np.swapaxes(P, -1, -2))
+            x = np.einsum("rinm,rim->rin", P, np.einsum("rinm,rim->rin", Y_prior, x) + N * u)
+            out[:, k] = x
+        return Estimate(out)
+
+    @staticmethod
+    def _round(
+        trial: Trial,
+        k: int,
+        W: NDArray[np.float64],
+        u: NDArray[np.float64],
+        U: NDArray[np.float64],
+        scale: float,
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        recv = trial.received(k, u, scale)  # (runs, N, N, n): what i receives from j
+        up = trial.link[:, k].astype(float)[:, None, None]
+        Wr = up * (W - np.diag(np.diag(W)))  # weights of the links that are up this step
+        Wr = Wr + np.eye(W.shape[0])[None] * (1.0 - Wr.sum(axis=-1, keepdims=True))
+        off = Wr - np.eye(W.shape[0])[None] * np.diagonal(Wr, axis1=1, axis2=2)[..., None]
+        diag = np.diagonal(Wr, axis1=1, axis2=2)
+        u_new = diag[..., None] * u + np.einsum("rij,rijn->rin", off, recv)
+        U_new = np.einsum("rij,rjnm->rinm", Wr, U)
+        return u_new, U_new
+
+
+# ---------------------------------------------------------------------------------- scoring
+
+
+@dataclass
+class Score:
+    """How one method did on one scenario, relative to the oracle on the same runs."""
+
+    status: str
+    reason: str = ""
+    rmse_mean: tuple[float, float, float] | None = None
+    rmse_worst: tuple[float, float, float] | None = None
+    detection: tuple[float, float, float] | None = None
+    false_alarm: tuple[float, float, float] | None = None
+    notes: dict[str, Any] = field(default_factory=dict)
+
+
+def rmse(xhat: NDArray[np.float64], x: NDArray[np.float64], burn_in: int) -> NDArray[np.float64]:
+    """Per-run, per-node RMSE over steps ``k >= burn_in``: shape (runs, N)."""
+    err = xhat[:, burn_in:] - x[:, burn_in:, None, :]
+    return np.sqrt(np.mean(np.sum(err**2, axis=-1), axis=1))
+
+
+def score(trial: Trial, estimate: Estimate, oracle: Estimate, *, burn_in: int | None = None) -> Score:
+    """RMSE relative to the oracle (network mean and worst node) and detector rates, with intervals.
+
+    The ratios are per run (paired: the same truth and noises), averaged over runs with a
+    percentile bootstrap 95 % interval; detection and false-alarm rates are fractions of
+    (run, step, node) samples after the burn-in (:func:`rate`: the union of the Wilson
+    interval and a bootstrap over runs). A non-finite estimate is reported as ``diverged``.
+    """
+    from secest.montecarlo import bootstrap_interval
+
+    K = trial.x.shape[1] - 1
+    burn = K // 5 if burn_in is None else burn_in
+    if not np.all(np.isfinite(estimate.xhat)):
+        return Score("diverged", "the estimate is not finite in some run")
+    ref = rmse(oracle.xhat, trial.x, burn).mean(axis=1)
+    mine = rmse(estimate.xhat, trial.x, burn)
+
+    def ratio(values: NDArray[np.float64]) -> tuple[float, float, float]:
+        pairs = np.column_stack([values, ref])
+        lo, hi = bootstrap_interval(pairs, "mean")
+        return float(values.mean() / ref.mean()), lo, hi
+
+    result = Score(
+        "ok",
+        rmse_mean=ratio(mine.mean(axis=1)),
+        rmse_worst=ratio(mine.max(axis=1)),
+        notes=dict(estimate.notes),
+    )
+    if estimate.alarms is not None:
+        attacked = trial.attacked[:, burn:]
+        alarms = estimate.alarms[:, burn:]
+        if attacked.any():
+            result.detection = rate(alarms, attacked)
+        result.false_alarm = rate(alarms, ~attacked)
+    return result
+
+
+def rate(alarms: NDArray[np.bool_], where: NDArray[np.bool_]) -> tuple[float, float, float]:
+    """Fraction of the samples ``where`` that carry an alarm, with a 95 % interval.
+
+    Samples are (run, step, node); the alarms of one run are correlated (a detector that
+    locks out alarms for many steps), so the interval is the union of the Wilson interval
+    (samples taken as independent) and a percentile bootstrap over runs (the ratio of the
+    per-run sums, runs resampled): never narrower than either.
+
+    Parameters
+    ----------
+    alarms, where : (runs, K, N) bool arrays
+
+    Returns
+    -------
+    (rate, low, high)
+    """
+    from secest.montecarlo import bootstrap_interval, wilson_interval
+
+    hits = (alarms & where).reshape(alarms.shape[0], -1).sum(axis=1)
+    total = where.reshape(where.shape[0], -1).sum(axis=1)
+    n_hits, n = int(hits.sum()), int(total.sum())
+    if n == 0:
+        raise ValidationError("where must select at least one sample")
+    low, high = wilson_interval(n_hits, n)
+    used = total > 0
+    if used.sum() >= 2 and 0 < n_hits:
+        try:
+            b_low, b_high = bootstrap_interval(np.column_stack([hits[used], total[used]]), "mean")
+        except ValidationError:  # a resample of runs without a single sample: Wilson only
+            pass
+        else:
+            low, high = min(low, b_low), max(high, b_high)
+    return n_hits / n, low, high
+
+
+def evaluate(
+    sc: Scenario,
+    names: list[str] | None = None,
+    runner: Callable | None = None,
+    *,
+    observe: Callable[[str, Trial, Estimate], None] | None = None,
+    trial: Trial | None = None,
+    burn_in: int | None = None,
+) -> dict[str, Score]:
+    """Score every method (or ``names``) on scenario ``sc``: one trial, the oracle as reference.
+
+    Parameters
+    ----------
+    sc : Scenario
+    names : list of str, optional
+        Registered method names (default: every one, in registration order).
+    runner : callable, optional
+        ``runner(method, trial) -> Estimate`` instead of ``method.run(trial)`` (e.g. to time it).
+    observe : callable, optional
+        Called as ``observe(name, trial, estimate)`` for every method that ran (the oracle
+        first), e.g. to keep error curves without holding every estimate in memory.
+    trial : Trial, optional
+        The runs to use (default: :func:`secest.scenarios.simulate` of ``sc``).
+    burn_in : int, optional
+        Steps not scored (default ``K // 5``, see :func:`score`).
+    """
+    from secest.scenarios import simulate
+
+    unknown = [n for n in names or [] if n not in METHODS]
+    if unknown:
+        raise ValidationError(f"methods {unknown} are not registered; registered: {list(METHODS)}")
+    trial = simulate(sc) if trial is None else trial
+    oracle = METHODS["oracle"].run(trial)
+    if observe is not None:
+        observe("oracle", trial, oracle)
+    out: dict[str, Score] = {}
+    for name in names or list(METHODS):
+        method = METHODS[name]
+        reason = method.not_applicable(sc)
+        if reason is not None:
+            out[name] = Score("n/a", reason)
+            continue
+        est = oracle if name == "oracle" else (runner or (lambda m, t: m.run(t)))(method, trial)
+        if observe is not None and name != "oracle":
+            observe(name, trial, est)
+        out[name] = score(trial, est, oracle, burn_in=burn_in)
+    return out

@@ -1,0 +1,770 @@
+"""guo2023 in the arena: distributed state and input estimation under deception attacks.
+
+Guo & Xia (2023): node ``i`` splits its attacked measurement with an SVD of its
+feed-through ``H_bar^i = [0 H^i]`` into ``z_1`` (sees the input part ``u_1``, estimated at
+once) and ``z_2`` (input-free; estimates the part ``u_2`` that drives the state, one step
+late), makes a local update with a gain constrained by ``K U_1 = 0`` (28), and fuses its
+estimate with its neighbours' by consensus on information (19)-(21). The functions below are
+the corrected Algorithm 1 of the guo2023 notebook (steps A1-A14, stages B-D; corrections
+E1-E7 of ERRATA.md), vectorised over Monte Carlo runs and over the nodes that share the
+same decomposition shapes, and over runs of the covariance bounds when those depend on the
+run (links that fail).
+
+Reading on a shared scenario (:class:`Guo2023`, rules fixed before any arena run):
+
+* **Attack channels** ``H^i``: the paper assumes them known (2); by default (``threat="card"``)
+  they are read from the attack card: ``H^i = I`` on the rows of every sensor the card
+  attacks, no attack input elsewhere (Remark 1's per-node signals ``a^i``). Only the
+  *channel* is read, never the magnitude, timing or probability. ``threat="all"`` (every
+  sensor attackable, the paper's Remark 1 taken literally) leaves no attack-free output on
+  single-output nodes, so Assumption 2 fails and the method answers "not applicable".
+* **Unknown input** ``d``: none (``n_d = 0``): the shared plants have no input besides noise.
+* **Exchange**: once per step, after the local update, each node sends ``x^{i,i}`` (falsified
+  under a message attack, ``scale = x0_std``). The bounds ``P^{i,i}`` do not depend on the
+  data, and the link state is shared by every link, so each node computes its neighbours'
+  bounds itself: they are not sent.
+* **Lost message**: the node fuses the estimates it received with the weights ``pi_ij``
+  renormalised over them (its own estimate alone when every link is down); consensus on
+  information stays a consistent fusion (Theorem 1) for any convex weights.
+* **Weights** ``Pi``: uniform on the closed neighbourhood, ``pi_ij = 1/(|N_i| + 1)`` (the
+  example of Sec. V); ``x0 = 0``, ``P_0`` the prior covariance of the card.
+* **Alarms** (ours, not the paper's): the attack estimate ``u_1`` of an attackable node is
+  tested against zero with its covariance bound ``Sigma^-1 (C_1 P_bar C_1^T + R_1) Sigma^-T``,
+  chi-square at level :data:`secest.estimators.CHI2_ALPHA` (the baseline's).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any, NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy import stats
+
+from secest import graphs, systems
+from secest.covariance import symmetrize
+from secest.estimation import FeedthroughSVD, feedthrough_decomposition
+from secest.estimators import CHI2_ALPHA, Estimate, Method, register
+from secest.scenarios import Scenario, Trial
+from secest.validation import ValidationError
+
+__all__ = [
+    "THREATS",
+    "Guo2023",
+    "GuoModel",
+    "GuoRun",
+    "GuoState",
+    "GuoStep",
+    "LocalGains",
+    "arena_model",
+    "attack_statistic",
+    "constrained_gain",
+    "estimator_step",
+    "fuse",
+    "initial_state",
+    "input_one",
+    "link_weights",
+    "local_estimate",
+    "local_gains",
+    "run_estimator",
+]
+
+Array = NDArray[np.float64]
+
+
+def _t(M: Array) -> Array:
+    """Transpose of the last two axes."""
+    return np.swapaxes(M, -1, -2)
+
+
+def _apply(M: Array, v: Array) -> Array:
+    """``M v`` over the last axes, broadcasting stacks of matrices against stacks of vectors."""
+    return (M @ v[..., None])[..., 0]
+
+
+# ---------------------------------------------------------------------------------- stage A
+
+
+def constrained_gain(S: Array, Theta: Array, U1: Array) -> Array:
+    """Gain minimising ``tr P_bar^{i,i}`` subject to ``K U_1 = 0``, (28) (Lemmas 1-2).
+
+    .. math::  K = S \\Theta [I - U_1 (U_1^T \\Theta U_1)^{-1} U_1^T \\Theta]
+
+    The batched form of :func:`secest.estimation.constrained_gain` (the same expression, in
+    the same order), for stacks of matrices over the leading axes.
+
+    Parameters
+    ----------
+    S : (..., n_x, n_y) array
+        ``P* C^T - J R`` of (26).
+    Theta : (..., n_y, n_y) array
+        ``Xi_bar^-1 (I - C J)``, Algorithm 1 line 13 / (30).
+    U1 : (..., n_y, p) array
+        Output directions the unknown input excites.
+
+    Returns
+    -------
+    (..., n_x, n_y) array
+    """
+    if U1.shape[-1] == 0:
+        return S @ Theta
+    ThU1 = Theta @ U1
+    inner = _t(U1) @ ThU1
+    if np.any(np.linalg.cond(inner) > 1e12):
+        raise ValidationError("U1^T Theta U1 must be invertible (condition number <= 1e12)")
+    return S @ Theta - S @ ThU1 @ np.linalg.solve(inner, _t(U1) @ Theta)
+
+
+class LocalGains(NamedTuple):
+    """The data-independent matrices of node ``i``'s local step (Algorithm 1, stage A)."""
+
+    G1: Array
+    """``G_bar_{1,k-1} = G_bar V_1`` (4): zero in this problem class (``u_1`` never drives x)."""
+    G2: Array
+    """``G_bar_{2,k-1} = G_bar V_2`` (4)."""
+    C2: Array
+    """``C_{2,k} = U_2^T C`` (6)."""
+    M2: Array
+    """``M_bar_2`` of (13) (A4); ``M2 @ B2 = I`` is the unbiasedness condition (10)."""
+    B2: Array
+    """``C_2 G_bar_2`` (A4); full column rank is the solvability condition of (13)."""
+    J: Array
+    """``G_bar_2 M_bar_2 U_2^T`` (A8)."""
+    K: Array
+    """Constrained gain (28) (A12)."""
+    P_pred: Array
+    """``P_bar_{k|k-1}`` (23) (A2)."""
+    P_loc: Array
+    """``P_bar^{i,i}_k = P* - K S^T`` (29) (A14), symmetrised."""
+
+
+def local_gains(
+    A: Array,
+    Q: Array,
+    Gbar: Array,
+    P_prev: Array,
+    dec_prev: FeedthroughSVD,
+    dec: FeedthroughSVD,
+    C: Array,
+    R: Array,
+) -> LocalGains:
+    """Gains and covariance bounds of the local step k-1 -> k (A2-A4, A8-A12, A14).
+
+    Every argument but ``A`` and ``Q`` may carry leading stack axes (runs, nodes) that broadcast
+    together.
+
+    Parameters
+    ----------
+    A, Q : (n_x, n_x) arrays
+        ``A_{k-1}``, ``Q_{k-1}``.
+    Gbar : (..., n_x, n_u) array
+        ``G_bar_{k-1} = [G_{k-1} 0]`` (3).
+    P_prev : (..., n_x, n_x) array
+        Fused bound ``P_bar^i_{k-1}``.
+    dec_prev, dec : FeedthroughSVD
+        SVD of ``H_bar^i`` at ``k-1`` (for ``V_1, V_2``) and at ``k`` (``U_1, U_2, T_1``),
+        possibly stacked over nodes (:func:`secest.estimation.feedthrough_decomposition`).
+    C, R : (..., n_y, n_x), (..., n_y, n_y) arrays
+        ``C^i_k``, ``R^i_k``.
+
+    Returns
+    -------
+    LocalGains
+    """
+    G1, G2 = Gbar @ dec_prev.V1, Gbar @ dec_prev.V2  # (4) at k-1
+    U2t = _t(dec.U2)
+    C2, R2 = U2t @ C, U2t @ R @ dec.U2  # (6)
+    P_pred = A @ P_prev @ A.T + Q  # A2: (23)
+    Xi2 = C2 @ P_pred @ _t(C2) + R2  # A3: (13)
+    B2 = C2 @ G2
+    Xi2_inv_B2 = np.linalg.solve(Xi2, B2)
+    M2 = np.linalg.solve(_t(B2) @ Xi2_inv_B2, _t(Xi2_inv_B2))  # A4: (13)
+    J = G2 @ M2 @ U2t
+    I_JC = np.eye(A.shape[0]) - J @ C
+    P_star = I_JC @ P_pred @ _t(I_JC) + G2 @ M2 @ R2 @ _t(M2) @ _t(G2)  # A8: (24) corrected
+    S = P_star @ _t(C) - J @ R  # A9: (26)
+    Xi = C @ P_pred @ _t(C) + R  # A10: (13)
+    Theta = np.linalg.solve(Xi, np.eye(C.shape[-2]) - C @ J)  # A11: (30), line 13
+    K = constrained_gain(S, Theta, dec.U1)  # A12: (28)
+    P_loc = symmetrize(P_star - K @ _t(S))  # A14: (29)
+    return LocalGains(G1, G2, C2, M2, B2, J, K, P_pred, P_loc)
+
+
+def local_estimate(
+    g: LocalGains, A: Array, x_prev: Array, u1_prev: Array, dec: FeedthroughSVD, C: Array, ya: Array
+) -> tuple[Array, Array, Array]:
+    """Node ``i``'s estimates of the local step (A1, A5-A7, A13) for a batch of runs.
+
+    Parameters
+    ----------
+    g : LocalGains
+        From :func:`local_gains` for the same step.
+    A : (n_x, n_x) array
+        ``A_{k-1}``.
+    x_prev, u1_prev : (..., n_x), (..., p_{k-1}) arrays
+        Fused ``x_hat^i_{k-1}`` and ``u_hat^i_{1,k-1}`` (leading axes: runs, nodes).
+    dec : FeedthroughSVD
+        SVD at ``k``.
+    C : (..., n_y, n_x) array
+        ``C^i_k``.
+    ya : (..., n_y) array
+        Attacked measurement ``y^{a,i}_k`` (E1: the node has no other).
+
+    Returns
+    -------
+    x_loc : (..., n_x)
+        ``x_hat^{i,i}_k`` (14) row 5.
+    u2 : (..., m)
+        ``u_hat^i_{2,k-1}`` (14) row 2, the one-step-delayed input estimate.
+    z1 : (..., p)
+        ``z_{1,k} = T_1 y^a`` (5), kept for stage D.
+    """
+    z1, z2 = _apply(dec.T1, ya), _apply(_t(dec.U2), ya)  # A1: (5)-(6)
+    x_pred = x_prev @ A.T + _apply(g.G1, u1_prev)  # A5: (14) row 3
+    u2 = _apply(g.M2, z2 - _apply(g.C2, x_pred))  # A6: (14) row 2
+    x_star = x_pred + _apply(g.G2, u2)  # A7: (14) row 4
+    x_loc = x_star + _apply(g.K, ya - _apply(C, x_star))  # A13: (14) row 5, with y^a
+    return x_loc, u2, z1
+
+
+# ---------------------------------------------------------------------------------- stage C
+
+
+def fuse(
+    P_loc: Array, weights: Array, received: Array, *, matrix_weights: bool = True
+) -> tuple[Array, Array | None, Array]:
+    """Consensus-on-information fusion (19)-(21) of every node at once.
+
+    Parameters
+    ----------
+    P_loc : (..., N, n, n) array
+        Local bounds ``P_bar^{j,j}_k``.
+    weights : (..., N, N) array
+        ``pi_ij`` (row-stochastic; a row renormalised over the messages received).
+    received : (..., N, N, n) array
+        ``received[..., i, j]``: the estimate ``x_hat^{j,j}_k`` as node ``i`` received it
+        (``received[..., i, i]`` its own).
+    matrix_weights : bool, default True
+        Also return the matrix weights ``W`` (not needed for the estimates).
+
+    Returns
+    -------
+    P : (..., N, n, n)
+        Fused bounds ``P_bar^i_k = [sum_j pi_ij (P_bar^{j,j})^-1]^-1`` (19), symmetrised.
+    W : (..., N, N, n, n) or None
+        Matrix weights ``W^{i,j} = pi_ij P_bar^i (P_bar^{j,j})^-1`` (20); ``sum_j W^{i,j} = I``.
+    x : (..., N, n)
+        Fused estimates ``x_hat^i_k = sum_j W^{i,j} x_hat^{j,j}_k`` (21), evaluated as
+        ``P_bar^i sum_j pi_ij (P_bar^{j,j})^-1 x_hat^{j,j}``.
+    """
+    N, n = P_loc.shape[-3], P_loc.shape[-1]
+    info = np.linalg.inv(P_loc)
+    omega = weights @ info.reshape(*info.shape[:-3], N, n * n)
+    P = symmetrize(np.linalg.inv(omega.reshape(*omega.shape[:-1], n, n)))  # (19)
+    W = None
+    if matrix_weights:
+        W = weights[..., None, None] * (P[..., :, None, :, :] @ info[..., None, :, :, :])  # (20)
+    info_x = (info[..., None, :, :, :] @ received[..., None])[..., 0]  # (P^{j,j})^-1 x^{j,j} as received
+    x = _apply(P, np.sum(weights[..., None] * info_x, axis=-2))  # (20)-(21)
+    return P, W, x
+
+
+# ---------------------------------------------------------------------------------- driver
+
+
+@dataclass(frozen=True)
+class GuoModel:
+    """The model of (1)-(3) as functions of the step ``k`` (any object with these works).
+
+    ``Gbar(k)`` returns one ``(n_x, n_u)`` matrix (the paper's common ``u = [d; a]``) or a
+    sequence of one ``(n_x, n_u^i)`` matrix per node (Remark 1's per-node attack signals);
+    ``Hbar(k)`` returns one ``(n_y, n_u^i)`` matrix per node.
+    """
+
+    nx: int
+    N: int
+    A: Callable[[int], Array]
+    Q: Callable[[int], Array]
+    C: Callable[[int], Array]
+    R: Callable[[int], Array]
+    Gbar: Callable[[int], Any]
+    Hbar: Callable[[int], Sequence[Array]]
+    Pi: Array
+    x0_hat: Array
+    P0: Array
+
+
+@dataclass
+class GuoRun:
+    """Output of :func:`run_estimator` (``runs`` first, as in the arena).
+
+    Attributes
+    ----------
+    x : (runs, K + 1, N, n_x)
+        Fused estimates ``x_hat^i_k`` (``k = 0``: the prior, Algorithm 1 line 1).
+    P : (K + 1, N, n_x, n_x) or (runs, K + 1, N, n_x, n_x)
+        Fused bounds ``P_bar^i_k`` (per run only when links fail).
+    u1 : tuple of N arrays (runs, K + 1, p_i)
+        ``u_hat^i_{1,k}`` at step ``k`` (lines 20-21), computed with the fused estimate.
+    u_hat : tuple of N arrays (runs, K, n_u^i)
+        ``u_hat^i_k = V_1 u_hat_1 + V_2 u_hat_2`` for ``k = 0..K-1`` (known at ``k + 1``).
+    K, J : (K, N, n_x, n_y) arrays, optional
+        Gains of steps ``1..K`` (``keep_steps``).
+    W : (K, N, N, n_x, n_x) array, optional
+        Fusion weights (20) of steps ``1..K`` (``keep_steps``).
+    P_loc : (K, N, n_x, n_x) array, optional
+        Local bounds ``P_bar^{i,i}_k`` (``keep_steps``).
+    x_loc : (runs, K, N, n_x) array, optional
+        Local estimates ``x_hat^{i,i}_k`` (``keep_steps``).
+    checks : dict of (K, N) arrays
+        Per step and node: ``KU1`` = ``||K U_1||``, ``M2B2`` = ``max|M_bar_2 B_2 - I|`` (10),
+        ``G1`` = ``max|G_bar_1|``.
+    """
+
+    x: Array
+    P: Array
+    u1: tuple[Array, ...]
+    u_hat: tuple[Array, ...]
+    K: Array | None
+    J: Array | None
+    W: Array | None
+    P_loc: Array | None
+    x_loc: Array | None
+    checks: dict[str, Array]
+
+
+class _Structure(NamedTuple):
+    """Per-node ``G_bar^i_k`` and SVDs of ``H_bar^i_k``, with the model's matrices they came from."""
+
+    source: tuple[Any, Any, Any]
+    Gs: list[Array]
+    decs: list[FeedthroughSVD]
+
+
+def _structure(mdl: Any, k: int, rtol: float, prev: _Structure | None = None) -> _Structure:
+    """SVD of every ``H_bar^i_k`` (display after (3), before (5)); reused while the model
+    returns the very same ``G_bar``, ``H_bar`` and ``R`` objects (a time-invariant model)."""
+    G, H, R = mdl.Gbar(k), mdl.Hbar(k), mdl.R(k)
+    if prev is not None and all(a is b for a, b in zip(prev.source, (G, H, R), strict=True)):
+        return prev
+    common = isinstance(G, np.ndarray) and G.ndim == 2
+    Gs = [G.astype(float)] * mdl.N if common else [np.asarray(g, float) for g in G]
+    decs = [feedthrough_decomposition(H[i], R[i], rtol=rtol) for i in range(mdl.N)]
+    return _Structure((G, H, R), Gs, decs)
+
+
+def _stack(decs: Sequence[FeedthroughSVD]) -> FeedthroughSVD:
+    """Stack decompositions of equal shapes along a new leading (node) axis."""
+    fields = FeedthroughSVD._fields[:-1]
+    return FeedthroughSVD(*(np.stack([getattr(d, f) for d in decs]) for f in fields), rank=decs[0].rank)
+
+
+class _Group(NamedTuple):
+    """Nodes whose matrices at ``k - 1`` and ``k`` have equal shapes, stacked."""
+
+    idx: list[int]
+    G_prev: Array
+    dec_prev: FeedthroughSVD
+    dec: FeedthroughSVD
+
+
+class _Plan(NamedTuple):
+    prev: _Structure
+    cur: _Structure
+    groups: list[_Group]
+
+
+def _plan(prev: _Structure, cur: _Structure, last: _Plan | None) -> _Plan:
+    """Group the nodes by the shapes of their matrices (reused for an unchanged structure)."""
+    if last is not None and last.prev is prev and last.cur is cur:
+        return last
+    keys: dict[tuple, list[int]] = {}
+    for i in range(len(cur.decs)):
+        mats = (prev.Gs[i], *prev.decs[i][:-1], *cur.decs[i][:-1])
+        keys.setdefault(tuple(m.shape for m in mats), []).append(i)
+    groups = [
+        _Group(idx, np.stack([prev.Gs[i] for i in idx]), _stack([prev.decs[i] for i in idx]),
+               _stack([cur.decs[i] for i in idx]))
+        for idx in keys.values()
+    ]
+    return _Plan(prev, cur, groups)
+
+
+def input_one(dec: FeedthroughSVD, C: Array, z1: Array, x: Array) -> Array:
+    """``u_hat_{1,k} = Sigma^-1 (z_1 - C_1 x_hat^i_k)`` with ``C_1 = T_1 C`` (Alg. 1 lines 20-21).
+
+    ``x`` is the **fused** estimate; every argument may carry leading (run, node) axes.
+    """
+    return np.linalg.solve(dec.Sigma, (z1 - _apply(dec.T1 @ C, x))[..., None])[..., 0]
+
+
+class GuoState(NamedTuple):
+    """What the estimator carries from step ``k - 1`` to ``k``."""
+
+    k: int
+    x: Array
+    """(runs, N, n_x) fused estimates."""
+    P: Array
+    """(N, n_x, n_x), or (runs, N, n_x, n_x) when links fail: fused bounds."""
+    u1: list[Array]
+    """Per node, (runs, p_i): ``u_hat^i_{1,k}``."""
+    structure: _Structure
+    plan: _Plan | None = None
+
+
+class GuoStep(NamedTuple):
+    """The matrices and local pairs of one step (the data-independent ones are what the
+    notebook's exact joint covariance needs)."""
+
+    K: Array | None
+    """(..., N, n_x, n_y) gains (28)."""
+    J: Array | None
+    """(..., N, n_x, n_y) ``G_bar_2 M_bar_2 U_2^T``."""
+    W: Array | None
+    """(..., N, N, n_x, n_x) fusion weights (20)."""
+    P_loc: Array | None
+    """(..., N, n_x, n_x) local bounds (29)."""
+    x_loc: Array
+    """(runs, N, n_x) local estimates (14)."""
+    u_hat: list[Array]
+    """Per node, (runs, n_u^i): ``u_hat^i_{k-1}``."""
+    checks: dict[str, Array]
+    """Per node: ``KU1`` = ``||K U_1||``, ``M2B2`` = ``max|M_bar_2 B_2 - I|`` (10),
+    ``G1`` = ``max|G_bar_1|``."""
+
+
+def initial_state(mdl: Any, ya0: Array, *, per_run: bool = False, rtol: float = 1e-10) -> GuoState:
+    """Algorithm 1 line 1: ``x_hat^i_0 = x_hat_0``, ``P_bar^i_0 = P_0``, ``u_hat^i_{1,0}``.
+
+    ``ya0`` has shape (runs, N, n_y); ``per_run`` carries one bound per run.
+    """
+    struct = _structure(mdl, 0, rtol)
+    runs, N, nx = ya0.shape[0], int(mdl.N), int(mdl.nx)
+    x = np.broadcast_to(np.asarray(mdl.x0_hat, float), (runs, N, nx)).copy()
+    P = np.broadcast_to(np.asarray(mdl.P0, float), ((runs,) if per_run else ()) + (N, nx, nx)).copy()
+    C0 = np.asarray(mdl.C(0), float)
+    u1 = [input_one(d, C0[i], _apply(d.T1, ya0[:, i]), x[:, i]) for i, d in enumerate(struct.decs)]
+    return GuoState(0, x, P, u1, struct)
+
+
+def _checks(g: LocalGains, U1: Array, n_nodes: int) -> dict[str, Array]:
+    """Per-node structure checks of one stack: ``||K U_1||``, ``|M_bar_2 B_2 - I|``, ``|G_bar_1|``."""
+    m = g.B2.shape[-1]
+
+    def per_node(a: Array) -> Array:
+        return a.reshape(-1, n_nodes).max(axis=0)
+
+    return {
+        "KU1": per_node(np.linalg.norm(g.K @ U1, axis=(-2, -1))),
+        "M2B2": per_node(np.abs(g.M2 @ g.B2 - np.eye(m)).max(axis=(-2, -1), initial=0.0)),
+        "G1": per_node(np.abs(g.G1).max(axis=(-2, -1), initial=0.0)),
+    }
+
+
+def estimator_step(
+    mdl: Any,
+    state: GuoState,
+    ya: Array,
+    *,
+    received: Array | Callable[[Array], Array] | None = None,
+    weights: Array | None = None,
+    matrix_weights: bool = True,
+    rtol: float = 1e-10,
+) -> tuple[GuoState, GuoStep]:
+    """One step ``k - 1 -> k`` of Algorithm 1 at every node (stages A-D).
+
+    Nodes whose matrices have equal shapes are processed as one stack.
+
+    Parameters
+    ----------
+    mdl : GuoModel or any object with its attributes
+        The model (1)-(3).
+    state : GuoState
+        From :func:`initial_state` or the previous step.
+    ya : (runs, N, n_y) array
+        Attacked measurements at step ``k``.
+    received : (runs, N, N, n_x) array or callable, optional
+        Stage B: what node ``i`` receives from ``j``; a callable gets the local estimates
+        ``(runs, N, n_x)`` and returns it. Default: the local estimates as sent.
+    weights : (N, N) or (runs, N, N) array, optional
+        Fusion weights of this step; default ``mdl.Pi``.
+    matrix_weights : bool, default True
+        Return the fusion weights (20) in the step record.
+    rtol : float
+        SVD rank tolerance.
+
+    Returns
+    -------
+    GuoState, GuoStep
+    """
+    k = state.k + 1
+    N, nx = int(mdl.N), int(mdl.nx)
+    A, Q = np.asarray(mdl.A(k - 1), float), np.asarray(mdl.Q(k - 1), float)
+    Ck, Rk = np.asarray(mdl.C(k), float), np.asarray(mdl.R(k), float)
+    struct = _structure(mdl, k, rtol, state.structure)
+    plan = _plan(state.structure, struct, state.plan)
+    runs, lead = ya.shape[0], state.P.shape[:-3]
+    x_loc, P_loc = np.empty((runs, N, nx)), np.empty_like(state.P)
+    K, J = np.empty((*lead, N, nx, Ck.shape[1])), np.empty((*lead, N, nx, Ck.shape[1]))
+    u2, z1 = [], []
+    checks = {name: np.zeros(N) for name in ("KU1", "M2B2", "G1")}
+    for grp in plan.groups:  # stage A
+        idx = grp.idx
+        P_prev = state.P[..., idx, :, :]
+        g = local_gains(A, Q, grp.G_prev, P_prev, grp.dec_prev, grp.dec, Ck[idx], Rk[idx])
+        u1_prev = np.stack([state.u1[i] for i in idx], axis=1)
+        xl, u2g, z1g = local_estimate(g, A, state.x[:, idx], u1_prev, grp.dec, Ck[idx], ya[:, idx])
+        x_loc[:, idx], P_loc[..., idx, :, :] = xl, g.P_loc
+        K[..., idx, :, :], J[..., idx, :, :] = g.K, g.J
+        u2.append(u2g)
+        z1.append(z1g)
+        for name, val in _checks(g, grp.dec.U1, len(idx)).items():
+            checks[name][idx] = val
+    if received is None:  # stage B: exchange
+        received = np.broadcast_to(x_loc[:, None], (runs, N, N, nx))
+    elif callable(received):
+        received = received(x_loc)
+    Pi = mdl.Pi if weights is None else weights
+    P, W, x = fuse(P_loc, Pi, received, matrix_weights=matrix_weights)  # stage C
+    u1, u_hat = [None] * N, [None] * N
+    for grp, u2g, z1g in zip(plan.groups, u2, z1, strict=True):  # stage D
+        idx = grp.idx
+        u1_prev = np.stack([state.u1[i] for i in idx], axis=1)
+        uh = _apply(grp.dec_prev.V1, u1_prev) + _apply(grp.dec_prev.V2, u2g)  # u_hat_{k-1}
+        u1g = input_one(grp.dec, Ck[idx], z1g, x[:, idx])  # lines 20-21, fused x
+        for n_, i in enumerate(idx):
+            u1[i], u_hat[i] = u1g[:, n_], uh[:, n_]
+    return GuoState(k, x, P, u1, struct, plan), GuoStep(K, J, W, P_loc, x_loc, u_hat, checks)
+
+
+def link_weights(Pi: Array, up: Array) -> Array:
+    """Fusion weights of one step when messages may be lost: ``pi_ij`` renormalised over the
+    messages node ``i`` received (``up[r]`` = 1: every link up in run ``r``; 0: none)."""
+    mask = np.where(np.asarray(up)[:, None, None] == 1, 1.0, np.eye(Pi.shape[0]))
+    w = Pi * mask
+    return w / w.sum(axis=-1, keepdims=True)
+
+
+def run_estimator(
+    mdl: Any,
+    ya: Array,
+    *,
+    received: Callable[[int, Array], Array] | None = None,
+    link: Array | None = None,
+    keep_steps: bool = True,
+    rtol: float = 1e-10,
+) -> GuoRun:
+    """Algorithm 1 (corrected) over all runs and nodes, ``k = 1..K`` (:func:`estimator_step`).
+
+    Parameters
+    ----------
+    mdl : GuoModel or any object with its attributes (e.g. the notebook's model)
+        The model (1)-(3).
+    ya : (runs, K + 1, N, n_y) array
+        Attacked measurements ``y^{a,i}_k``.
+    received : callable, optional
+        ``received(k, x_loc) -> (runs, N, N, n_x)``: what node ``i`` receives from ``j`` at
+        step ``k`` (stage B); default: the estimates as sent.
+    link : (runs, K + 1) array of 0/1, optional
+        State of every link at step ``k`` (shared by all links); a lost message is left out
+        of (19)-(21) and the weights renormalised (:func:`link_weights`). Default: always up.
+        With failing links the bounds depend on the run.
+    keep_steps : bool, default True
+        Also return the gains, fusion weights and local pairs of every step.
+    rtol : float, default 1e-10
+        Relative rank tolerance of the SVD of ``H_bar^i``.
+
+    Returns
+    -------
+    GuoRun
+
+    Raises
+    ------
+    ValidationError
+        ``ya`` or ``link`` of the wrong shape, or ``Pi`` not row-stochastic.
+    """
+    ya = np.asarray(ya, float)
+    N = int(mdl.N)
+    if ya.ndim != 4 or ya.shape[2] != N:
+        raise ValidationError(
+            f"Incompatible dimensions of ya: expected (runs, K + 1, {N}, n_y), found {ya.shape}"
+        )
+    runs, K1 = ya.shape[:2]
+    Pi = graphs.check_row_stochastic(mdl.Pi)
+    if link is not None and np.shape(link) != (runs, K1):
+        raise ValidationError(
+            f"Incompatible dimensions of link: expected {(runs, K1)}, found {np.shape(link)}"
+        )
+    per_run = link is not None and not np.all(np.asarray(link) == 1)
+    state = initial_state(mdl, ya[:, 0], per_run=per_run, rtol=rtol)
+    xs, Ps, u1s, steps = [state.x], [state.P], [state.u1], []
+    for k in range(1, K1):
+        recv = None if received is None else (lambda m, k=k: received(k, m))
+        weights = link_weights(Pi, link[:, k]) if per_run else None
+        state, step = estimator_step(mdl, state, ya[:, k], received=recv, weights=weights,
+                                     matrix_weights=keep_steps, rtol=rtol)
+        xs.append(state.x)
+        Ps.append(state.P)
+        u1s.append(state.u1)
+        steps.append(step if keep_steps else step._replace(K=None, J=None, W=None, P_loc=None))
+    axis = 1 if per_run else 0
+
+    def stacked(name: str, ax: int) -> Array | None:
+        return np.stack([getattr(s, name) for s in steps], axis=ax) if keep_steps and steps else None
+
+    return GuoRun(
+        x=np.stack(xs, axis=1),
+        P=np.stack(Ps, axis=axis),
+        u1=tuple(np.stack([u[i] for u in u1s], axis=1) for i in range(N)),
+        u_hat=tuple(np.stack([s.u_hat[i] for s in steps], axis=1) if steps else np.empty((runs, 0, 0))
+                    for i in range(N)),
+        K=stacked("K", axis), J=stacked("J", axis), W=stacked("W", axis), P_loc=stacked("P_loc", axis),
+        x_loc=stacked("x_loc", 1),
+        checks={name: np.array([s.checks[name] for s in steps]) for name in ("KU1", "M2B2", "G1")},
+    )
+
+
+# ---------------------------------------------------------------------------------- the arena
+
+
+THREATS = ("card", "all")
+"""Readings of the attack channels ``H^i``: from the attack card, or every sensor."""
+
+
+def arena_model(sc: Scenario, threat: str = "card") -> GuoModel:
+    """The shared scenario as the model (1)-(3): time-invariant, no ``d``, per-node ``a^i``.
+
+    Node ``i`` has the attack input ``a^i`` of dimension ``n_y`` (``H^i = I``, ``G_bar^i = 0``)
+    when the reading ``threat`` makes its sensor attackable, and none otherwise.
+    """
+    if threat not in THREATS:
+        raise ValidationError(f"threat must be one of {THREATS}, found {threat!r}")
+    N, ny = sc.C.shape[:2]
+    n = sc.plant.n
+    hit = set(range(N)) if threat == "all" else set(sc.attacked_nodes)
+    Hs = [np.eye(ny) if i in hit else np.zeros((ny, 0)) for i in range(N)]
+    Gs = [np.zeros((n, H.shape[1])) for H in Hs]
+    A, Q, C, R = sc.plant.A, sc.plant.Q, sc.C, sc.R
+    return GuoModel(
+        nx=n, N=N, A=lambda k: A, Q=lambda k: Q, C=lambda k: C, R=lambda k: R,
+        Gbar=lambda k: Gs, Hbar=lambda k: Hs,
+        Pi=graphs.row_stochastic_weights(sc.network.adj, self_weight=True),
+        x0_hat=np.zeros(n), P0=sc.plant.x0_std**2 * np.eye(n),
+    )
+
+
+def attack_statistic(dec: FeedthroughSVD, C: Array, R: Array, P: Array, u1: Array) -> Array:
+    """Normalised attack estimate ``u1^T Cov^-1 u1``, ``Cov = Sigma^-1 (C_1 P C_1^T + R_1) Sigma^-T``.
+
+    Ours, not the paper's: ``u_hat_1 - u_1 = Sigma^-1 (C_1 x_tilde + v_1)``, where the fused
+    error is independent of ``v_1 = T_1 v`` (``K U_1 = 0`` and ``T_1 R U_2 = 0``), so ``Cov`` bounds
+    its covariance whenever ``P_bar`` bounds the fused one (Theorem 1).
+
+    Parameters
+    ----------
+    dec : FeedthroughSVD
+        The node's decomposition.
+    C, R : (n_y, n_x), (n_y, n_y) arrays
+        The node's output matrix and noise covariance.
+    P : (..., n_x, n_x) array
+        Fused bounds ``P_bar^i_k`` (steps, possibly runs).
+    u1 : (..., p) array
+        Attack estimates ``u_hat^i_{1,k}``.
+
+    Returns
+    -------
+    (...,) array
+    """
+    C1 = dec.T1 @ C
+    S_inv = np.linalg.inv(dec.Sigma)
+    cov = S_inv @ (C1 @ P @ C1.T + dec.T1 @ R @ dec.T1.T) @ S_inv.T
+    return np.einsum("...i,...i->...", u1, np.linalg.solve(cov, u1[..., None])[..., 0])
+
+
+class Guo2023(Method):
+    """SVD decoupling of the attack input, constrained local gain (28), CI fusion (19)-(21).
+
+    Design rules (fixed from the paper before any arena run; see the module docstring):
+    ``H^i = I`` on the sensors the attack card names (``threat="card"``, the paper's known
+    attack channels (2)), ``n_d = 0``, ``pi_ij = 1/(|N_i| + 1)`` on the closed neighbourhood
+    (Sec. V), ``x0 = 0``, ``P_0`` the prior, SVD rank tolerance ``1e-10``; only the local
+    estimates are exchanged (``scale = x0_std``); a lost message is left out of the fusion
+    and the weights renormalised; alarms (ours): chi-square test of ``u_hat_1`` at
+    :data:`~secest.estimators.CHI2_ALPHA`.
+    """
+
+    name = "guo2023"
+    title = "guo2023: SVD input decoupling, K U1 = 0 gain, CI fusion"
+    kind = "paper"
+    reading = (
+        "H^i = I on the sensors the attack card names (the paper's known attack channels), no d; "
+        "nodes send x^{i,i} once per step (bounds are data-independent, not sent); a lost message "
+        "is left out of the CI fusion, weights renormalised; pi_ij = 1/(|N_i|+1) (Sec. V); "
+        "alarms (ours): chi-square test of u_hat_1 at 1e-3"
+    )
+
+    def __init__(self, threat: str = "card", rtol: float = 1e-10) -> None:
+        if threat not in THREATS:
+            raise ValidationError(f"threat must be one of {THREATS}, found {threat!r}")
+        self.threat = threat
+        self.rtol = rtol
+
+    def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
+        mdl = arena_model(sc, self.threat)
+        A, C, R = sc.plant.A, sc.C, sc.R
+        decs = [feedthrough_decomposition(mdl.Hbar(0)[i], R[i], rtol=self.rtol) for i in range(mdl.N)]
+        Gs = mdl.Gbar(0)
+        ny = C.shape[1]
+        C2 = np.vstack([d.U2.T @ C[i] for i, d in enumerate(decs)])
+        rank_ok = all(
+            np.linalg.matrix_rank(d.U2.T @ C[i] @ Gs[i] @ d.V2) == d.V2.shape[1]
+            for i, d in enumerate(decs)
+        )
+        adj = sc.network.adj
+        connected = True
+        try:
+            graphs.check_connected(adj)
+        except ValidationError:
+            connected = False
+        return [
+            ("the graph is undirected and connected (Sec. II)",
+             bool(np.array_equal(adj, adj.T)) and connected),
+            ("A is invertible (Assumption 1)", bool(np.linalg.cond(A) < 1e12)),
+            ("n_y_i >= n_u at every node (standing assumption after (3))",
+             all(ny >= H.shape[1] for H in mdl.Hbar(0))),
+            ("C_2^i G_bar_2^i has full column rank at every node (solvability of (10), (13))", rank_ok),
+            ("(A, C_2) is observable, C_2 = [C_2^1; ...; C_2^N] the attack-free outputs (Assumption 2)",
+             bool(C2.shape[0] > 0 and systems.is_observable(A, C2))),
+        ]
+
+    def run(self, trial: Trial) -> Estimate:
+        sc = trial.scenario
+        mdl = arena_model(sc, self.threat)
+        scale = sc.plant.x0_std
+        dos = not np.all(trial.link == 1)
+        res = run_estimator(
+            mdl, trial.y, received=lambda k, m: trial.received(k, m, scale),
+            link=trial.link if dos else None, keep_steps=False, rtol=self.rtol,
+        )
+        runs, K1, N, _ = trial.y.shape
+        alarms = np.zeros((runs, K1, N), bool)
+        threshold = {}
+        for i, H in enumerate(mdl.Hbar(0)):
+            dec = feedthrough_decomposition(H, sc.R[i], rtol=self.rtol)
+            if dec.rank == 0:
+                continue
+            thr = threshold.setdefault(dec.rank, float(stats.chi2.ppf(1 - CHI2_ALPHA, dec.rank)))
+            P_i = res.P[..., i, :, :]
+            alarms[:, :, i] = attack_statistic(dec, sc.C[i], sc.R[i], P_i, res.u1[i]) > thr
+        notes = {"threat": self.threat}
+        if sc.attack.kind == "message":
+            notes["outside theory"] = "falsified fusion messages are not in the paper's model (2)"
+        if dos:
+            notes["outside theory"] = "Theorem 2 assumes every exchange; lost ones are left out of (19)"
+        bound = res.P if res.P.ndim == 5 else res.P[None]
+        return Estimate(res.x, alarms=alarms, bound=bound, notes=notes)
+
+
+register(Guo2023)

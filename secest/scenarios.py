@@ -1,0 +1,507 @@
+"""Shared scenarios of the arena: plants, networks and attacks as data (``secest/cards.toml``).
+
+A **scenario** is a plant observed by a sensor network under one attack, over a horizon,
+with a number of Monte Carlo runs. Every card lives in ``secest/cards.toml``: a new plant,
+network or attack is one TOML table; the ``[matrix]`` crosses every network (with its plant)
+with every attack, and a ``[scenario.<name>]`` table adds one named scenario (a network and
+an attack, optionally its own horizon, runs and seed) outside the cross. More cards can be
+passed to :func:`cards`, :func:`scenario` and :func:`matrix` (``extra=``: a TOML file or the
+parsed tables) without editing the package's file. :func:`simulate` draws the runs of a
+scenario once, so that every estimator of the arena is fed the very same truth,
+measurements, channel and attacks.
+
+The model (every plant is linear and time-invariant)::
+
+    x'(t) = Ac x(t)                                   continuous time (lee2020 integrates it)
+    x_{k+1} = A x_k + w_k,   A = expm(Ac dt)          sampled every dt (the truth)
+    y_{i,k} = C_i x_k + v_{i,k} + a_{i,k}             node i, rows `measures[i]` of the catalogue
+
+``w`` and ``v`` are Gaussian with standard deviations ``q_std`` and ``r_std``, clipped at
+:data:`NOISE_CLIP` standard deviations per component: bounded, so ellipsoidal noise
+bounds (ma2021's Assumption 1) hold with ``w^T w <= n NOISE_CLIP^2 q_std^2``, while
+their covariance stays within 3 % of the nominal one the Kalman-type estimators assume.
+``a`` is the sensor attack (bias, Bernoulli replacement); attacks on what nodes send each
+other (falsified messages, denial of service) are drawn here and applied by each estimator
+to whatever it exchanges (:meth:`Trial.received`).
+"""
+
+from __future__ import annotations
+
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from functools import cached_property
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import scipy.linalg as sla
+from numpy.typing import NDArray
+
+from secest.validation import ValidationError, as_matrix, check_positive_int, check_probability
+
+__all__ = [
+    "ATTACK_KINDS",
+    "NOISE_CLIP",
+    "Attack",
+    "Network",
+    "Plant",
+    "Scenario",
+    "Trial",
+    "cards",
+    "matrix",
+    "scenario",
+    "simulate",
+]
+
+NOISE_CLIP = 3.0
+"""Process and measurement noises are clipped at this many standard deviations per component."""
+ATTACK_KINDS = ("none", "bias", "replacement", "message", "dos")
+
+
+@dataclass(frozen=True)
+class Plant:
+    """A linear plant: continuous dynamics ``Ac``, sampling ``dt``, noises and output catalogue."""
+
+    name: str
+    title: str
+    source: str
+    Ac: NDArray[np.float64]
+    dt: float
+    q_std: float
+    outputs: NDArray[np.float64]
+    r_std: NDArray[np.float64]
+    x0_std: float
+    state_names: tuple[str, ...]
+
+    @cached_property
+    def A(self) -> NDArray[np.float64]:
+        """Sampled dynamics ``expm(Ac dt)``."""
+        return sla.expm(self.Ac * self.dt)
+
+    @property
+    def n(self) -> int:
+        """State dimension."""
+        return self.Ac.shape[0]
+
+    @property
+    def Q(self) -> NDArray[np.float64]:
+        """Nominal covariance of ``w_k``: ``q_std^2 I``."""
+        return self.q_std**2 * np.eye(self.n)
+
+
+@dataclass(frozen=True)
+class Network:
+    """Sensor nodes, who hears whom, and which outputs each node measures."""
+
+    name: str
+    title: str
+    plant: str
+    adj: NDArray[np.float64]
+    measures: NDArray[np.intp]
+
+    @property
+    def N(self) -> int:
+        """Number of nodes."""
+        return self.adj.shape[0]
+
+
+@dataclass(frozen=True)
+class Attack:
+    """One attack card (see the comments in ``cards.toml`` for each kind's parameters)."""
+
+    name: str
+    title: str
+    kind: str
+    nodes: tuple[int, ...] = ()
+    start: float = 0.0
+    prob: float = 0.0
+    magnitude: float = 0.0
+    p: float = 0.0
+    q: float = 1.0
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """A plant on a network under an attack, over ``horizon`` steps, ``runs`` Monte Carlo runs."""
+
+    name: str
+    plant: Plant
+    network: Network
+    attack: Attack
+    horizon: int
+    runs: int
+    seed: int
+
+    @cached_property
+    def C(self) -> NDArray[np.float64]:
+        """Measurement matrices ``C_i``, shape (N, ny, n)."""
+        return self.plant.outputs[self.network.measures]
+
+    @cached_property
+    def R(self) -> NDArray[np.float64]:
+        """Measurement-noise covariances ``R_i`` (diagonal), shape (N, ny, ny)."""
+        var = self.plant.r_std[self.network.measures] ** 2
+        return np.einsum("iy,yz->iyz", var, np.eye(var.shape[1]))
+
+    @property
+    def attacked_nodes(self) -> tuple[int, ...]:
+        """Nodes whose sensors the attack touches (empty for message and channel attacks)."""
+        return self.attack.nodes if self.attack.kind in ("bias", "replacement") else ()
+
+
+@dataclass
+class Trial:
+    """The Monte Carlo runs of one scenario, drawn once and shared by every estimator.
+
+    Attributes
+    ----------
+    x : (runs, K + 1, n)
+        True states ``x_0 .. x_K``.
+    y : (runs, K + 1, N, ny)
+        Measurements as the sensors deliver them (sensor attacks included).
+    y_clean : (runs, K + 1, N, ny)
+        The same without the attack (what the oracle sees).
+    attacked : (runs, K + 1, N) bool
+        Where a sensor attack is active (the ground truth of detection rates).
+    link : (runs, K + 1) int8
+        Shared channel state of every inter-node link (1 = up); all ones without a DoS attack.
+    hits : (runs, K + 1, N, N) bool
+        ``hits[r, k, i, j]``: the message node ``i`` receives from ``j`` at step ``k`` is falsified.
+    """
+
+    scenario: Scenario
+    x: NDArray[np.float64]
+    y: NDArray[np.float64]
+    y_clean: NDArray[np.float64]
+    attacked: NDArray[np.bool_]
+    link: NDArray[np.int8]
+    hits: NDArray[np.bool_]
+    message_magnitude: float = field(default=0.0)
+
+    def received(self, k: int, messages: NDArray[np.float64], scale: float) -> NDArray[np.float64]:
+        """What every node receives from every other at step ``k``.
+
+        Parameters
+        ----------
+        k : int
+            Step index.
+        messages : (runs, N, d) array
+            What each node sends (its estimate, innovation, solver state...).
+        scale : float
+            Typical size of a message entry; the falsification adds
+            ``magnitude * scale * tanh(m / scale)`` entrywise (bounded by ``magnitude * scale``).
+
+        Returns
+        -------
+        (runs, N, N, d) array
+            ``out[r, i, j]`` is what node ``i`` receives from ``j`` (before the channel: the
+            caller applies :attr:`link`, since what a lost packet means is method-specific).
+        """
+        m = np.asarray(messages, dtype=float)
+        out = np.broadcast_to(m[:, None, :, :], (m.shape[0], m.shape[1], *m.shape[1:])).copy()
+        if self.message_magnitude:
+            inject = self.message_magnitude * scale * np.tanh(m / scale)
+            out += self.hits[:, k, :, :, None] * inject[:, None, :, :]
+        return out
+
+
+# ---------------------------------------------------------------------------------- cards
+
+
+CARD_KINDS = ("plant", "network", "attack", "scenario")
+"""The tables of a cards file that hold named cards (``[<kind>.<name>]``)."""
+
+Extra = str | Path | Mapping[str, Any] | None
+"""More cards: a TOML file (path) or its parsed tables, laid out like ``cards.toml``."""
+
+
+def _cards(extra: Extra = None) -> dict[str, Any]:
+    text = resources.files("secest").joinpath("cards.toml").read_text()
+    raw = tomllib.loads(text)
+    if extra is None:
+        return raw
+    if isinstance(extra, str | Path):
+        path = Path(extra)
+        if not path.is_file():
+            raise ValidationError(f"extra must be a cards file or a mapping; {str(path)!r} is no file")
+        with path.open("rb") as fh:
+            more = tomllib.load(fh)
+    elif isinstance(extra, Mapping):
+        more = dict(extra)
+    else:
+        raise ValidationError(f"extra must be a TOML path or a mapping, found {type(extra).__name__}")
+    unknown = sorted(set(more) - {*CARD_KINDS, "matrix"})
+    if unknown:
+        raise ValidationError(f"extra cards: unknown tables {unknown}; known: {[*CARD_KINDS, 'matrix']}")
+    for kind in CARD_KINDS:
+        for name, card in more.get(kind, {}).items():
+            if name in raw.get(kind, {}):
+                raise ValidationError(f"extra cards: {kind} {name!r} already exists in cards.toml")
+            raw.setdefault(kind, {})[name] = card
+    for key in ("networks", "attacks"):  # extra [matrix] lists extend the cross
+        added = [n for n in more.get("matrix", {}).get(key, []) if n not in raw["matrix"][key]]
+        raw["matrix"][key] = [*raw["matrix"][key], *added]
+    return raw
+
+
+def _plant(name: str, card: dict[str, Any]) -> Plant:
+    Ac = as_matrix(f"plant {name}: Ac", card["Ac"], square=True)
+    outputs = as_matrix(f"plant {name}: outputs", card["outputs"], (None, Ac.shape[0]))
+    r_std = as_matrix(f"plant {name}: r_std", card["r_std"], (outputs.shape[0],))
+    for key in ("dt", "q_std", "x0_std"):
+        if not float(card[key]) > 0:
+            raise ValidationError(f"plant {name}: {key} must be positive, found {card[key]!r}")
+    if np.any(r_std <= 0):
+        raise ValidationError(f"plant {name}: every r_std must be positive")
+    return Plant(
+        name,
+        card["title"],
+        card["source"],
+        Ac,
+        float(card["dt"]),
+        float(card["q_std"]),
+        outputs,
+        r_std,
+        float(card["x0_std"]),
+        tuple(card["state_names"]),
+    )
+
+
+def _graph(name: str, card: dict[str, Any]) -> NDArray[np.float64]:
+    from secest import graphs
+
+    N = check_positive_int(f"network {name}: N", card["N"], minimum=2)
+    kind = card["graph"]
+    if kind == "complete":
+        adj = graphs.complete_graph(N)
+    elif kind == "ring":
+        half = check_positive_int(f"network {name}: degree", card.get("degree", 2), minimum=2) // 2
+        adj = np.zeros((N, N))
+        for s in range(1, half + 1):
+            adj += np.roll(np.eye(N), s, axis=1) + np.roll(np.eye(N), -s, axis=1)
+        adj = (adj > 0).astype(float)
+    elif kind == "rgg":
+        adj = graphs.random_geometric_graph(N, float(card["radius"]), int(card["seed"]))
+    else:
+        raise ValidationError(f"network {name}: graph must be ring, complete or rgg, found {kind!r}")
+    return graphs.check_connected(adj)
+
+
+def _network(name: str, card: dict[str, Any], plants: dict[str, Plant]) -> Network:
+    if card["plant"] not in plants:
+        raise ValidationError(f"network {name}: plant {card['plant']!r} has no card")
+    adj = _graph(name, card)
+    measures = np.asarray(card["measures"], dtype=np.intp)
+    n_out = plants[card["plant"]].outputs.shape[0]
+    if measures.ndim != 2 or measures.shape[0] != adj.shape[0]:
+        raise ValidationError(
+            f"network {name}: measures must list the same number of rows for each of "
+            f"the {adj.shape[0]} nodes"
+        )
+    if measures.min() < 0 or measures.max() >= n_out:
+        raise ValidationError(f"network {name}: measures must index the plant's {n_out} outputs")
+    return Network(name, card["title"], card["plant"], adj, measures)
+
+
+def _attack(name: str, card: dict[str, Any]) -> Attack:
+    kind = card["kind"]
+    if kind not in ATTACK_KINDS:
+        raise ValidationError(f"attack {name}: kind must be one of {ATTACK_KINDS}, found {kind!r}")
+    for key in ("prob", "p", "q"):
+        if key in card:
+            check_probability(f"attack {name}: {key}", card[key])
+    return Attack(
+        name,
+        card["title"],
+        kind,
+        tuple(int(i) for i in card.get("nodes", ())),
+        float(card.get("start", 0.0)),
+        float(card.get("prob", 0.0)),
+        float(card.get("magnitude", 0.0)),
+        float(card.get("p", 0.0)),
+        float(card.get("q", 1.0)),
+    )
+
+
+def cards(extra: Extra = None) -> dict[str, dict[str, Any]]:
+    """Every card of ``cards.toml`` (and of ``extra``), checked.
+
+    Parameters
+    ----------
+    extra : path or mapping, optional
+        More cards laid out like ``cards.toml``: ``[plant.<name>]``, ``[network.<name>]``,
+        ``[attack.<name>]`` and ``[scenario.<name>]`` tables are added (a name that already
+        exists is refused); the ``networks`` and ``attacks`` of an extra ``[matrix]`` are
+        appended to the cross. The package's file is never modified.
+
+    Returns
+    -------
+    dict
+        ``{"plant": {name: Plant}, "network": {name: Network}, "attack": {name: Attack},
+        "scenario": {name: table}, "matrix": {...}}``.
+    """
+    raw = _cards(extra)
+    plants = {n: _plant(n, c) for n, c in raw["plant"].items()}
+    networks = {n: _network(n, c, plants) for n, c in raw["network"].items()}
+    attacks = {n: _attack(n, c) for n, c in raw["attack"].items()}
+    named = {n: _named(n, c, networks, attacks) for n, c in raw.get("scenario", {}).items()}
+    return {
+        "plant": plants,
+        "network": networks,
+        "attack": attacks,
+        "scenario": named,
+        "matrix": raw.get("matrix", {}),
+    }
+
+
+_NAMED_KEYS = {"network", "attack", "horizon", "runs", "seed", "title"}
+
+
+def _named(
+    name: str, card: dict[str, Any], networks: dict[str, Network], attacks: dict[str, Attack]
+) -> dict[str, Any]:
+    unknown = sorted(set(card) - _NAMED_KEYS)
+    if unknown:
+        raise ValidationError(f"scenario {name}: unknown keys {unknown}; known: {sorted(_NAMED_KEYS)}")
+    for kind, known in (("network", networks), ("attack", attacks)):
+        if card.get(kind) not in known:
+            raise ValidationError(f"scenario {name}: {kind} {card.get(kind)!r} has no card")
+    return dict(card)
+
+
+def scenario(
+    network: str,
+    attack: str,
+    *,
+    horizon: int | None = None,
+    runs: int | None = None,
+    seed: int | None = None,
+    name: str | None = None,
+    extra: Extra = None,
+) -> Scenario:
+    """The scenario of ``network`` (with its plant) under ``attack``; defaults from ``[matrix]``.
+
+    ``name`` defaults to ``"<network>/<attack>"``; ``extra`` adds cards (see :func:`cards`).
+    """
+    c = cards(extra)
+    if network not in c["network"]:
+        raise ValidationError(f"network must be one of {sorted(c['network'])}, found {network!r}")
+    if attack not in c["attack"]:
+        raise ValidationError(f"attack must be one of {sorted(c['attack'])}, found {attack!r}")
+    net = c["network"][network]
+    m = c["matrix"]
+    att = c["attack"][attack]
+    if any(i >= net.N for i in att.nodes):
+        raise ValidationError(f"attack {attack}: nodes {att.nodes} do not all exist in {network}")
+    return Scenario(
+        name=name or f"{network}/{attack}",
+        plant=c["plant"][net.plant],
+        network=net,
+        attack=att,
+        horizon=check_positive_int("horizon", horizon if horizon is not None else m["horizon"]),
+        runs=check_positive_int("runs", runs if runs is not None else m["runs"], minimum=2),
+        seed=int(seed if seed is not None else m["seed"]),
+    )
+
+
+def matrix(
+    *,
+    networks: list[str] | None = None,
+    attacks: list[str] | None = None,
+    extra: Extra = None,
+    **overrides: Any,
+) -> list[Scenario]:
+    """Every scenario of the arena: each network (with its plant) under each attack of the
+    ``[matrix]``, then each ``[scenario.<name>]`` table.
+
+    Parameters
+    ----------
+    networks, attacks : list of str, optional
+        The networks and attacks to cross (default: the ``[matrix]`` lists); when given,
+        they also select the named scenarios (default: every one). Every name must have
+        a card.
+    extra : path or mapping, optional
+        More cards (see :func:`cards`).
+    **overrides
+        ``horizon``, ``runs``, ``seed`` for every scenario (a named scenario's own values
+        are used where it gives them and no override does).
+    """
+    c = cards(extra)
+    m = c["matrix"]
+    nets = list(m["networks"]) if networks is None else list(networks)
+    atts = list(m["attacks"]) if attacks is None else list(attacks)
+    for kind, names in (("network", nets), ("attack", atts)):
+        unknown = [n for n in names if n not in c[kind]]
+        if unknown:
+            raise ValidationError(f"{kind}s {unknown} have no card; known: {sorted(c[kind])}")
+    out = [scenario(n, a, extra=extra, **overrides) for n in nets for a in atts]
+    for name, card in c["scenario"].items():
+        if (networks is None or card["network"] in nets) and (attacks is None or card["attack"] in atts):
+            own = {k: card[k] for k in ("horizon", "runs", "seed") if k in card}
+            out.append(scenario(card["network"], card["attack"], name=name, extra=extra,
+                                **(own | {k: v for k, v in overrides.items() if v is not None})))
+    return out
+
+
+# ---------------------------------------------------------------------------------- simulation
+
+
+def _clipped_normal(rng: np.random.Generator, shape: tuple[int, ...]) -> NDArray[np.float64]:
+    return np.clip(rng.standard_normal(shape), -NOISE_CLIP, NOISE_CLIP)
+
+
+def simulate(sc: Scenario) -> Trial:
+    """Draw the ``runs`` Monte Carlo runs of ``sc`` (deterministic in ``sc.seed``).
+
+    Independent streams from ``SeedSequence(seed).spawn(4)`` for the plant and sensor
+    noises, the sensor attack, the channel and the message falsification, so that changing
+    the attack leaves the truth and the noises unchanged (common random numbers across
+    the attack column of the matrix).
+    """
+    plant, net, att = sc.plant, sc.network, sc.attack
+    R, K, N = sc.runs, sc.horizon, net.N
+    noise, attack_rng, channel_rng, message_rng = (
+        np.random.default_rng(s) for s in np.random.SeedSequence(sc.seed).spawn(4)
+    )
+    x = np.empty((R, K + 1, plant.n))
+    x[:, 0] = plant.x0_std * noise.standard_normal((R, plant.n))
+    w = plant.q_std * _clipped_normal(noise, (R, K, plant.n))
+    for k in range(K):
+        x[:, k + 1] = x[:, k] @ plant.A.T + w[:, k]
+    r_std = plant.r_std[net.measures]
+    y_clean = np.einsum("iyn,rkn->rkiy", sc.C, x) + r_std * _clipped_normal(
+        noise, (R, K + 1, N, r_std.shape[1])
+    )
+    y, attacked = _sensor_attack(sc, y_clean, r_std, attack_rng)
+    link = np.ones((R, K + 1), dtype=np.int8)
+    if att.kind == "dos":
+        from secest import channels
+
+        link = channels.gilbert_elliott(att.p, att.q, K + 1, channel_rng, size=R)
+    hits = np.zeros((R, K + 1, N, N), dtype=bool)
+    if att.kind == "message":
+        hits = (message_rng.random((R, K + 1, N, N)) < att.prob) & (net.adj[None, None] > 0)
+    magnitude = att.magnitude if att.kind == "message" else 0.0
+    return Trial(sc, x, y, y_clean, attacked, link, hits, magnitude)
+
+
+def _sensor_attack(
+    sc: Scenario, y_clean: NDArray[np.float64], r_std: NDArray[np.float64], rng: np.random.Generator
+) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    att = sc.attack
+    R, K1, N, ny = y_clean.shape
+    y = y_clean.copy()
+    attacked = np.zeros((R, K1, N), dtype=bool)
+    nodes = list(att.nodes)
+    if att.kind == "bias":
+        first = int(np.ceil(att.start * (K1 - 1)))
+        attacked[:, first:, nodes] = True
+        y[:, first:, nodes] += att.magnitude * r_std[nodes]
+    elif att.kind == "replacement":
+        hit = rng.random((R, K1, len(nodes))) < att.prob
+        attacked[:, :, nodes] = hit
+        fake = att.magnitude * r_std[nodes] * rng.uniform(-1.0, 1.0, (R, K1, len(nodes), ny))
+        y[:, :, nodes] = np.where(hit[..., None], fake, y[:, :, nodes])
+    return y, attacked

@@ -1,0 +1,282 @@
+"""The arena (secest.arena, notebooks/arena.py): extensible by one card and one class, every cell
+a number with its interval or a named N/A, the notebook's claims well formed. Measures, never votes."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import re
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import secest.methods  # noqa: F401  (registers the papers' methods)
+from secest import arena, estimators, scenarios
+from secest.estimators import METHODS, Estimate, Method, Score, register
+from secest.results import REQUIRED_KEYS, VERDICTS, repo_root
+from secest.validation import ValidationError
+
+ROOT = repo_root()
+NUMBER = r"-?\d+(?:\.\d+)?(?:e-?\d+)?"
+WITH_INTERVAL = re.compile(rf"^{NUMBER}( %)? \[{NUMBER}, {NUMBER}\]$")
+
+TOY_CARDS = """
+[network.toy3]
+title = "three sensors, all linked (toy)"
+plant = "target"
+N = 3
+graph = "complete"
+measures = [[0], [1], [0]]
+
+[attack.toy-bias]
+title = "toy bias on node 1"
+kind = "bias"
+nodes = [1]
+start = 0.5
+magnitude = 20.0
+
+[scenario.toy-home]
+network = "toy3"
+attack = "toy-bias"
+runs = 3
+horizon = 20
+"""
+
+
+class ToyHold(Method):
+    """Holds the prior mean (zero) at every node: a method any reader could add in ten lines."""
+
+    name = "toy-hold"
+    title = "toy: x_hat = 0"
+    kind = "paper"
+    reading = "ignores every measurement"
+
+    def conditions(self, sc: scenarios.Scenario) -> list[tuple[str, bool]]:
+        return [("the plant has at most 4 states (toy condition)", sc.plant.n <= 4)]
+
+    def run(self, trial: scenarios.Trial) -> Estimate:
+        r, k1, n_nodes, _ = trial.y.shape
+        alarms = np.zeros((r, k1, n_nodes), bool)
+        alarms[:, ::2, 0] = True  # a detector that flags node 0 every other step
+        return Estimate(np.zeros((r, k1, n_nodes, trial.scenario.plant.n)), alarms=alarms)
+
+
+@pytest.fixture
+def toy_cards(tmp_path: Path) -> Path:
+    path = tmp_path / "toy_cards.toml"
+    path.write_text(TOY_CARDS)
+    return path
+
+
+@pytest.fixture
+def toy_method():
+    register(ToyHold)
+    try:
+        yield METHODS["toy-hold"]
+    finally:
+        METHODS.pop("toy-hold")
+
+
+def test_a_toy_method_and_a_toy_scenario_appear_in_the_matrix(toy_cards: Path, toy_method: Method) -> None:
+    """One card file and one registered class: both reach the matrix without any other change."""
+    every = scenarios.matrix(extra=toy_cards, runs=3, horizon=20)
+    names = [sc.name for sc in every]
+    assert names[-1] == "toy-home" and len(names) == 16  # the 15 of the cross, then the named one
+    package = scenarios.matrix(runs=3, horizon=20)
+    assert "toy-home" not in [sc.name for sc in package]  # the package's cards are untouched
+    toy = every[-1]
+    assert (toy.network.N, toy.attack.kind, toy.runs, toy.horizon) == (3, "bias", 3, 20)
+    three_states = scenarios.scenario("target20", "none", runs=3, horizon=20)
+    six_states = scenarios.scenario("inertia5", "none", runs=3, horizon=20)
+    m = arena.run_matrix([toy, three_states, six_states])  # methods=None: every registered one
+    assert "toy-hold" in m.methods and set(m.methods) == set(METHODS)
+    assert {sc.name for sc in m.scenarios} == {"toy-home", "target20/none", "inertia5/none"}
+    cell = m.cell("toy-home", "toy-hold")
+    assert cell.status == "ok" and cell.rmse_mean[1] <= cell.rmse_mean[2]
+    assert cell.detection is not None and cell.false_alarm is not None
+    na = m.cell("inertia5/none", "toy-hold")
+    assert na.status == "n/a" and na.reason == "the plant has at most 4 states (toy condition)"
+    assert set(m.curves["toy-home"].rms) >= {"oracle", "toy-hold"}
+    assert "toy-hold" not in m.curves["inertia5/none"].rms
+    rows = arena.table_rows(m)
+    assert len(rows) == 3 * len(m.methods)
+    assert any(r["method"] == "toy-hold" and r["mean"].startswith("N/A: the plant") for r in rows)
+
+
+def test_extra_cards_are_checked(tmp_path: Path) -> None:
+    with pytest.raises(ValidationError, match="plant 'target' already exists"):
+        scenarios.cards({"plant": {"target": {}}})
+    with pytest.raises(ValidationError, match="unknown tables"):
+        scenarios.cards({"plants": {}})
+    with pytest.raises(ValidationError, match="is no file"):
+        scenarios.cards(tmp_path / "missing.toml")
+    with pytest.raises(ValidationError, match="network 'nope' has no card"):
+        scenarios.cards({"scenario": {"x": {"network": "nope", "attack": "none"}}})
+    with pytest.raises(ValidationError, match="unknown keys"):
+        scenarios.cards({"scenario": {"x": {"network": "inertia5", "attack": "none", "run": 3}}})
+    with pytest.raises(ValidationError, match=r"networks \['nope'\] have no card"):
+        scenarios.matrix(networks=["nope"])
+    extended = scenarios.cards({"matrix": {"attacks": ["none", "bias"]}})
+    assert extended["matrix"]["attacks"] == scenarios.cards()["matrix"]["attacks"]  # no duplicates
+
+
+def test_matrix_selects_networks_and_attacks() -> None:
+    grid = scenarios.matrix(networks=["inertia5"], attacks=["none", "dos"], runs=2, horizon=5)
+    assert [sc.name for sc in grid] == ["inertia5/none", "inertia5/dos"]
+
+
+def test_every_cell_is_a_number_with_its_interval_or_a_named_na() -> None:
+    sc = [scenarios.scenario(n, a, runs=4, horizon=30) for n, a in
+          (("inertia5", "bias"), ("tank12", "message"), ("target20", "replacement"))]
+    m = arena.run_matrix(sc, ["oracle", "kf", "chi2-kf", "li2025"])
+    for row in arena.table_rows(m):
+        if row["status"] == "ok":
+            assert WITH_INTERVAL.match(row["mean"]) and WITH_INTERVAL.match(row["worst"]), row
+            for rate in ("detection", "false_alarm"):
+                assert row[rate] == "–" or (WITH_INTERVAL.match(row[rate]) and " %" in row[rate]), row
+        else:
+            assert row["status"] == "N/A" and re.match(r"^N/A: \S", row["mean"]), row
+    assert m.cell("tank12/message", "li2025").status == "n/a"
+    assert arena.cell_text(m.cell("inertia5/bias", "chi2-kf"))["detection"] != "–"
+    assert arena.cell_text(m.cell("inertia5/bias", "kf"))["detection"] == "–"
+
+
+def test_cell_text_refuses_what_cannot_be_shown() -> None:
+    with pytest.raises(ValidationError, match="must name the failed condition"):
+        arena.cell_text(Score("n/a"))
+    with pytest.raises(ValidationError, match="status must be one of"):
+        arena.cell_text(Score("maybe"))
+    with pytest.raises(ValidationError, match="must carry its mean and worst"):
+        arena.cell_text(Score("ok"))
+    assert arena.cell_text(Score("diverged", "the estimate is not finite"))["mean"].startswith("diverged")
+    assert arena.fmt_interval((0.001234, 0.001, 0.0015), percent=True) == "0.123 % [0.1, 0.15]"
+    assert arena.fmt_interval((12345.0, 1e4, 2e4)) == "1.23e4 [1e4, 2e4]"
+
+
+def test_rate_interval_is_never_narrower_than_wilson_and_widens_with_correlation() -> None:
+    from secest.montecarlo import wilson_interval
+
+    rng = np.random.default_rng(0)
+    where = np.ones((20, 50, 4), bool)
+    iid = rng.random(where.shape) < 0.1
+    clustered = np.zeros(where.shape, bool)
+    clustered[:2] = True  # two runs alarm throughout: the same count, all in two runs
+    for alarms in (iid, clustered):
+        value, low, high = estimators.rate(alarms, where)
+        w_low, w_high = wilson_interval(int(alarms.sum()), int(where.sum()))
+        assert value == pytest.approx(alarms.mean())
+        assert low <= w_low and high >= w_high
+    assert estimators.rate(clustered, where)[2] > 2 * wilson_interval(int(clustered.sum()), where.size)[1]
+    assert estimators.rate(np.zeros_like(where), where)[1:] == wilson_interval(0, where.size)
+    with pytest.raises(ValidationError, match="at least one sample"):
+        estimators.rate(iid, np.zeros_like(where))
+
+
+def test_scaled_attacks_keep_the_draws() -> None:
+    sc = scenarios.scenario("inertia5", "replacement", runs=3, horizon=20)
+    big = arena.scaled(sc, 10.0)
+    assert big.attack.magnitude == pytest.approx(10 * sc.attack.magnitude)
+    a, b = scenarios.simulate(sc), scenarios.simulate(big)
+    assert np.array_equal(a.attacked, b.attacked) and np.array_equal(a.y_clean, b.y_clean)
+    hit = a.attacked[..., 0]
+    assert np.allclose(b.y[hit][:, 0], 10 * a.y[hit][:, 0])  # the uniform draw, scaled
+    dos = scenarios.scenario("inertia5", "dos", runs=3, horizon=20)
+    assert arena.scaled(dos, 10.0) is dos
+    with pytest.raises(ValidationError, match="factor must be a positive finite number"):
+        arena.scaled(sc, 0.0)
+
+
+def test_error_curve_and_activity() -> None:
+    t = scenarios.simulate(scenarios.scenario("target20", "bias", runs=3, horizon=20))
+    xhat = np.broadcast_to(t.x[:, :, None, :], (3, 21, 20, 3)).copy()
+    assert np.array_equal(arena.error_curve(xhat, t.x), np.zeros(21))
+    xhat[0, 4] = np.inf
+    curve = arena.error_curve(xhat, t.x)
+    assert np.isnan(curve[4]) and np.isfinite(np.delete(curve, 4)).all()
+    active = arena.attack_activity(t)
+    assert active[:6].max() == 0 and active[6:].min() == 1  # the bias starts at 30 % of 20 steps
+    with pytest.raises(ValidationError, match="Incompatible dimensions of xhat and x"):
+        arena.error_curve(xhat[..., :2], t.x)
+
+
+def test_evaluate_observes_every_run_and_refuses_unknown_methods() -> None:
+    sc = scenarios.scenario("inertia5", "none", runs=3, horizon=20)
+    seen: list[str] = []
+    out = estimators.evaluate(sc, ["oracle", "kf", "li2025"], observe=lambda n, t, e: seen.append(n))
+    assert seen == ["oracle", "kf", "li2025"] and set(out) == {"oracle", "kf", "li2025"}
+    with pytest.raises(ValidationError, match=r"methods \['nope'\] are not registered"):
+        estimators.evaluate(sc, ["nope"])
+    with pytest.raises(ValidationError, match="not registered"):
+        arena.run_matrix([sc], ["nope"])
+    with pytest.raises(ValidationError, match="scenario names must be unique"):
+        arena.run_matrix([sc, sc], ["kf"])
+
+
+@pytest.mark.notebook
+@pytest.mark.xdist_group("notebooks")
+def test_arena_notebook_fast_mode(run_notebook) -> None:
+    """Fast mode: claims well formed and consistent, every manifest figure produced, the table whole."""
+    claims = run_notebook("arena")
+    fig_dir = Path(claims.pop("_fig_dir"))
+    ids = set(claims)
+    assert {"X1", "X2", "X3", "X5", "X6", "X7", "X8"} <= ids
+    attacks = scenarios.cards()["matrix"]["attacks"]
+    assert {f"X4_{a}" for a in attacks if a != "none"} <= ids
+    for cid, entry in claims.items():
+        assert set(REQUIRED_KEYS) <= set(entry), cid
+        assert entry["verdict"] in VERDICTS and isinstance(entry["holds"], bool), cid
+        assert entry["source"] == "ours", cid
+        assert entry["measured"][entry["key"]] is not None, cid
+    # the rules, re-applied to the measured values (consistency of measured / threshold / holds)
+    assert claims["X1"]["holds"] == (claims["X1"]["measured"]["min_upper"] >= 1.0)
+    assert claims["X8"]["holds"] == (claims["X8"]["measured"]["diverged"] == 0)
+    x6 = claims["X6"]["measured"]
+    assert claims["X6"]["holds"] == all(v <= 0.01 for v in x6["upper"].values())
+    x2, x3, x7 = (claims[c]["measured"] for c in ("X2", "X3", "X7"))
+    assert sorted(x2["within"]) == sorted(n for n, v in x2["upper"].items() if v <= 2.0)
+    assert claims["X2"]["holds"] == (bool(x2["upper"]) and not x2["outside"])
+    assert x3["min_lower"] == min(x3["lower"].values())
+    assert claims["X3"]["holds"] == all(v > 1.0 for v in x3["lower"].values())
+    assert x7["worst_lower"] == min(x7["lower"].values())
+    assert claims["X7"]["holds"] == all(v >= 0.5 for v in x7["lower"].values())
+    for a in attacks:
+        if a == "none":
+            continue
+        x4 = claims[f"X4_{a}"]["measured"]
+        assert sorted(x4["within"]) == sorted(n for n, v in x4["upper"].items() if v <= 2.0)
+        paper = [n for n in x4["within"] if METHODS[n].kind == "paper"]
+        assert x4["paper_within"] == len(paper)
+        assert claims[f"X4_{a}"]["holds"] == (len(paper) >= 1)
+    manifest = tomllib.loads((ROOT / "figures" / "manifest.toml").read_text())
+    expected = {Path(n).name for fig in manifest["arena"]["figures"] for n in fig["files"]}
+    assert expected <= {p.name for p in fig_dir.iterdir()}
+    with (fig_dir / "extra_matrix_heatmap.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == 15 * len(METHODS)
+    for row in rows:
+        if row["status"] == "ok":
+            for q in ("mean", "worst"):
+                lo, v, hi = (float(row[f"{q}_low"]), float(row[q]), float(row[f"{q}_high"]))
+                assert all(map(math.isfinite, (lo, v, hi))) and lo <= hi, row
+        else:
+            assert row["status"] in ("n/a", "diverged") and row["reason"].strip(), row
+            assert math.isnan(float(row["mean"])), row
+    assert json.loads((fig_dir / "tolerances.json").read_text())
+
+
+def test_committed_arena_covers_the_acceptance_matrix() -> None:
+    """At least 3 plants x 5 attack settings x every registered method, each cell a number or a named N/A."""
+    with (ROOT / "figures" / "arena" / "extra_matrix_heatmap.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    scen = {r["scenario"] for r in rows}
+    methods = {r["method"] for r in rows}
+    plants = {s.split("/")[0] for s in scen}
+    attacks = {s.split("/")[1] for s in scen if "/" in s}
+    assert len(plants) >= 3 and len(attacks) >= 5
+    assert set(METHODS) <= methods, f"registered but not in the committed arena: {set(METHODS) - methods}"
+    assert len(rows) == len(scen) * len(methods)
+    for row in rows:
+        assert (row["status"] == "ok" and math.isfinite(float(row["mean_high"]))) or row["reason"].strip()

@@ -1,0 +1,148 @@
+"""The arena's scenarios, baselines, interface and scores (secest.scenarios, secest.estimators)."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from secest import estimators, scenarios
+from secest.estimators import METHODS, Estimate, Method, register
+from secest.validation import ValidationError
+
+
+def _scenario(network: str = "inertia5", attack: str = "none", **kw) -> scenarios.Scenario:
+    return scenarios.scenario(network, attack, **({"runs": 6, "horizon": 60} | kw))
+
+
+def test_every_card_loads_and_the_matrix_crosses_them() -> None:
+    c = scenarios.cards()
+    assert {"target", "three_inertia", "quadruple_tank"} <= set(c["plant"])
+    assert {"none", "bias", "replacement", "message", "dos"} <= set(c["attack"])
+    grid = scenarios.matrix(runs=2, horizon=5)
+    assert len(grid) == len(c["matrix"]["networks"]) * len(c["matrix"]["attacks"]) >= 15
+    target = c["plant"]["target"]
+    T = target.dt
+    assert np.allclose(target.A, [[1, T, T**2 / 2], [0, 1, T], [0, 0, 1]], atol=1e-15)  # ding2020's A
+
+
+def test_trials_share_truth_and_noise_across_attacks() -> None:
+    a = scenarios.simulate(_scenario(attack="none"))
+    b = scenarios.simulate(_scenario(attack="bias"))
+    assert np.array_equal(a.x, b.x) and np.array_equal(a.y_clean, b.y_clean)
+    assert not np.array_equal(a.y, b.y) and b.attacked[:, :, 0].any() and not b.attacked[:, :, 1:].any()
+    again = scenarios.simulate(_scenario(attack="bias"))
+    assert np.array_equal(b.y, again.y)
+    # bounded noise: every component within NOISE_CLIP standard deviations
+    v = (a.y_clean - np.einsum("iyn,rkn->rkiy", a.scenario.C, a.x)) / a.scenario.plant.r_std[0]
+    assert np.abs(v).max() <= scenarios.NOISE_CLIP
+
+
+def test_message_falsification_is_bounded_and_only_on_links() -> None:
+    t = scenarios.simulate(_scenario(attack="message"))
+    m = np.random.default_rng(0).standard_normal((6, 5, 3)) * 10
+    out = t.received(3, m, scale=2.0)
+    clean = np.broadcast_to(m[:, None], out.shape)
+    diff = out - clean
+    assert np.abs(diff).max() <= t.message_magnitude * 2.0
+    assert not np.any(diff[:, ~(t.scenario.network.adj > 0)])  # nothing on non-links
+
+
+def test_bad_cards_and_names_are_refused() -> None:
+    with pytest.raises(ValidationError, match="network must be one of"):
+        scenarios.scenario("nope", "none")
+    with pytest.raises(ValidationError, match="attack must be one of"):
+        scenarios.scenario("inertia5", "nope")
+    with pytest.raises(ValidationError, match="runs must be >= 2"):
+        scenarios.scenario("inertia5", "none", runs=1)
+
+
+def test_oracle_equals_the_undefended_kf_without_attack_and_scores_one() -> None:
+    sc = _scenario()
+    t = scenarios.simulate(sc)
+    oracle = METHODS["oracle"].run(t)
+    kf = METHODS["kf"].run(t)
+    assert np.array_equal(oracle.xhat, kf.xhat)
+    s = estimators.score(t, kf, oracle)
+    assert s.status == "ok" and s.rmse_mean[0] == pytest.approx(1.0)
+    assert s.rmse_mean[1] <= 1.0 <= s.rmse_mean[2]
+
+
+def test_consensus_kf_on_a_complete_graph_is_the_centralised_kf() -> None:
+    """One Metropolis round on a complete graph averages exactly: N x average = the sum."""
+    sc = _scenario()
+    complete = replace(sc.network, adj=np.ones((5, 5)) - np.eye(5))
+    sc = replace(sc, network=complete)
+    t = scenarios.simulate(sc)
+    diff = METHODS["consensus-kf"].run(t).xhat - METHODS["oracle"].run(t).xhat
+    assert np.abs(diff).max() < 1e-8
+
+
+def test_chi2_baseline_false_alarms_near_its_level_without_attack() -> None:
+    sc = _scenario(network="tank12", runs=20, horizon=200)
+    t = scenarios.simulate(sc)
+    s = estimators.score(t, METHODS["chi2-kf"].run(t), METHODS["oracle"].run(t))
+    lo, hi = s.false_alarm[1:]
+    assert s.detection is None
+    # clipped noise makes false alarms rarer than the nominal 1e-3, never more frequent
+    assert lo <= estimators.CHI2_ALPHA * 1.5 and hi >= 0.0
+
+
+def test_a_new_method_is_found_in_the_matrix() -> None:
+    class Toy(Method):
+        name = "toy-zero"
+        title = "estimates zero"
+
+        def conditions(self, sc):
+            return [("the plant has three states", sc.plant.n == 3)]
+
+        def run(self, trial):
+            r, k1, n_nodes, _ = trial.y.shape
+            return Estimate(np.zeros((r, k1, n_nodes, trial.scenario.plant.n)))
+
+    register(Toy)
+    try:
+        out = estimators.evaluate(_scenario(network="target20"), ["oracle", "toy-zero"])
+        assert out["toy-zero"].status == "ok" and out["toy-zero"].rmse_mean[0] > 1.0
+        na = estimators.evaluate(_scenario(), ["toy-zero"])["toy-zero"]
+        assert na.status == "n/a" and na.reason == "the plant has three states"
+    finally:
+        METHODS.pop("toy-zero")
+
+
+def test_register_refuses_what_is_not_a_method() -> None:
+    with pytest.raises(ValidationError, match="method must be a secest.estimators.Method"):
+        register(object())
+
+
+def test_a_diverging_estimate_is_reported_not_scored() -> None:
+    t = scenarios.simulate(_scenario())
+    oracle = METHODS["oracle"].run(t)
+    bad = Estimate(np.full_like(oracle.xhat, np.inf))
+    assert estimators.score(t, bad, oracle).status == "diverged"
+
+
+def test_filter_step_with_per_link_messages_equal_to_the_estimates_is_the_printed_step() -> None:
+    """received[i, j] = x_j reproduces (3) exactly; a falsified link changes only its receiver."""
+    from secest import filters, graphs
+
+    rng = np.random.default_rng(3)
+    m, n = 5, 3
+    adj = graphs.ring_graph(m)
+    H = graphs.row_stochastic_weights(adj)
+    x = rng.standard_normal((2, m, n))
+    P = np.broadcast_to(np.eye(n), (2, m, n, n)).copy()
+    common = dict(A=np.eye(n), BBt=0.1 * np.eye(n), C=np.ones((m, 1, n)), DDt=np.eye(1), adj=adj,
+                  weights=H, kappa=0.2, threshold=25.0)
+    y = rng.standard_normal((2, m, 1))
+    plain = filters.secure_filter_step(x, P, 0.5 * P, 1, y, **common)
+    links = np.broadcast_to(x[:, None], (2, m, m, n)).copy()
+    same = filters.secure_filter_step(x, P, 0.5 * P, 1, y, received=links, **common)
+    assert np.array_equal(plain.x_post, same.x_post)
+    links[:, 0, 1] += 1.0  # node 0's message from node 1 is falsified
+    hit = filters.secure_filter_step(x, P, 0.5 * P, 1, y, received=links, **common)
+    changed = np.abs(hit.x_prior - plain.x_prior).max(axis=(0, 2)) > 0
+    assert changed.tolist() == [True, False, False, False, False]
+    with pytest.raises(ValidationError, match="Incompatible dimensions of received"):
+        filters.secure_filter_step(x, P, 0.5 * P, 1, y, received=links[:, :, :2], **common)
