@@ -72,7 +72,7 @@ def _algorithm1(ns, estimator):
         z_recv = np.array([z[j] + alpha[k] * ns["chi"](z[j]) for j in range(N)])
         ph = ns["phi"](z)
         Mbar = {lk: my.mbar(Q[lk], dims.nphi) for lk in links}
-        my.set_op2_parameters(sp, theta, S=S, xhat=xh[k], fhat=[f(xh[k, i]) for i in range(N)],
+        my.set_op2_parameters(sp, S=S, xhat=xh[k], fhat=[f(xh[k, i]) for i in range(N)],
                               Phi=[jac_f(xh[k, i]) for i in range(N)],
                               Psi=[jac_g(i, xh[k, i]) for i in range(N)],
                               E=[E_mat(i, k) for i in range(N)], B=ns["B_mat"](k),
@@ -242,5 +242,13 @@ def test_bad_inputs_are_refused_with_the_argument_named() -> None:
         my.estimator_update(np.zeros((2, 2, 2)), np.zeros((2, 2, 1)), np.zeros((2, 2, 2, 1)),
                             np.zeros((2, 2)), np.zeros((2, 1)), np.zeros((2, 2, 1)), np.zeros((2, 2)),
                             W_hat=np.zeros((2, 2, 1, 1)))
+    op2 = my.build_op2(np.ones((2, 2)) - np.eye(2), my.Dims(2, 2, 1, 1, 2), nn=False, alpha_bar=0.5,
+                       e3=1.0)
+    good = dict(S=np.eye(2), xhat=np.zeros((2, 2)), fhat=np.zeros((2, 2)), Phi=np.zeros((2, 2, 2)),
+                Psi=np.zeros((2, 2, 2)), E=np.zeros((2, 2, 1)), B=np.zeros((2, 1)))
+    with pytest.raises(ValidationError, match=r"Incompatible dimensions of Psi: expected \(2, 2, 2\)"):
+        my.set_op2_parameters(op2, **(good | {"Psi": np.zeros((2, 1, 2))}))
+    with pytest.raises(ValidationError, match="nphi"):
+        my.Dims(2, 2, 1, 1, 0)
     with pytest.raises(ValidationError, match="p must lie in"):
         my.Ma2021(p=1.0)
