@@ -925,7 +925,14 @@ _DESIGNS: dict[bytes, LinearDesign] = {}
 
 @register
 class Ma2021(Method):
-    """Recursive-LMI estimator (8) of ma2021, linear reading (see the module docstring)."""
+    """Recursive-LMI estimator (8) of ma2021, linear reading (see the module docstring).
+
+    Parameters
+    ----------
+    p : float, default P_LEVEL
+        Probability level of (10)-(11); it sets only the reported ellipsoid
+        ``B_k = P_k / (1 - p)`` (Lemma 4, corrected), not the design.
+    """
 
     name = "ma2021"
     title = "ma2021: recursive-LMI probability-guaranteed estimator (8)"
