@@ -123,6 +123,27 @@ def test_algorithm1_equals_the_notebook_on_the_paper_example(nb, estimator) -> N
         assert np.abs(mine[key] - want).max() <= 1e-10 * scale, key
 
 
+def test_op2_builder_options_give_the_notebook_problem_data(nb) -> None:
+    """Printed shared multipliers, one r-bound per link and OP3: the same canonical problem."""
+    opts = dict(alpha_bar=0.67, e3=3.0, eps=1e-6)
+    theirs = nb["build_op2_problem"](nn=True, alpha_bar_=0.67, e3_=3.0, eps=1e-6, shared=True,
+                                     r_bound_="per_link", design="op3").problem
+    mine = my.build_op2(nb["THETA"], my.Dims(2, 2, 1, 1, 2), nn=True, shared=True, r_bound="per_link",
+                        design="op3", **opts).problem
+    rng = np.random.default_rng(0)
+    values = {}
+    for q in theirs.parameters():
+        v = rng.standard_normal(q.shape)
+        values[q.name()] = v + v.T if q.is_symmetric() and v.ndim == 2 else v
+    for prob in (theirs, mine):
+        for q in prob.parameters():
+            q.value = values[q.name()]
+    data = [prob.get_problem_data("CLARABEL")[0] for prob in (theirs, mine)]
+    for key in ("A", "b", "c"):
+        a, b = (d[key].toarray() if hasattr(d[key], "toarray") else d[key] for d in data)
+        assert np.array_equal(a, b), key
+
+
 # ------------------------------------------------------------------------------- the arena
 
 
