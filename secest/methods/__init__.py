@@ -7,6 +7,6 @@ after checking the conditions of its theory. Modules that need optional dependen
 (ma2021: cvxpy) import them only when the method runs.
 """
 
-from secest.methods import ding2020, guo2023, lee2020, li2025
+from secest.methods import ding2020, guo2023, lee2020, li2025, ma2021
 
-__all__ = ["ding2020", "guo2023", "lee2020", "li2025"]
+__all__ = ["ding2020", "guo2023", "lee2020", "li2025", "ma2021"]
