@@ -12,13 +12,13 @@ the matrix). :func:`score` compares an estimate with the oracle's on the same ru
 
 Baselines (every scenario):
 
-``oracle``       centralised Kalman filter fed the clean measurements of every node;
-``kf``           the same fed the measurements as delivered (attacks included), no defence;
-``consensus-kf`` distributed Kalman filter with consensus on measurement information
-                 (``CONSENSUS_ROUNDS`` rounds per step, Metropolis weights), no defence;
-``chi2-kf``      centralised Kalman filter that drops every node's measurement whose
-                 normalised innovation exceeds the chi-square quantile ``1 - CHI2_ALPHA``
-                 (the classic bad-data detector); its drops are its alarms.
+* ``oracle``: centralised Kalman filter fed the clean measurements of every node;
+* ``kf``: the same fed the measurements as delivered (attacks included), no defence;
+* ``consensus-kf``: distributed Kalman filter with consensus on measurement information
+  (``CONSENSUS_ROUNDS`` rounds per step, Metropolis weights), no defence;
+* ``chi2-kf``: centralised Kalman filter that drops every node's measurement whose
+  normalised innovation exceeds the chi-square quantile ``1 - CHI2_ALPHA`` (the classic
+  bad-data detector); its drops are its alarms.
 
 The centralised baselines have no inter-node links: falsified messages and denial of
 service do not reach them (they are the references, not competitors, on those columns).

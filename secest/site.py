@@ -986,7 +986,8 @@ def _public_names(path: Path) -> list[tuple[str, str]]:
 
 def api_module_markdown(module: str, root: Path = ROOT) -> str:
     """One API page: the module docstring, a summary table, then every public object."""
-    names = _public_names(root / "secest" / f"{module}.py")
+    source = _module_file(module, root)
+    names = [] if source.name == "__init__.py" else _public_names(source)  # a package: its modules
     full = f"secest.{module}"
     lines = [f"# `{full}`", "", "```{eval-rst}", f".. automodule:: {full}", "   :no-members:", ""]
     if names:
@@ -1003,8 +1004,34 @@ def api_module_markdown(module: str, root: Path = ROOT) -> str:
 
 
 def api_modules(root: Path = ROOT) -> list[str]:
-    """The public modules of secest (every ``secest/<name>.py`` not starting with ``_``)."""
-    return sorted(p.stem for p in (root / "secest").glob("*.py") if not p.stem.startswith("_"))
+    """The public modules of secest, dotted below ``secest``.
+
+    Parameters
+    ----------
+    root : Path, optional
+        Repository root.
+
+    Returns
+    -------
+    list of str
+        Every ``secest/<name>.py`` and every subpackage ``secest/<pkg>/`` with its modules
+        (``"methods"``, ``"methods.ding2020"``, ...), names starting with ``_`` left out, sorted.
+    """
+    package = root / "secest"
+    names = []
+    for path in package.rglob("*.py"):
+        parts = path.relative_to(package).with_suffix("").parts
+        if parts[-1] == "__init__":
+            parts = parts[:-1]
+        if parts and not any(part.startswith("_") for part in parts):
+            names.append(".".join(parts))
+    return sorted(names)
+
+
+def _module_file(module: str, root: Path) -> Path:
+    """The source file of ``secest.<module>`` (a package's ``__init__.py``)."""
+    path = root / "secest" / Path(*module.split("."))
+    return path / "__init__.py" if path.is_dir() else path.with_suffix(".py")
 
 
 def api_markdown(root: Path = ROOT) -> str:
