@@ -343,7 +343,34 @@ class ConsensusKF(Method):
 
 @dataclass
 class Score:
-    """How one method did on one scenario, relative to the oracle on the same runs."""
+    """How one method did on one scenario, relative to the oracle on the same runs.
+
+    Every interval is a 95 % interval over the scenario's Monte Carlo runs, given as
+    ``(value, low, high)``; a field is None where it does not apply.
+
+    Attributes
+    ----------
+    status : {"ok", "n/a", "diverged"}
+        ``"ok"``: the method ran and was scored; ``"n/a"``: a condition of its theory fails on
+        the scenario (:meth:`Method.not_applicable`), it did not run; ``"diverged"``: its
+        estimate is not finite in some run, so it is not scored.
+    reason : str
+        Why the status is not ``"ok"`` (the failed condition, or the divergence); empty otherwise.
+    rmse_mean : (value, low, high) floats, optional
+        Network-mean RMSE over the nodes (:func:`rmse`, state units, steps after the burn-in)
+        divided by the oracle's RMSE on the same runs: the ratio of the means over runs, with
+        a paired percentile-bootstrap interval. 1 is the oracle's accuracy; dimensionless.
+    rmse_worst : (value, low, high) floats, optional
+        The same with the worst node of each run (largest per-node RMSE) in the numerator.
+    detection : (value, low, high) floats, optional
+        Fraction of attacked (run, step, node) samples after the burn-in on which the method
+        raises an alarm (:func:`rate`); None without alarms or without an attacked sample.
+    false_alarm : (value, low, high) floats, optional
+        Fraction of attack-free (run, step, node) samples after the burn-in that carry an
+        alarm (:func:`rate`); None when the method raises no alarms.
+    notes : dict
+        The method's :attr:`Estimate.notes` (e.g. its reading of the scenario), copied.
+    """
 
     status: str
     reason: str = ""
@@ -367,6 +394,27 @@ def score(trial: Trial, estimate: Estimate, oracle: Estimate, *, burn_in: int | 
     percentile bootstrap 95 % interval; detection and false-alarm rates are fractions of
     (run, step, node) samples after the burn-in (:func:`rate`: the union of the Wilson
     interval and a bootstrap over runs). A non-finite estimate is reported as ``diverged``.
+
+    Parameters
+    ----------
+    trial : Trial
+        The runs both estimates were computed on: its truth ``x`` (runs, K + 1, n) is the
+        reference of the RMSE, its ``attacked`` (runs, K + 1, N) mask that of the alarm rates.
+    estimate : Estimate
+        The scored method's estimates, ``xhat`` of shape (runs, K + 1, N, n), with its
+        ``alarms`` (runs, K + 1, N) where it has them.
+    oracle : Estimate
+        The oracle's estimates on the same trial (:class:`Oracle`): the denominator of the
+        RMSE ratios, averaged over nodes.
+    burn_in : int, optional
+        Number of initial steps ``k < burn_in`` left out of every statistic (the transient
+        from the prior); default ``K // 5``, ``K`` the horizon.
+
+    Returns
+    -------
+    Score
+        Status ``"ok"`` with the RMSE ratios (and detection / false-alarm rates when the
+        method raises alarms), or ``"diverged"``.
     """
     from secest.montecarlo import bootstrap_interval
 

@@ -62,7 +62,40 @@ ATTACK_KINDS = ("none", "bias", "replacement", "message", "dos")
 
 @dataclass(frozen=True)
 class Plant:
-    """A linear plant: continuous dynamics ``Ac``, sampling ``dt``, noises and output catalogue."""
+    """A linear plant: continuous dynamics ``Ac``, sampling ``dt``, noises and output catalogue.
+
+    One ``[plant.<name>]`` card of ``cards.toml``. Times are in seconds; the state and the
+    outputs are in the units of the plant's own example (e.g. ``state_names``).
+
+    Attributes
+    ----------
+    name : str
+        Card name (the ``<name>`` of ``[plant.<name>]``), e.g. ``"target"``.
+    title : str
+        One line for tables and figures.
+    source : str
+        Where the numbers come from (paper, section, equation; what is ours).
+    Ac : (n, n) array [1/s]
+        Continuous-time dynamics ``x'(t) = Ac x(t)`` (no input); the truth is sampled as
+        ``x_{k+1} = A x_k + w_k`` with ``A = expm(Ac dt)`` (:attr:`A`).
+    dt : float [s]
+        Sampling period, positive.
+    q_std : float
+        Standard deviation of every component of the process noise ``w_k`` (state units,
+        per sampling step), positive; nominal covariance :attr:`Q` ``= q_std^2 I``, samples
+        clipped at :data:`NOISE_CLIP` standard deviations.
+    outputs : (n_out, n) array
+        Catalogue of sensor rows: a node measuring row ``o`` sees ``outputs[o] x_k`` plus noise
+        (:attr:`Network.measures` picks the rows of each node's ``C_i``).
+    r_std : (n_out,) array
+        Standard deviation of the measurement noise of each catalogue row (output units),
+        positive; clipped like ``w``.
+    x0_std : float
+        Standard deviation of every component of the initial state, ``x_0 ~ N(0, x0_std^2 I)``
+        (state units); the prior of every estimator and the scale of message attacks.
+    state_names : tuple of n str
+        Names of the state components (for axis labels).
+    """
 
     name: str
     title: str
@@ -93,7 +126,26 @@ class Plant:
 
 @dataclass(frozen=True)
 class Network:
-    """Sensor nodes, who hears whom, and which outputs each node measures."""
+    """Sensor nodes, who hears whom, and which outputs each node measures.
+
+    One ``[network.<name>]`` card of ``cards.toml`` (the graph built from ``graph``,
+    ``degree``, ``radius``, ``seed`` and checked connected).
+
+    Attributes
+    ----------
+    name : str
+        Card name, e.g. ``"target20"``.
+    title : str
+        One line for tables and figures.
+    plant : str
+        Name of the :class:`Plant` card the nodes observe.
+    adj : (N, N) array of 0.0 / 1.0
+        Adjacency with zero diagonal: ``adj[i, j] = 1`` when node ``i`` receives node ``j``'s
+        messages (symmetric for the ring, complete and random geometric graphs of the cards).
+    measures : (N, ny) int array
+        ``measures[i]``: the rows of :attr:`Plant.outputs` node ``i`` measures (0-based, the
+        same number ``ny`` per node), so ``C_i = outputs[measures[i]]`` (:attr:`Scenario.C`).
+    """
 
     name: str
     title: str
@@ -109,7 +161,39 @@ class Network:
 
 @dataclass(frozen=True)
 class Attack:
-    """One attack card (see the comments in ``cards.toml`` for each kind's parameters)."""
+    """One attack card (see the comments in ``cards.toml`` for each kind's parameters).
+
+    Attributes
+    ----------
+    name : str
+        Card name, e.g. ``"bias"``.
+    title : str
+        One line for tables and figures.
+    kind : {"none", "bias", "replacement", "message", "dos"}
+        :data:`ATTACK_KINDS`: no attack; a constant added to the outputs of ``nodes`` from
+        ``start`` on; Bernoulli replacement of the outputs of ``nodes``; falsified inter-node
+        messages; denial of service on every link (a shared Gilbert-Elliott chain).
+    nodes : tuple of int, default ()
+        Attacked sensor nodes (0-based) of a ``"bias"`` or ``"replacement"`` attack; unused
+        by the other kinds.
+    start : float, default 0.0
+        ``"bias"``: onset as a fraction of the horizon in [0, 1]; the bias acts from step
+        ``ceil(start K)`` on.
+    prob : float, default 0.0
+        Probability in [0, 1]: ``"replacement"``, that an attacked node's measurement is
+        replaced at a step (independently per run, step and node); ``"message"``, that one
+        message on one link at one step is falsified.
+    magnitude : float, default 0.0
+        Dimensionless size. ``"bias"``: the bias is ``magnitude r_std`` on each output;
+        ``"replacement"``: the replacement is uniform in ``+-magnitude r_std`` (``r_std`` of
+        the attacked output); ``"message"``: the injection is ``magnitude scale tanh(m / scale)``
+        entrywise (:meth:`Trial.received`, ``scale`` in the units of the message, e.g.
+        ``x0_std``).
+    p, q : float, defaults 0.0 and 1.0
+        ``"dos"``: failure (up -> down) and recovery (down -> up) probabilities per step of the
+        Gilbert-Elliott chain shared by every link (:func:`secest.channels.gilbert_elliott`);
+        the defaults keep every link up.
+    """
 
     name: str
     title: str
@@ -124,7 +208,29 @@ class Attack:
 
 @dataclass(frozen=True)
 class Scenario:
-    """A plant on a network under an attack, over ``horizon`` steps, ``runs`` Monte Carlo runs."""
+    """A plant on a network under an attack, over ``horizon`` steps, ``runs`` Monte Carlo runs.
+
+    Built by :func:`scenario` (or :func:`matrix`) from the cards; :func:`simulate` draws its runs.
+
+    Attributes
+    ----------
+    name : str
+        ``"<network>/<attack>"`` for a scenario of the cross, the table name for a
+        ``[scenario.<name>]`` card.
+    plant : Plant
+        The plant of ``network`` (its :attr:`Network.plant` card).
+    network : Network
+        The sensor nodes, their graph and their measured outputs.
+    attack : Attack
+        The attack on the sensors, the messages or the links.
+    horizon : int
+        Number of steps ``K``: the runs cover ``k = 0 .. K`` (``K + 1`` samples, time ``K dt``).
+    runs : int
+        Number of Monte Carlo runs, at least 2 (intervals need two).
+    seed : int
+        Root of :class:`numpy.random.SeedSequence` from which :func:`simulate` spawns its
+        streams: the same seed gives the same runs.
+    """
 
     name: str
     plant: Plant
@@ -157,6 +263,8 @@ class Trial:
 
     Attributes
     ----------
+    scenario : Scenario
+        The scenario the runs were drawn from.
     x : (runs, K + 1, n)
         True states ``x_0 .. x_K``.
     y : (runs, K + 1, N, ny)
@@ -169,6 +277,9 @@ class Trial:
         Shared channel state of every inter-node link (1 = up); all ones without a DoS attack.
     hits : (runs, K + 1, N, N) bool
         ``hits[r, k, i, j]``: the message node ``i`` receives from ``j`` at step ``k`` is falsified.
+    message_magnitude : float, default 0.0
+        :attr:`Attack.magnitude` of a ``"message"`` attack (0 for every other kind): the
+        dimensionless size of the injection :meth:`received` adds, in units of ``scale``.
     """
 
     scenario: Scenario
@@ -383,7 +494,32 @@ def scenario(
 ) -> Scenario:
     """The scenario of ``network`` (with its plant) under ``attack``; defaults from ``[matrix]``.
 
-    ``name`` defaults to ``"<network>/<attack>"``; ``extra`` adds cards (see :func:`cards`).
+    Parameters
+    ----------
+    network : str
+        Name of a ``[network.<name>]`` card; the scenario's plant is the network's.
+    attack : str
+        Name of an ``[attack.<name>]`` card; its ``nodes`` must exist in ``network``.
+    horizon : int, optional
+        Number of steps ``K`` (positive); default the ``[matrix]`` horizon.
+    runs : int, optional
+        Number of Monte Carlo runs (at least 2); default the ``[matrix]`` runs.
+    seed : int, optional
+        Root seed of :func:`simulate`; default the ``[matrix]`` seed.
+    name : str, optional
+        Scenario name; default ``"<network>/<attack>"``.
+    extra : path or mapping, optional
+        More cards (see :func:`cards`).
+
+    Returns
+    -------
+    Scenario
+
+    Raises
+    ------
+    ValidationError
+        Unknown network or attack, attacked nodes outside the network, or a non-positive
+        horizon or fewer than 2 runs.
     """
     c = cards(extra)
     if network not in c["network"]:
@@ -459,6 +595,19 @@ def simulate(sc: Scenario) -> Trial:
     noises, the sensor attack, the channel and the message falsification, so that changing
     the attack leaves the truth and the noises unchanged (common random numbers across
     the attack column of the matrix).
+
+    Parameters
+    ----------
+    sc : Scenario
+        The scenario: ``x_0 ~ N(0, x0_std^2 I)``, ``x_{k+1} = A x_k + w_k`` and
+        ``y_{i,k} = C_i x_k + v_{i,k} + a_{i,k}`` for ``k = 0 .. horizon`` (module docstring),
+        ``sc.runs`` runs.
+
+    Returns
+    -------
+    Trial
+        The truth, the clean and the delivered measurements, the attack mask, the link state
+        and the message falsifications of every run.
     """
     plant, net, att = sc.plant, sc.network, sc.attack
     R, K, N = sc.runs, sc.horizon, net.N

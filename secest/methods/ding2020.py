@@ -24,7 +24,24 @@ __all__ = ["Ding2020"]
 
 @register
 class Ding2020(Method):
-    """Distributed secure filter over a Gilbert-Elliott channel with a chi-square detector."""
+    """Distributed secure filter over a Gilbert-Elliott channel with a chi-square detector.
+
+    Each step is :func:`secest.filters.secure_filter_step`: consensus prediction (7), the
+    inspection (25) of the innovation against the lower bound ``Gamma``, the update (34) and
+    the upper / lower covariance bounds (35) / (18). Its alarms are the inspected-out
+    measurements (``theta = 0``), its ``bound`` the upper bound ``Pi_i^+``.
+
+    Parameters
+    ----------
+    kappa : float, default 0.004
+        Coupling strength ``kappa`` of the consensus term of (7), dimensionless; the paper
+        asks ``kappa in (0, 1)`` (after (7)) and uses 0.004 in Sec. V.
+    threshold : float, default 25.0
+        Inspection threshold ``chi^2_{n^y, sigma}`` of (6) / (25): node ``i`` discards its
+        measurement when the squared Mahalanobis distance of its innovation,
+        ``eta^T Gamma_eta^{-1} eta``, reaches it; 25 is the paper's value (Sec. V),
+        not recomputed from ``n^y`` on other plants.
+    """
 
     name = "ding2020"
     title = "ding2020: secure consensus filter, chi-square inspection"

@@ -118,26 +118,44 @@ def constrained_gain(S: Array, Theta: Array, U1: Array) -> Array:
 
 
 class LocalGains(NamedTuple):
-    """The data-independent matrices of node ``i``'s local step (Algorithm 1, stage A)."""
+    """The data-independent matrices of node ``i``'s local step (Algorithm 1, stage A).
+
+    Every field may carry the leading stack axes ``...`` (runs, nodes) of the arguments of
+    :func:`local_gains`. ``p = rank H_bar^i_k`` and ``p' = rank H_bar^i_{k-1}`` (the SVD at
+    ``k - 1`` splits ``u_{k-1}``, the one at ``k`` splits ``y^{a,i}_k``), ``n_u`` the
+    dimension of ``u = [d; a]`` (3).
+
+    Attributes
+    ----------
+    G1 : (..., n_x, p') array
+        ``G_bar_{1,k-1} = G_bar V_1`` (4): zero in this problem class (``u_1`` never drives x).
+    G2 : (..., n_x, n_u - p') array
+        ``G_bar_{2,k-1} = G_bar V_2`` (4).
+    C2 : (..., n_y - p, n_x) array
+        ``C_{2,k} = U_2^T C`` (6): the output rows free of the input ``u_1``.
+    M2 : (..., n_u - p', n_y - p) array
+        ``M_bar_2`` of (13) (A4); ``M2 @ B2 = I`` is the unbiasedness condition (10).
+    B2 : (..., n_y - p, n_u - p') array
+        ``C_2 G_bar_2`` (A4); full column rank is the solvability condition of (13).
+    J : (..., n_x, n_y) array
+        ``G_bar_2 M_bar_2 U_2^T`` (A8).
+    K : (..., n_x, n_y) array
+        Constrained gain (28) (A12), ``K U_1 = 0``.
+    P_pred : (..., n_x, n_x) array
+        ``P_bar_{k|k-1} = A P_bar_{k-1} A^T + Q`` (23) (A2).
+    P_loc : (..., n_x, n_x) array
+        ``P_bar^{i,i}_k = P* - K S^T`` (29) (A14), symmetrised: the local bound.
+    """
 
     G1: Array
-    """``G_bar_{1,k-1} = G_bar V_1`` (4): zero in this problem class (``u_1`` never drives x)."""
     G2: Array
-    """``G_bar_{2,k-1} = G_bar V_2`` (4)."""
     C2: Array
-    """``C_{2,k} = U_2^T C`` (6)."""
     M2: Array
-    """``M_bar_2`` of (13) (A4); ``M2 @ B2 = I`` is the unbiasedness condition (10)."""
     B2: Array
-    """``C_2 G_bar_2`` (A4); full column rank is the solvability condition of (13)."""
     J: Array
-    """``G_bar_2 M_bar_2 U_2^T`` (A8)."""
     K: Array
-    """Constrained gain (28) (A12)."""
     P_pred: Array
-    """``P_bar_{k|k-1}`` (23) (A2)."""
     P_loc: Array
-    """``P_bar^{i,i}_k = P* - K S^T`` (29) (A14), symmetrised."""
 
 
 def local_gains(
@@ -281,6 +299,33 @@ class GuoModel:
     ``Gbar(k)`` returns one ``(n_x, n_u)`` matrix (the paper's common ``u = [d; a]``) or a
     sequence of one ``(n_x, n_u^i)`` matrix per node (Remark 1's per-node attack signals);
     ``Hbar(k)`` returns one ``(n_y, n_u^i)`` matrix per node.
+
+    Attributes
+    ----------
+    nx : int
+        State dimension ``n_x``.
+    N : int
+        Number of nodes.
+    A : callable ``k -> (n_x, n_x) array``
+        ``A_k`` of (1).
+    Q : callable ``k -> (n_x, n_x) array``
+        Process-noise covariance ``Q_k > 0`` of (1).
+    C : callable ``k -> (N, n_y, n_x) array``
+        Every node's output matrix ``C^i_k`` of (1), stacked (the same ``n_y`` at every node).
+    R : callable ``k -> (N, n_y, n_y) array``
+        Every node's measurement-noise covariance ``R^i_k > 0`` of (1), stacked.
+    Gbar : callable ``k -> (n_x, n_u) array or sequence of N (n_x, n_u^i) arrays``
+        ``G_bar_k = [G_k 0]`` of (3): how the unknown input ``u_k`` enters the state.
+    Hbar : callable ``k -> sequence of N (n_y, n_u^i) arrays``
+        ``H_bar^i_k = [0 H^i_k]`` of (3): how ``u_k`` enters node ``i``'s measurement
+        (``H^i_k`` the attack channel of (2)).
+    Pi : (N, N) array
+        Fusion weights ``pi_ij`` of (19)-(21): row-stochastic, ``pi_ij > 0`` exactly on the
+        closed neighbourhood ``N_i cup {i}``.
+    x0_hat : (n_x,) array
+        Initial estimate ``x_hat_0`` of every node (Algorithm 1 line 1).
+    P0 : (n_x, n_x) array
+        Initial bound ``P_bar^i_0 = P_0 > 0`` of every node (Algorithm 1 line 1).
     """
 
     nx: int
@@ -396,49 +441,111 @@ def input_one(dec: FeedthroughSVD, C: Array, z1: Array, x: Array) -> Array:
     """``u_hat_{1,k} = Sigma^-1 (z_1 - C_1 x_hat^i_k)`` with ``C_1 = T_1 C`` (Alg. 1 lines 20-21).
 
     ``x`` is the **fused** estimate; every argument may carry leading (run, node) axes.
+
+    Parameters
+    ----------
+    dec : FeedthroughSVD
+        SVD of ``H_bar^i_k`` (its ``Sigma`` (..., p, p) and ``T1`` (..., p, n_y)), possibly
+        stacked over nodes.
+    C : (..., n_y, n_x) array
+        ``C^i_k``.
+    z1 : (..., p) array
+        ``z^i_{1,k} = T_1 y^{a,i}_k`` (5).
+    x : (..., n_x) array
+        Fused estimate ``x_hat^i_k`` (21).
+
+    Returns
+    -------
+    (..., p) array
+        ``u_hat^i_{1,k}``, the estimate of the input part seen in the output.
     """
     return np.linalg.solve(dec.Sigma, (z1 - _apply(dec.T1 @ C, x))[..., None])[..., 0]
 
 
 class GuoState(NamedTuple):
-    """What the estimator carries from step ``k - 1`` to ``k``."""
+    """What the estimator carries from step ``k - 1`` to ``k``.
+
+    Attributes
+    ----------
+    k : int
+        Step of the state (0 after :func:`initial_state`).
+    x : (runs, N, n_x) array
+        Fused estimates ``x_hat^i_k`` (21).
+    P : (N, n_x, n_x) or (runs, N, n_x, n_x) array
+        Fused bounds ``P_bar^i_k`` (19); one per run only when links fail.
+    u1 : list of N (runs, p_i) arrays
+        ``u_hat^i_{1,k}`` (Algorithm 1 line 21), ``p_i = rank H_bar^i_k``.
+    structure : internal
+        Every node's ``G_bar^i_k`` and SVD of ``H_bar^i_k`` at step ``k``, reused at the next
+        step for ``V_1, V_2`` (and kept while the model is time-invariant).
+    plan : internal or None, default None
+        Grouping of the nodes whose matrices at ``k - 1`` and ``k`` have equal shapes (they are
+        processed as one stack); None before the first step.
+    """
 
     k: int
     x: Array
-    """(runs, N, n_x) fused estimates."""
     P: Array
-    """(N, n_x, n_x), or (runs, N, n_x, n_x) when links fail: fused bounds."""
     u1: list[Array]
-    """Per node, (runs, p_i): ``u_hat^i_{1,k}``."""
     structure: _Structure
     plan: _Plan | None = None
 
 
 class GuoStep(NamedTuple):
     """The matrices and local pairs of one step (the data-independent ones are what the
-    notebook's exact joint covariance needs)."""
+    notebook's exact joint covariance needs).
+
+    The leading axes ``...`` are those of the bounds: none, or ``runs`` when links fail.
+    :func:`run_estimator` drops ``K``, ``J``, ``W`` and ``P_loc`` (None) unless ``keep_steps``.
+
+    Attributes
+    ----------
+    K : (..., N, n_x, n_y) array or None
+        Gains (28) of step ``k``.
+    J : (..., N, n_x, n_y) array or None
+        ``G_bar_2 M_bar_2 U_2^T`` (A8).
+    W : (..., N, N, n_x, n_x) array or None
+        Fusion weights (20) ``W^{i,j}_k``; None unless ``matrix_weights``.
+    P_loc : (..., N, n_x, n_x) array or None
+        Local bounds ``P_bar^{i,i}_k`` (29).
+    x_loc : (runs, N, n_x) array
+        Local estimates ``x_hat^{i,i}_k`` (14) row 5, before the fusion.
+    u_hat : list of N (runs, n_u^i) arrays
+        ``u_hat^i_{k-1} = V_1 u_hat^i_{1,k-1} + V_2 u_hat^i_{2,k-1}``, the input estimate one
+        step late.
+    checks : dict of (N,) arrays
+        Per node: ``KU1`` = ``||K U_1||`` (28), ``M2B2`` = ``max|M_bar_2 B_2 - I|`` (10),
+        ``G1`` = ``max|G_bar_1|``; all zero up to round-off.
+    """
 
     K: Array | None
-    """(..., N, n_x, n_y) gains (28)."""
     J: Array | None
-    """(..., N, n_x, n_y) ``G_bar_2 M_bar_2 U_2^T``."""
     W: Array | None
-    """(..., N, N, n_x, n_x) fusion weights (20)."""
     P_loc: Array | None
-    """(..., N, n_x, n_x) local bounds (29)."""
     x_loc: Array
-    """(runs, N, n_x) local estimates (14)."""
     u_hat: list[Array]
-    """Per node, (runs, n_u^i): ``u_hat^i_{k-1}``."""
     checks: dict[str, Array]
-    """Per node: ``KU1`` = ``||K U_1||``, ``M2B2`` = ``max|M_bar_2 B_2 - I|`` (10),
-    ``G1`` = ``max|G_bar_1|``."""
 
 
 def initial_state(mdl: Any, ya0: Array, *, per_run: bool = False, rtol: float = 1e-10) -> GuoState:
     """Algorithm 1 line 1: ``x_hat^i_0 = x_hat_0``, ``P_bar^i_0 = P_0``, ``u_hat^i_{1,0}``.
 
-    ``ya0`` has shape (runs, N, n_y); ``per_run`` carries one bound per run.
+    Parameters
+    ----------
+    mdl : GuoModel or any object with its attributes
+        The model (1)-(3).
+    ya0 : (runs, N, n_y) array
+        Attacked measurements ``y^{a,i}_0``, for ``u_hat^i_{1,0} = Sigma^-1 (z_{1,0} - C_1 x_hat_0)``.
+    per_run : bool, default False
+        Carry one bound per run, ``P`` of shape (runs, N, n_x, n_x) (needed when links fail
+        and the bounds depend on the run); else (N, n_x, n_x).
+    rtol : float, default 1e-10
+        Relative rank tolerance of the SVD of ``H_bar^i_0``.
+
+    Returns
+    -------
+    GuoState
+        The state at ``k = 0``.
     """
     struct = _structure(mdl, 0, rtol)
     runs, N, nx = ya0.shape[0], int(mdl.N), int(mdl.nx)
@@ -541,7 +648,22 @@ def estimator_step(
 
 def link_weights(Pi: Array, up: Array) -> Array:
     """Fusion weights of one step when messages may be lost: ``pi_ij`` renormalised over the
-    messages node ``i`` received (``up[r]`` = 1: every link up in run ``r``; 0: none)."""
+    messages node ``i`` received (``up[r]`` = 1: every link up in run ``r``; 0: none).
+
+    Parameters
+    ----------
+    Pi : (N, N) array
+        Weights ``pi_ij`` of (19)-(21), row-stochastic with ``pi_ii > 0`` (a node always has
+        its own estimate).
+    up : (runs,) array of 0 / 1
+        State of the link shared by every edge at this step, per run (``Trial.link[:, k]``).
+
+    Returns
+    -------
+    (runs, N, N) array
+        ``Pi`` where the links are up; the identity (each node keeps its own estimate) where
+        they are down.
+    """
     mask = np.where(np.asarray(up)[:, None, None] == 1, 1.0, np.eye(Pi.shape[0]))
     w = Pi * mask
     return w / w.sum(axis=-1, keepdims=True)
@@ -638,6 +760,26 @@ def arena_model(sc: Scenario, threat: str = "card") -> GuoModel:
 
     Node ``i`` has the attack input ``a^i`` of dimension ``n_y`` (``H^i = I``, ``G_bar^i = 0``)
     when the reading ``threat`` makes its sensor attackable, and none otherwise.
+
+    Parameters
+    ----------
+    sc : Scenario
+        The shared scenario: ``A``, ``Q``, ``C_i``, ``R_i`` of its plant and network, its prior
+        ``x0_std`` and its graph.
+    threat : {"card", "all"}, default "card"
+        :data:`THREATS`: attackable sensors read from the attack card (``Scenario.attacked_nodes``)
+        or every sensor (Remark 1 taken literally).
+
+    Returns
+    -------
+    GuoModel
+        Time-invariant, ``n_d = 0``, ``pi_ij = 1/(|N_i| + 1)`` on the closed neighbourhood,
+        ``x_hat_0 = 0``, ``P_0 = x0_std^2 I``.
+
+    Raises
+    ------
+    ValidationError
+        Unknown ``threat``.
     """
     if threat not in THREATS:
         raise ValidationError(f"threat must be one of {THREATS}, found {threat!r}")
@@ -693,6 +835,15 @@ class Guo2023(Method):
     estimates are exchanged (``scale = x0_std``); a lost message is left out of the fusion
     and the weights renormalised; alarms (ours): chi-square test of ``u_hat_1`` at
     :data:`~secest.estimators.CHI2_ALPHA`.
+
+    Parameters
+    ----------
+    threat : {"card", "all"}, default "card"
+        Reading of the attack channels ``H^i`` (:data:`THREATS`, :func:`arena_model`): the
+        sensors the attack card names, or every sensor (Assumption 2 then fails on
+        single-output nodes and the method answers "not applicable").
+    rtol : float, default 1e-10
+        Relative rank tolerance of the SVD of ``H_bar^i`` (decides ``p_i = rank H_bar^i``).
     """
 
     name = "guo2023"

@@ -127,6 +127,18 @@ def median_set(values: Array, indicators: Array) -> tuple[float, float]:
 
     The minimiser set of ``sum_i s_i |z_i - x|`` (Section II): with ``z^s`` the ``S`` indicated
     values sorted, ``[z^s_{(S-1)//2}, z^s_{S//2}]`` (0-based), which covers both parities.
+
+    Parameters
+    ----------
+    values : (N,) array
+        The local values ``z_i`` (Section II: ``z_i = y_i / C_i``).
+    indicators : (N,) array of 0 / 1
+        ``s_i``: 1 when node ``i``'s value counts (``C_i != 0``); at least one must be 1.
+
+    Returns
+    -------
+    lo, hi : float
+        Ends of the median set ``M_Z^S`` (equal when ``S`` is odd).
     """
     values = as_matrix("values", values, (None,))
     indicators = as_matrix("indicators", indicators, values.shape)
@@ -150,6 +162,23 @@ def median_solver(
     ``x_i' = s_i sgn(z_i - x_i) + gamma sum_{j in N_i} (x_j - x_i)``, i.e.
     ``x' = s (.) sgn(z - x) - gamma L x`` with ``sgn(0) = 0`` (Filippov solutions; on a sliding
     surface the iterate chatters within ``step`` of it).
+
+    Parameters
+    ----------
+    adj : (N, N) array
+        0/1 adjacency of an undirected connected graph (Assumption 3); ``L`` its Laplacian.
+    values : (N,) array
+        ``z_i`` of (4).
+    indicators : (N,) array of 0 / 1
+        ``s_i`` of (4).
+    x_start : (N,) array
+        Initial solver states ``x_i(0)``.
+    gain : float
+        Coupling gain ``gamma > 0`` of (4).
+    horizon_s : float
+        Final time [s]; the number of steps is ``round(horizon_s / step)``.
+    step : float
+        Euler step [s], below ``2 / (gamma lambda_max(L))``.
 
     Returns
     -------
@@ -187,6 +216,17 @@ def real_invariant_subspaces(A: Array) -> list[tuple[complex, Array]]:
     conjugate pair, with ``v`` rotated so that ``Re v`` is orthogonal to ``Im v`` and scaled so
     that ``||Re v|| = 1``. Ordered by decreasing real part.
 
+    Parameters
+    ----------
+    A : (n, n) array
+        Plant matrix of (1), with distinct eigenvalues.
+
+    Returns
+    -------
+    list of (complex, (n, 1) or (n, 2) array)
+        Each real mode: its eigenvalue (the one with positive imaginary part for a pair) and
+        the real basis ``X_k`` of its invariant subspace.
+
     Raises
     ------
     ValidationError
@@ -213,7 +253,17 @@ def real_invariant_subspaces(A: Array) -> list[tuple[complex, Array]]:
 
 
 def in_span(vec: Array, basis: Array, tol: float = 1e-7) -> bool:
-    """True iff ``vec`` lies in ``range(basis)`` (orthonormal columns), relative residual <= tol."""
+    """True iff ``vec`` lies in ``range(basis)`` (orthonormal columns), relative residual <= tol.
+
+    Parameters
+    ----------
+    vec : (n,) array
+        The vector tested.
+    basis : (n, d) array
+        Orthonormal columns (``d = 0``: the zero subspace, which contains only ``vec = 0``).
+    tol : float, default 1e-7
+        Largest ``||vec - basis basis^T vec|| / ||vec||`` accepted.
+    """
     resid = vec - basis @ (basis.T @ vec) if basis.shape[1] else vec
     return bool(np.linalg.norm(resid) <= tol * np.linalg.norm(vec))
 
@@ -225,6 +275,20 @@ def mode_pattern(
 
     Read off the unobservable subspaces ``U_i`` (staircase, :func:`secest.systems.unobservable_subspace`)
     and cross-checked with the PBH test ``C_i X_k != 0``.
+
+    Parameters
+    ----------
+    modes : list of (complex, (n, d_k) array)
+        The real modes ``(lambda_k, X_k)`` of :func:`real_invariant_subspaces`.
+    U_sub : sequence of N (n, n - o_i) arrays
+        Orthonormal bases of the unobservable subspaces ``U_i`` of ``(C_i, A)`` (Section III-A).
+    banks : sequence of N (m_i, n) arrays
+        ``C_i`` of every sensor bank.
+
+    Returns
+    -------
+    (n_modes, N) int array
+        ``pattern[k, i]``.
 
     Raises
     ------
@@ -250,6 +314,13 @@ def common_basis(modes: list[tuple[complex, Array]], pattern: Array) -> tuple[Ar
     Modes with equal observation patterns are grouped; in each group, Gram-Schmidt on the
     orthogonal projections of ``e_1, e_2, ...`` onto the group's span (dependent projections,
     norm < 1e-6, skipped); groups ordered by the number of observing banks.
+
+    Parameters
+    ----------
+    modes : list of (complex, (n, d_k) array)
+        The real modes of :func:`real_invariant_subspaces`.
+    pattern : (n_modes, N) int array
+        Which bank observes which mode (:func:`mode_pattern`).
 
     Returns
     -------
@@ -302,6 +373,11 @@ def intersection_basis(U_sub: Sequence[Array]) -> tuple[Array, Array]:
     onto ``Z_J``. Needed when ``A`` has repeated eigenvalues; the result must still pass
     :func:`check_assumption4` (a failure does not prove that no basis exists).
 
+    Parameters
+    ----------
+    U_sub : sequence of N (n, n - o_i) arrays
+        Orthonormal bases of the unobservable subspaces ``U_i``.
+
     Returns
     -------
     V : (n, n) array
@@ -342,6 +418,17 @@ def intersection_basis(U_sub: Sequence[Array]) -> tuple[Array, Array]:
 def check_assumption4(V: Array, S: Array, U_sub: Sequence[Array]) -> tuple[bool, float]:
     """Verify Assumption 4: ``v_l in U_i <=> s_i^l = 0`` and ``#{l: s_i^l = 0} = dim U_i``.
 
+    Also that ``V`` is square and invertible (a basis of ``R^n``).
+
+    Parameters
+    ----------
+    V : (n, n) array
+        Candidate basis, columns ``v_l``.
+    S : (N, n) int array
+        Indicators ``s_i^l``.
+    U_sub : sequence of N (n, n - o_i) arrays
+        Orthonormal bases of the unobservable subspaces ``U_i``.
+
     Returns
     -------
     ok : bool
@@ -362,20 +449,30 @@ def check_assumption4(V: Array, S: Array, U_sub: Sequence[Array]) -> tuple[bool,
 
 
 class Basis(NamedTuple):
-    """A basis of Assumption 4 and what it was built from."""
+    """A basis of Assumption 4 and what it was built from.
+
+    Attributes
+    ----------
+    V : (n, d) array
+        Columns ``v_l`` (unit norm); ``d = n`` whenever ``ok``.
+    W : (n, n) array or None
+        ``V^{-1}`` (rows ``w_l^T``); None when the check failed (``V`` need not be square).
+    S : (N, n) int array
+        Indicators ``s_i^l`` (1: bank ``i`` observes the coordinate ``w_l^T x``).
+    U_sub : list of N (n, n - o_i) arrays
+        Unobservable subspace ``U_i`` of every bank (orthonormal columns).
+    construction : {"modes", "intersections"}
+        ``"modes"`` (:func:`common_basis`) or ``"intersections"`` (:func:`intersection_basis`).
+    ok : bool
+        :func:`check_assumption4` passed.
+    """
 
     V: Array
-    """Columns ``v_l``."""
     W: Array | None
-    """``V^{-1}`` (rows ``w_l^T``); None when the check failed (``V`` need not be square)."""
     S: Array
-    """Indicators ``s_i^l``, shape (N, n)."""
     U_sub: list[Array]
-    """Unobservable subspace of every bank (orthonormal columns)."""
     construction: str
-    """``"modes"`` (:func:`common_basis`) or ``"intersections"`` (:func:`intersection_basis`)."""
     ok: bool
-    """:func:`check_assumption4` passed."""
 
 
 def assumption4_basis(A: Array, banks: Sequence[Array]) -> Basis:
@@ -415,6 +512,19 @@ def observer_gains(
     ``"near"``: ``-1, -1.1, ...`` (first ``o_i``); ``"shifted"``: the imaginary parts of
     ``eig(W_i A V_i)`` kept with real parts ``-1``, real eigenvalues moved to ``-1, -1.1, ...``.
 
+    Parameters
+    ----------
+    A : (n, n) array
+        Continuous-time plant matrix of (1) [1/s].
+    V : (n, n) array
+        Basis of Assumption 4 (columns ``v_l``).
+    S : (N, n) int array
+        Indicators ``s_i^l``; ``o_i = sum_l s_i^l``.
+    banks : sequence of N (m_i, n) arrays
+        ``C_i`` of every bank.
+    poles : {"near", "shifted"}, default "near"
+        Pole rule (above); poles in [1/s].
+
     Returns
     -------
     gains : list of (o_i, m_i) arrays
@@ -445,16 +555,36 @@ def observer_gains(
 
 
 class NetworkSystem(NamedTuple):
-    """Stacked system ``X' = M X + E_w w + E_s phi(R X)`` of (1), (5), (6) [or (11)]."""
+    """Stacked system ``X' = M X + E_w w + E_s phi(R X)`` of (1), (5), (6) [or (11)].
+
+    ``X = [x; z_1; ...; z_N; x_hat_1; ...; x_hat_N]`` has ``n_X = n + sum_i o_i + N n`` rows,
+    ``w = [u; a_1; ...; a_N]`` (:func:`network_system`).
+
+    Attributes
+    ----------
+    M : (n_X, n_X) array
+        Linear part: ``A`` on ``x``; ``W_i A V_i - L_i C_i V_i`` and ``L_i C_i`` of (5);
+        ``I_N kron A - kappa gamma (L kron I_n)`` of (6) [1/s].
+    E_w : (n_X, 1 + N) array
+        Input matrix of ``w``: ``B`` on ``x`` and every ``x_hat_i``, ``W_i B`` and the attack
+        column ``L_i`` on ``z_i``.
+    E_s : (n_X, N n) array
+        ``kappa (I_N kron V)`` on the ``x_hat`` rows: how the sign terms enter (6)
+        (``kappa (I_N kron v_corr)`` for (11)).
+    R : (N n, n_X) array
+        Sign arguments: row block ``i`` is ``W (V_i z_i - x_hat_i)`` (``w_corr`` for ``W`` in (11)).
+    z_start : (N + 1,) int array
+        ``z_i`` occupies rows ``z_start[i]:z_start[i + 1]`` of ``X``.
+    xh0 : int
+        First row of ``x_hat_1``; ``x_hat_i`` occupies ``xh0 + i n`` to ``xh0 + (i + 1) n``.
+    """
 
     M: Array
     E_w: Array
     E_s: Array
     R: Array
     z_start: NDArray[np.intp]
-    """``z_i`` occupies rows ``z_start[i]:z_start[i + 1]`` of ``X``."""
     xh0: int
-    """First row of ``x_hat_1``; ``x_hat_i`` occupies ``xh0 + i n`` to ``xh0 + (i + 1) n``."""
 
 
 def network_system(
@@ -484,6 +614,32 @@ def network_system(
 
     Variant (11) is (6) with ``v_corr = V Pbar^{-1/2}`` and ``w_corr = Pbar^{1/2} W`` in the
     correction (valid when ``Pbar`` is block-diagonal over the indicator groups; ERRATA).
+
+    Parameters
+    ----------
+    A : (n, n) array
+        Plant matrix of (1) [1/s].
+    B : (n,) array
+        Input vector of (1) (one scalar input ``u``).
+    banks : sequence of N (1, n) arrays
+        ``C_i`` of every bank (one sensor per bank: ``a_i`` is scalar).
+    V : (n, n) array
+        Basis of Assumption 4 (columns ``v_l``); ``W = V^{-1}``.
+    S : (N, n) int array
+        Indicators ``s_i^l``.
+    gains : sequence of N (o_i, 1) arrays
+        Observer gains ``L_i`` of (5) (:func:`observer_gains`).
+    kappa, gamma : float
+        Positive gains of (6): the sign correction ``kappa`` and the coupling ``gamma``.
+    laplacian : (N, N) array
+        Graph Laplacian ``L`` (the consensus term ``kappa gamma sum_j (x_hat_j - x_hat_i)``).
+    v_corr, w_corr : (n, n) arrays, optional
+        The correction's directions and sign rows: default ``V`` and ``W`` (6); ``V Pbar^{-1/2}``
+        and ``Pbar^{1/2} W`` for (11).
+
+    Returns
+    -------
+    NetworkSystem
     """
     n = A.shape[0]
     N = len(banks)
@@ -520,6 +676,16 @@ def sign_correction(S: Array) -> Callable[[Array], Array]:
     """``phi(r) = s (.) sgn(r)``: the median correction of (6) / (11), ``sgn(0) = 0``.
 
     ``r`` stacks the agents' sign arguments, shape ``(N n,)`` or ``(N n, B)``.
+
+    Parameters
+    ----------
+    S : (N, n) array of 0 / 1
+        Indicators ``s_i^l``, flattened row by row like ``r``.
+
+    Returns
+    -------
+    callable
+        ``phi``, with ``phi(r)`` of the shape of ``r``.
     """
     s_flat = np.asarray(S, dtype=float).reshape(-1)
 
@@ -545,10 +711,25 @@ def substeps(
 
     Parameters
     ----------
+    kappa : float
+        Gain of the sign correction of (6).
+    V : (n, n) array
+        Basis of Assumption 4 (columns ``v_l``).
     C : (N, m_i, n) array
         Every node's sensor rows.
     r_std : (N, m_i) array
-        Their noise standard deviations.
+        Their noise standard deviations (output units).
+    dt : float
+        Sampling period [s].
+    fraction : float
+        Chattering amplitude allowed, as a fraction of ``sigma`` (:data:`CHATTER_FRACTION`).
+    finest : float
+        Finest sub-step [s] (:data:`FINEST_SUBSTEP`).
+
+    Returns
+    -------
+    int
+        ``m >= 1``; the sub-step is ``h = dt / m``.
     """
     sigma = float(np.min(r_std / np.linalg.norm(C, axis=-1)))
     amplitude = kappa * float(np.linalg.norm(V, axis=0).max()) * dt
@@ -566,21 +747,37 @@ class SampledObserver(NamedTuple):
         X_i <- P_i X_i + G_i sgn(zbar_i - xbar_i) + Y_i y_i + H_i nb_i
 
     with ``nb_i = kappa gamma sum_j a_ij W x_hat_j^recv``. Index 0 / 1 of the first axis of the
-    link-dependent arrays: links down (no coupling) / up.
+    link-dependent arrays: links down (no coupling) / up. ``Abar = W A V``, ``Fbar_i`` is
+    ``W_i A V_i - L_i C_i V_i`` of (5) scattered into the rows and columns ``s_i^l = 1``, ``d_i``
+    the degree of node ``i`` and ``h = dt / substeps``.
+
+    Attributes
+    ----------
+    V : (n, n) array
+        Basis of Assumption 4 (columns ``v_l``).
+    W : (n, n) array
+        ``V^{-1}`` (rows ``w_l^T``).
+    P : (2, N, 2n, 2n) array
+        ``blockdiag(exp(Fbar_i h), exp(M_i h))``, ``M_i = Abar - kappa gamma d_i I``.
+    G : (2, N, 2n, n) array
+        ``[0; int_0^h exp(M_i s) ds diag(kappa s_i)]`` (the sign correction).
+    Y : (N, 2n, m_i) array
+        ``[int_0^h exp(Fbar_i s) ds Lbar_i; 0]`` (the held measurement).
+    H : (2, N, 2n, n) array
+        ``[0; int_0^h exp(M_i s) ds]`` (the held neighbour estimates; 0 when down).
+    coupling : (N, N) array
+        ``kappa gamma`` times the adjacency.
+    substeps : int
+        Sub-steps ``m`` per sampling period.
     """
 
     V: Array
     W: Array
     P: Array
-    """(2, N, 2n, 2n): ``blockdiag(exp(Fbar_i h), exp(M_i h))``, ``M_i = Abar - kappa gamma d_i I``."""
     G: Array
-    """(2, N, 2n, n): ``[0; int_0^h exp(M_i s) ds diag(kappa s_i)]`` (the sign correction)."""
     Y: Array
-    """(N, 2n, m_i): ``[int_0^h exp(Fbar_i s) ds Lbar_i; 0]`` (the held measurement)."""
     H: Array
-    """(2, N, 2n, n): ``[0; int_0^h exp(M_i s) ds]`` (the held neighbour estimates; 0 when down)."""
     coupling: Array
-    """(N, N): ``kappa gamma`` times the adjacency."""
     substeps: int
 
 
@@ -649,14 +846,21 @@ def sampled_observer(
 
 
 class SampledRun(NamedTuple):
-    """What :func:`run_sampled` returns (every array: runs, K + 1, N, n)."""
+    """What :func:`run_sampled` returns (every array: runs, K + 1, N, n; zero at ``k = 0``).
+
+    Attributes
+    ----------
+    xhat : (runs, K + 1, N, n) array
+        Resilient estimates ``x_hat_i(t_k)`` of (6) (state units).
+    zbar : (runs, K + 1, N, n) array
+        Partial estimates of (5), scattered: ``W V_i z_i(t_k)`` (zero where ``s_i^l = 0``).
+    xbar : (runs, K + 1, N, n) array
+        ``W x_hat_i(t_k)``; the identification residual is ``zbar - xbar`` on ``s_i^l = 1``.
+    """
 
     xhat: Array
-    """Resilient estimates ``x_hat_i(t_k)`` of (6)."""
     zbar: Array
-    """Partial estimates of (5), scattered: ``W V_i z_i(t_k)``."""
     xbar: Array
-    """``W x_hat_i(t_k)``; the identification residual is ``zbar - xbar`` on ``s_i^l = 1``."""
 
 
 def run_sampled(
@@ -737,6 +941,34 @@ def alarm_rule(
     (``e_0 = -W_i x_0``, prior ``x0_std^2 I``) stays below the thresholds, and not before the sign
     correction, at rate ``kappa``, can cross a 3-sigma prior error ``3 x0_std max ||w_l||``.
 
+    Parameters
+    ----------
+    A : (n, n) array
+        Continuous-time plant matrix of (1) [1/s].
+    V : (n, n) array
+        Basis of Assumption 4 (columns ``v_l``).
+    S : (N, n) int array
+        Indicators ``s_i^l``; ``o_i = sum_l s_i^l``.
+    gains : sequence of N (o_i, m_i) arrays
+        Observer gains ``L_i`` of (5).
+    C : (N, m_i, n) array
+        Sensor rows ``C_i`` of every node.
+    R : (N, m_i, m_i) array
+        Covariance of the sampled measurement noise ``v_k`` of every node.
+    Q_w : (n, n) array
+        Covariance of the sampled process noise ``w_k`` (per sampling period).
+    x0_std : float
+        Prior standard deviation of every state component (state units).
+    kappa : float
+        Gain of the sign correction of (6).
+    dt : float
+        Sampling period [s].
+    horizon : int
+        Number of steps ``K``.
+    alpha : float
+        False-alarm level per node and step, in (0, 1), split over the ``o_i`` coordinates
+        (two-sided Bonferroni).
+
     Returns
     -------
     tau : (N, n) array
@@ -781,7 +1013,24 @@ def _digest(*arrays: Any) -> str:
 
 @register
 class Lee2020(Method):
-    """Partial observers (5) and the median-embedded observer (6), sampled-data reading."""
+    """Partial observers (5) and the median-embedded observer (6), sampled-data reading.
+
+    Parameters
+    ----------
+    kappa : float, default :data:`KAPPA`
+        Positive gain of the sign (median) correction of (6), 0.5 in Section IV.
+    gamma : float, default :data:`GAMMA`
+        Positive coupling gain of (6) (the consensus term is ``kappa gamma sum_j``), 2 in
+        Section IV.
+    q : int, default :data:`Q`
+        Number of sensor banks that may be attacked (Assumption 1); the plant must be
+        ``2q``-redundant observable (Assumption 2).
+    poles : {"near", "shifted"}, default :data:`POLES`
+        Observer-pole rule of (5) (:func:`observer_gains`).
+    chatter : float, default :data:`CHATTER_FRACTION`
+        Chattering amplitude allowed, as a fraction of the smallest sensor noise, which
+        fixes the sub-step (:func:`substeps`).
+    """
 
     name = "lee2020"
     title = "lee2020: partial observers + distributed median (sign) correction"

@@ -411,6 +411,19 @@ class Li2025(Method):
     ``xi*`` of the packets the replacement card attacks are read from the card, 1 and 0
     elsewhere; clean packets first, then each attacked one; weights :data:`ARENA_WEIGHTS`;
     corrected coefficients; the run's ``x_hat x_hat^T``; ``x_hat(0|0) = 0``, ``S(0|0)`` the prior.
+
+    Parameters
+    ----------
+    weights : sequence of 5 positive floats, default :data:`ARENA_WEIGHTS`
+        ``(lambda, alpha_1, alpha_2, alpha_3, alpha_4)``, the Lemma 1 weights of the bound:
+        ``lambda`` of the cross terms with the upstream errors in (17) (with ``K_i`` empty it
+        only inflates the propagated term, ``(1 + lambda) A S A^T``), ``alpha_1`` of (24) in
+        the gain (28), ``alpha_2..alpha_4`` of the
+        ``e/xi`` (25), ``e/x`` (26) and ``x/xi`` (27) cross terms in the coefficients of
+        (18) (:func:`bound_coefficients`). Dimensionless; Remark 4 tunes them.
+    variant : {"corrected", "paper"}, default "corrected"
+        Bound coefficients of :func:`bound_coefficients`: re-derived from the paper's proof
+        (ERRATA.md), or those printed in Theorem 2.
     """
 
     name = "li2025"
