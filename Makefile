@@ -13,7 +13,7 @@ export OPENBLAS_NUM_THREADS := 1
 export MPLBACKEND := Agg
 export PYDEVD_DISABLE_FILE_VALIDATION := 1
 
-.PHONY: venv figures test lint bench lock html clean robustness $(addprefix figures-,$(KEYS))
+.PHONY: venv figures test verify lint bench lock html clean robustness $(addprefix figures-,$(KEYS))
 
 venv: $(STAMP)
 
@@ -37,13 +37,19 @@ $(addprefix figures-,$(KEYS)): figures-%: $(STAMP)
 
 ## test: unit tests + papermill-executed notebook tests (fast mode) + lint
 test: $(STAMP)
-	$(PY) -m ruff check secest tests notebooks benchmarks
+	$(PY) -m ruff check secest tests notebooks benchmarks docs
 	$(PY) -m pytest -n 2 --dist loadgroup
 
 ## robustness: sweep each notebook's declared space on Dask (a LocalCluster sized to the machine;
 ## SCHEDULER=tcp://host:port sends it to an existing cluster). Writes figures/<key>/robustness.*
 robustness: $(STAMP)
 	$(PY) -m secest.sweep $(NB) $(if $(SCHEDULER),--scheduler $(SCHEDULER))
+
+## verify: execute the notebooks (paper mode) into build/verify/ and compare every committed number
+## with its declared tolerance (report: build/verify.json). It forces no BLAS kernel or CPU feature:
+## machines differ, and the tolerances say by how much results may.
+verify: $(STAMP)
+	$(PY) -m secest.verify $(NB)
 
 bench: $(STAMP)
 	$(PY) benchmarks/bench.py
@@ -55,9 +61,20 @@ lock:
 	build/lockenv/bin/uv pip compile pyproject.toml --extra all --generate-hashes \
 	    --universal --python-version 3.11 --no-header -o environment.lock
 
-## html: render the executed notebooks to build/html/ (not committed)
+## html: the site in build/html/ (Sphinx + myst-nb, renders the committed notebooks, executes nothing).
+## Any warning fails it; a failed build drops Sphinx's cache so the next run reports every warning again.
+SITE_SRC := build/site-src
 html: $(STAMP)
-	$(PY) -m jupyter nbconvert --to html --output-dir build/html notebooks/*.ipynb
+	$(PY) -m secest.site prepare $(SITE_SRC)
+	$(PY) -m sphinx -W --keep-going -q -b html -c docs $(SITE_SRC) build/html \
+	    || { rm -rf build/html/.doctrees; exit 1; }
+	@echo "site: build/html/index.html (opens from disk, no network needed); 'make serve' serves it"
+
+## serve: serve build/html/ on http://localhost:$(PORT) (Ctrl-C stops it)
+PORT ?= 8000
+.PHONY: serve
+serve: html
+	$(PY) -m http.server $(PORT) --bind 127.0.0.1 --directory build/html
 
 clean:
 	rm -rf $(VENV) build .pytest_cache

@@ -26,23 +26,42 @@
 # condition on $(p, q, \kappa)$ for the mean upper bound to stay bounded. Section V tracks a
 # position/velocity/acceleration target with 20 nodes.
 #
-# **Verdict: [Re, partial].** The simulation claims reproduce on our stand-in for the missing
-# topology, with one qualification. The χ² detector rejects every attacked sample. Without the detector the
-# error grows more than ten-fold in the attack windows. The attack still reaches unattacked nodes
-# through the consensus term. The leak falls by more than an order of magnitude per hop, but direct
-# neighbours of an attacked sensor move by about 0.03 (up to 0.18). In our default stand-in topology node 20 is such
-# a neighbour, so the paper's "node 20 is unaffected" (≤ 10⁻³) fails there (C2a), though the shift is
-# invisible at the scale of Fig. 4. The bounds $\Gamma^+\preceq P^+\preceq\Pi^+$
-# hold against the exact covariance. But Theorem 4's condition (42)–(43) **fails** for the paper's own example, and for
-# every $(p,q,\kappa)$ with this plant; $\Pi$ nevertheless stays bounded empirically. The
-# detector also has a **lockout** failure mode the paper does not show: after an attack window,
-# in about 10–20 % of Monte Carlo runs the attacked node rejects every later measurement and diverges.
+# **Verdict: [Re, partial]** — the simulation claims reproduce at our default, where $\Gamma_0=\Pi_0$ is
+# the exact initial covariance, but the χ² test (25) locks nodes out (after attacks in about 15 % of Monte
+# Carlo runs, and without any attack for every valid $\Gamma_0$ below about half the initial covariance),
+# so over the values the paper leaves open most claims are undetermined; Theorem 4's condition cannot hold
+# for the example.
+#
+# At the default point (paper mode, 300 Monte Carlo runs): the detector rejects every attacked sample
+# (C1); the attack has no obvious effect in Fig. 4 (C2a: the attacked sensors move by 4.7 % and 2.6 % of the
+# axis range, less than their own error without attack, sensor 20 by 0.004 %); the leak into unattacked
+# nodes falls more than 20-fold per hop (C2b, ours); the attacked sensors' window RMSE doubles with
+# detection (C3, medians 1.7 and 2.1) and grows about ten-fold without it (C4); $\Gamma^+\preceq P^+\preceq\Pi^+$
+# holds against the exact covariance (C5); the constant-gain filter is similar without attack and 7–8×
+# worse under it, in both readings of its structure (C9). Theorem 4's condition (42)–(43) fails for the
+# example ($\xi\approx2.46$; 2.56 in the form the proof implies) and for every $(p,q,\kappa)$ with this
+# plant (C8a), so its conclusion has a failed premise (C8b; $\Pi$ stays bounded empirically). The χ²
+# **lockout** the paper does not show: 15 % (sensor 4) and 14 % (sensor 12) of the runs end with the attacked
+# sensor rejecting every measurement (X1); continued to $k=400$, 26 % of them resume, the others diverge.
+# The κ = 0 control locks out too (13 %, 11 %) although $\Gamma$ does not collapse there: the cause is
+# (17)–(18), which do not let $\Gamma$ grow while updates are skipped (X5).
+#
+# Over the 33 points of the declared space (seeds, stand-in topology, radius, $\delta_0$, $\sigma_0$,
+# $\Pi_0$, $\Gamma_0$, $\nu$, and the printed threshold, $p$, $q$ for the lockout map) the verdicts are:
+# C6, C10, X4, X5 hold everywhere; C8a, X1, X2 fail everywhere; C8b fails its premise everywhere; and
+# **undetermined**: X3 (no lockout without attack) holds at 5/33 points, exactly where
+# `gamma0_scale` ≥ 1.01 ($\Gamma_0\succeq P_0/2$); C1 10/33 (best rule `gamma0_scale` ≥ 0.71, right at 88 %);
+# C2a 15/33 (no one-axis rule; at 12 of its 18 failures the single run shown locks an attacked sensor
+# out, and sensor 20 moves by at most 2.1 % of the axis range anywhere); C2b 8/33 (`sigma0` ≤ 0.18 at 85 %);
+# C3 19/33 (`sigma0` ≤ 1.99 at 79 %); C4 26/33 (`sigma0` ≤ 1.99 at 88 %); C5 8/33 (`gamma0_scale` ≥ 0.62
+# at 91 %); C9 13/33 (`sigma0` ≤ 0.46 at 88 %). A small $\Gamma_0$ (relative to $\Pi_0$) or a large
+# $\sigma_0$ makes nodes reject their first measurement and never start; that drives most of the failures.
 
 # %% tags=["parameters"]
-mode = "paper"  # "paper": full Monte Carlo and long runs; "fast": fewer runs for the tests
-seed = 2020  # master seed: SeedSequence(seed).spawn(5) -> channel, world, mc, chain, long run
-topology_seed = 2020  # seed of secest.graphs.random_geometric_graph (MISSING, see provenance)
-leak_topology_seeds = [2020, 2021, 2022, 2023, 2024, 2025, 2026, 2027, 2028, 2029]  # C2 sweep (MISSING)
+mode = "paper"  # "paper": full Monte Carlo and long runs; "fast": fewer runs for the tests (ours)
+seed = 2020  # master seed of SeedSequence(seed).spawn(6), see the provenance table (MISSING)
+topology_seed = 2020  # seed of secest.graphs.random_geometric_graph, stand-in of Fig. 1 (MISSING)
+leak_topology_seeds = [2020, 2021, 2022, 2023, 2024, 2025, 2026, 2027, 2028, 2029]  # C2b sample (ours)
 m = 20  # number of sensor nodes (PAPER, Sec. V)
 radius = 0.35  # connection radius of the random geometric graph, unit square (MISSING)
 T = 0.05  # sampling period [s] (PAPER)
@@ -51,77 +70,131 @@ p = 0.1  # failure rate of the Gilbert-Elliott chain (PAPER)
 q = 0.92  # recovery rate (PAPER)
 kappa = 0.004  # coupling strength (PAPER)
 threshold = 25.0  # chi-square threshold of (25) (PAPER)
+inspection = True  # apply the chi-square test (25) in the proposed filter; False: accept every y (ours)
 attacks = [[4, 90, 95, 15.0], [12, 50, 55, 15.0]]  # [node (1-based), k_first, k_last, value] (PAPER)
 plot_nodes = [4, 12, 20]  # nodes shown in Figs. 3-6 (PAPER)
 delta0 = 1  # channel state delta_0 (MISSING)
 sigma0 = 1.0  # x_0 and each x_hat_{i,0} ~ N(0, sigma0 I), independent (MISSING)
-pi0_scale = 2.0  # Pi_0 and Gamma_0 are pi0_scale * sigma0 * I (MISSING; the exact initial cov.)
-tol = 1e-10  # relative tolerance of every Loewner-order test (MISSING)
-strict = False  # strict reading of "Y < X" in the min operation (MISSING; non-strict, E6)
+pi0_scale = 2.0  # Pi_0 is pi0_scale * sigma0 * I; 2 gives the exact initial covariance P_0 (MISSING)
+gamma0_scale = 2.0  # Gamma_0 is gamma0_scale * sigma0 * I; valid from 0 up to P_0 (MISSING)
+tol = 1e-10  # relative tolerance of every Loewner-order test (ours)
+strict = False  # strict reading of "Y < X" in the min operation (RECONSTRUCTED; non-strict, E6)
 nu = 0.0  # Assumption 2 probability bound used in Theorem 4 (MISSING; E8)
 gains_low = [0.4177, 0.5799, 0.4029]  # constant gain, nodes 1-7 (PAPER, comparison filter)
 gains_high = [0.2883, 0.6150, 0.4457]  # constant gain, nodes 8-20 (PAPER)
-cmp_form = "corrector"  # structure of the comparison filter: "corrector" | "predictor" (MISSING)
-mc_runs = 300  # Monte Carlo runs (fast mode: at most 100) (MISSING)
-long_steps = 2000  # steps of the long run for Pi's boundedness (fast mode: 600) (MISSING)
-chain_steps = 100000  # length of the chain for estimating p, q (MISSING)
+cmp_form = "corrector"  # structure of the comparison filter: "corrector" or "predictor" (MISSING)
+mc_runs = 300  # Monte Carlo runs (fast mode: at most 100) (ours)
+long_steps = 2000  # steps of the long run for Pi's boundedness (fast mode: at most 600) (ours)
+recovery_steps = 400  # locked Monte Carlo runs are continued to this step (ours)
+chain_steps = 100000  # length of the chain for estimating p, q (ours)
 figures = True  # False: no figure or data file is made (robustness sweep points) (ours)
 fig_dir = "figures/ding2020"
 results_path = "figures/ding2020/claims.json"
 
 # %%
+import csv
 import inspect
+import json
 
 import matplotlib.pyplot as plt
 import networkx as nx
 import numpy as np
+from IPython.display import Markdown, display
 
-from secest import channels, detectors, filters, graphs, montecarlo, plotting, results
+from secest import channels, detectors, filters, graphs, montecarlo, plotting, results, spaces
+from secest.validation import ValidationError
 
 print(results.environment_summary())
 
 run = results.Run("ding2020", globals())
-if mode not in ("paper", "fast"):
-    raise ValueError(f"mode must be 'paper' or 'fast', found {mode!r}")
-if cmp_form not in ("corrector", "predictor"):
-    raise ValueError(f"cmp_form must be 'corrector' or 'predictor', found {cmp_form!r}")
+LOCK_STEPS = 10  # a node is locked out at step k if it rejected each of its last 10 measurements (ours)
+CMP_FORMS = ("corrector", "predictor")  # the two readings of the comparison filter's structure
+
+
+def check_parameters() -> None:
+    """Cross-parameter checks the declared domains cannot express (one line naming the parameter)."""
+    if not attacks:
+        raise ValidationError("parameter attacks must name at least one attacked sensor")
+    for entry in attacks:
+        if len(entry) != 4 or not all(isinstance(v, int) for v in entry[:3]):
+            raise ValidationError(f"parameter attacks: each entry is [node, k_first, k_last, value], found {entry!r}")
+        node, k_first, k_last, _ = entry
+        if not 1 <= node <= m:
+            raise ValidationError(f"parameter attacks: node {node} is not one of the nodes 1..{m}")
+        if not 1 <= k_first <= k_last <= horizon - LOCK_STEPS:
+            raise ValidationError(
+                f"parameter attacks: window [{k_first}, {k_last}] must lie in [1, horizon - {LOCK_STEPS}] = "
+                f"[1, {horizon - LOCK_STEPS}], so that a lockout after it can be measured")
+    if len({entry[0] for entry in attacks}) != len(attacks):
+        raise ValidationError("parameter attacks: one window per attacked node")
+    if not plot_nodes or not all(1 <= node <= m for node in plot_nodes):
+        raise ValidationError(f"parameter plot_nodes must name nodes in 1..{m}, found {plot_nodes!r}")
+    if gamma0_scale > pi0_scale:
+        raise ValidationError(
+            f"parameter gamma0_scale ({gamma0_scale:g}) must not exceed pi0_scale ({pi0_scale:g}): Gamma_0 <= Pi_0")
+    if recovery_steps <= horizon:
+        raise ValidationError(f"parameter recovery_steps ({recovery_steps}) must exceed horizon ({horizon})")
+    if not leak_topology_seeds or min(leak_topology_seeds) < 0:
+        raise ValidationError("parameter leak_topology_seeds must list at least one seed >= 0")
+    if p + q == 0:
+        raise ValidationError("parameters p and q: p + q must be positive (the chain must move)")
+    if kappa >= 1:
+        raise ValidationError(f"parameter kappa must be < 1 ((7) takes kappa in (0, 1)), found {kappa!r}")
+
+
+check_parameters()
 R_MC = mc_runs if mode == "paper" else min(mc_runs, 100)
 L_LONG = long_steps if mode == "paper" else min(long_steps, 600)
 N = int(horizon)
 FIG_DIR = results.resolve(fig_dir)
-rng_channel, rng_world, rng_mc, rng_chain, rng_long = montecarlo.spawn_rngs(seed, 5)
+rng_channel, rng_world, rng_mc, rng_chain, rng_long, rng_rec = montecarlo.spawn_rngs(seed, 6)
 plotting.setup(enabled=figures)
 PLOT = [i - 1 for i in plot_nodes]  # 0-based indices of the plotted nodes (P1)
+
+
+def save(fig, name: str, data: dict | None = None, tolerance=None) -> None:
+    """Save fig (and its data, with its reproduction tolerance) under FIG_DIR and show it inline."""
+    plotting.save_figure(fig, FIG_DIR, name, data=data, tolerance=tolerance)
+
+
+MC_TOL = results.Tolerance(
+    rtol=0.02, atol=0.01,
+    reason="Monte Carlo decisions: a chi-square statistic within round-off of the threshold can flip on "
+    "another BLAS, moving a fraction by 1/runs and a run's RMSE")
+RUN_TOL = results.Tolerance(
+    rtol=1e-6, atol=1e-9,
+    reason="single runs downstream of chi-square accept/reject decisions: round-off of the 150-step "
+    "recursions, unless a statistic lies within round-off of the threshold")
 
 # %% [markdown]
 # ## Parameter provenance
 #
-# | name | value | tag | source / reason |
+# Every parameter of the notebook, its admissible domain, its tag and, for every value the paper
+# does not pin down, the declared space the robustness sweep (`make robustness`) samples, with the
+# reason it was chosen (`notebooks/ding2020.toml`, committed before the sweep was run):
+
+# %%
+display(Markdown(spaces.provenance_markdown("ding2020")))
+
+# %% [markdown]
+# The model constants and implementation choices that are not parameters:
+#
+# | item | value | tag | source / reason |
 # |---|---|---|---|
-# | `m` | 20 | PAPER | Sec. V |
-# | topology | `random_geometric_graph(20, 0.35, seed=2020)`, unit square, undirected | MISSING | Fig. 1 is not in our copy; "randomly deployed". The seed is the first candidate: the master seed, which the reproduction brief proposed before any run. In this draw node 20 is a direct neighbour of attacked node 12, so the paper's "node 20 unaffected" fails here (C2a). An earlier version of this notebook switched to seed 2021 after seeing that outcome (there node 20 is 2 hops away). That choice depended on the result, so it was dropped. C2 is now measured over a list of topologies fixed in advance. |
-# | `leak_topology_seeds` | 2020–2029 | MISSING | the first ten seeds from the default, a list fixed in advance for C2 (C2a, C2b). Each gets one Case A and one Case B run on the default channel and world. Node 20's leak and its hop distance to the attacked sensors are reported, with the leak by hop distance over all unattacked nodes |
+# | topology | `random_geometric_graph(m, radius, seed=topology_seed)`, unit square, undirected | MISSING | Fig. 1 is not in our copy; "randomly deployed". The default seed 2020 is the first candidate, the master seed the reproduction brief proposed before any run. An earlier version switched to seed 2021 after seeing the outcome; that was dropped. The draw is now an axis of the declared space |
 # | weights | $h_{ij}=1/\lvert\mathcal N_i\rvert$, $h_{ii}=0$ | PAPER | Sec. V; $\mathcal N_i$ excludes $i$ |
-# | $A$, $T$ | constant-acceleration model, $T=0.05$ s | PAPER | Sec. V |
+# | $A$ | constant-acceleration model with period $T$ | PAPER | Sec. V |
 # | $B$, $D$ | $0.2I_3$, $0.05$ | PAPER | Sec. V; $w_k\sim\mathcal N(0,I_3)$, $v_{i,k}\sim\mathcal N(0,1)$ |
 # | $C_i$ | $[4.5, -0.8, -0.5]$ for nodes 1–7, $[4.0, -0.8, 1.0]$ for nodes 8–20 | PAPER | "$i<8$" is 1-based |
-# | threshold | 25 ($\sigma = P\{\chi^2_1\ge 25\} = 5.73\cdot10^{-7}$) | PAPER | Sec. V |
-# | $p, q, \kappa$ | 0.1, 0.92, 0.004 | PAPER | Sec. V |
-# | horizon | $k\in[0,150]$ | PAPER | Sec. V |
-# | attacks | $+15$ on sensor 4 for $k\in[90,95]$, on sensor 12 for $k\in[50,55]$ (inclusive) | PAPER | Sec. V, "attack strength 15"; added to $y_{i,k}$ only |
-# | constant gains | $[0.4177, 0.5799, 0.4029]^T$ (nodes 1–7), $[0.2883, 0.6150, 0.4457]^T$ | PAPER | comparison filter, Sec. V |
-# | comparison structure | `cmp_form = "corrector"`: prediction (7) with the same $\kappa$, update $\hat x^+=\hat x^-+K_i\eta$, no detector | MISSING | the paper only cites its refs. [9], [13] |
-# | `delta0` | 1 | MISSING | channel initially good |
-# | $x_0$, $\hat x_{i,0}^+$ | i.i.d. $\mathcal N(0, I_3)$, independent | MISSING | "randomly produced"; zero mean keeps (9)–(10); non-zero estimates make (4) exact at $k=0$ |
-# | $\Pi_0^+$, $\Gamma_0^+$ | $2I_3$ | MISSING | the exact initial error covariance $\mathrm{cov}(x_0-\hat x_{i,0})$, so both bounds hold at $k=0$ |
+# | attack | added to $y_{i,k}$ only, windows inclusive | PAPER | Sec. V, "attack strength 15"; "normal = attacked minus 15" |
+# | $x_0$, $\hat x_{i,0}^+$ | i.i.d. $\mathcal N(0, \sigma_0 I_3)$, independent | MISSING | "randomly produced"; zero mean keeps (9)–(10); non-zero estimates make (4) exact at $k=0$. Then $P_0=\mathrm{cov}(x_0-\hat x_{i,0})=2\sigma_0I$ |
+# | $\Pi_0^+$, $\Gamma_0^+$ | `pi0_scale`$\cdot\sigma_0 I$, `gamma0_scale`$\cdot\sigma_0 I$ | MISSING | two separate parameters; both bounds hold at $k=0$ iff $\Gamma_0\preceq P_0\preceq\Pi_0$, i.e. `gamma0_scale` ≤ 2 ≤ `pi0_scale` (the premise of C5) |
 # | first update | at $k=1$ | MISSING | (7) updates at $k+1$ |
-# | `seed` | 2020 | MISSING | `SeedSequence(2020).spawn(5)`: channel, world ($x_0$, $\hat x_0$, $w$, $v$), Monte Carlo, long chain, long run |
-# | common random numbers | Cases A, B, no inspection and the comparison filter share $\delta$, $x_0$, $\hat x_0$, $w$, $v$ | PAPER (comparison) / MISSING | the paper says so for the comparison |
-# | `tol`, `strict` | $10^{-10}$ relative, non-strict | MISSING | order tests of (17), (18); see E6 |
-# | `nu` | 0 | MISSING | Theorem 4, most favourable value (E8) |
-# | `mc_runs` | 300 (fast: 100) | MISSING | fixed topology and $\delta$; $x_0$, $\hat x_0$, $w$, $v$ redrawn |
-# | `long_steps` | 2000 (fast: 600) | MISSING | Π boundedness (C8b) |
-# | `chain_steps` | $10^5$ | MISSING | estimate of $p$, $q$ (C6) |
+# | seeds | `SeedSequence(seed).spawn(6)`: channel, world, Monte Carlo, long chain, long run, recovery | MISSING | |
+# | common random numbers | Cases A, B, no inspection, the κ = 0 control and the comparison filter share $\delta$, $x_0$, $\hat x_0$, $w$, $v$ | PAPER (comparison) / ours | the paper says so for the comparison |
+# | delivery of $\Pi^+_{j,k}$ | in the same packet as $\hat x^+_{j,k}$, lost with it | MISSING | (26) needs the neighbours' bounds only when $\delta^r=1$ |
+# | lockout | node $i$ is *locked out* at $k$ if its test rejected each of $y_{i,k-9},\dots,y_{i,k}$ (10 steps) | ours | a definition for the lockout claims X1, X3, X5 |
+# | κ = 0 control | $\kappa=0$ and $\Pi_0=\Gamma_0=P_0=2\sigma_0I$, everything else as in the run | ours | X4, X5 |
 
 # %% [markdown]
 # ## Setup
@@ -144,6 +217,8 @@ attack = np.zeros((N + 1, m))
 for node, k_first, k_last, value in attacks:
     attack[k_first : k_last + 1, node - 1] += value
 windows = {node: np.arange(k_first, k_last + 1) for node, k_first, k_last, _ in attacks}
+ATT = [node - 1 for node in windows]  # 0-based indices of the attacked nodes
+P0_exact = 2.0 * sigma0 * np.eye(n_x)  # cov(x_0 - x_hat_{i,0})
 sigma_fa = detectors.chi2_false_alarm(1, threshold)
 print(f"false-alarm probability of threshold {threshold:g}: sigma = {sigma_fa:.4g}")
 print("every (A, C_i) observable:", all(np.linalg.matrix_rank(
@@ -169,29 +244,31 @@ N_bar = 1 + degree.max()
 print(f"degrees: min {degree.min()}, max {degree.max()}, mean {degree.mean():.2f}; N_bar = {N_bar}")
 for node in plot_nodes:
     print(f"node {node}: neighbours {[int(j) + 1 for j in np.flatnonzero(adj[node - 1])]}, "
-          f"hops to attacked nodes {[hops[node - 1][a - 1] for a in windows]}")
+          f"hops to attacked nodes {[hops[node - 1][a] for a in ATT]}")
 
 # %%
 fig, ax = plt.subplots(figsize=(plotting.COLUMN_WIDTH * 1.3, plotting.COLUMN_WIDTH * 1.2))
 for i, j in zip(*np.nonzero(np.triu(adj)), strict=True):
     ax.plot(*positions[[i, j]].T, color="0.6", lw=0.8, zorder=1)
-colors = ["tab:red" if i + 1 in windows else "tab:blue" if i in PLOT else "white" for i in range(m)]
+colors = ["tab:red" if i in ATT else "tab:blue" if i in PLOT else "white" for i in range(m)]
 ax.scatter(*positions.T, s=170, c=colors, edgecolors="k", zorder=2)
 for i, (px, py) in enumerate(positions):
     ax.annotate(str(i + 1), (px, py), ha="center", va="center", fontsize=7, zorder=3,
                 color="white" if colors[i] != "white" else "k")
-ax.scatter([], [], s=60, c="tab:red", edgecolors="k", label="attacked (4, 12)")
-ax.scatter([], [], s=60, c="tab:blue", edgecolors="k", label="plotted, unattacked (20)")
-ax.set_xlabel("position in the field, x [unit length]")
-ax.set_ylabel("position in the field, y [unit length]")
-ax.set_title(f"Fig. 1 (stand-in): random geometric graph, r = {radius}, seed {topology_seed}")
+ax.scatter([], [], s=60, c="tab:red", edgecolors="k",
+           label=f"attacked ({', '.join(str(n) for n in windows)})")
+shown = [n for n in plot_nodes if n - 1 not in ATT]
+if shown:
+    ax.scatter([], [], s=60, c="tab:blue", edgecolors="k",
+               label=f"plotted, unattacked ({', '.join(map(str, shown))})")
+ax.set_xlabel("position in the field, x [side of the unit square]")
+ax.set_ylabel("position in the field, y [side of the unit square]")
+ax.set_title(f"Fig. 1 (stand-in): random geometric graph, r = {radius:g}, seed {topology_seed}")
 ax.set_aspect("equal")
 ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=2)
-plotting.save_figure(fig, FIG_DIR, "fig1_topology",
-                     data={"node": np.arange(1, m + 1), "pos": positions, "degree": degree})
 plotting.save_data(FIG_DIR, "fig1_topology_edges",
                    {"i": np.nonzero(np.triu(adj))[0] + 1, "j": np.nonzero(np.triu(adj))[1] + 1})
-plt.show()
+save(fig, "fig1_topology", data={"node": np.arange(1, m + 1), "pos": positions, "degree": degree})
 
 # %% [markdown]
 # ### One shared Gilbert–Elliott chain (Fig. 2)
@@ -218,10 +295,9 @@ ax.set_ylabel(r"channel state $\delta_k$")
 ax.set_ylim(-0.1, 1.15)
 ax.set_yticks([0, 1])
 ax.set_xlim(0, N)
-ax.set_title(f"Fig. 2: Gilbert–Elliott channel, p = {p}, q = {q}")
+ax.set_title(f"Fig. 2: Gilbert–Elliott channel, p = {p:g}, q = {q:g}")
 ax.legend(loc="lower left")
-plotting.save_figure(fig, FIG_DIR, "fig2_channel_state", data={"k": np.arange(N + 1), "delta": delta})
-plt.show()
+save(fig, "fig2_channel_state", data={"k": np.arange(N + 1), "delta": delta})
 
 # %% [markdown]
 # ## Derivation of the filter
@@ -295,11 +371,25 @@ print(src[src.index("    if validate:"):])
 # ## Simulation driver
 #
 # The world ($x_0$, $\hat x_{i,0}$, $w$, $v$) is drawn once per run. Cases A and B, the filter
-# without inspection and the constant-gain filter all reuse it (common random numbers).
-# `simulate` runs the filter over all nodes and over a batch of runs at once.
+# without inspection, the κ = 0 control and the constant-gain filter all reuse it (common random
+# numbers). `simulate` runs the filter over all nodes and over a batch of runs at once.
 
 
 # %%
+def propagate(x0: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """Trajectories of (1), x_{k+1} = A x_k + B w_k, from x0 (R, n) with noise w (R, steps, n)."""
+    x = np.empty((x0.shape[0], w.shape[1] + 1, n_x))
+    x[:, 0] = x0
+    for k in range(w.shape[1]):
+        x[:, k + 1] = x[:, k] @ A.T + w[:, k] @ B.T
+    return x
+
+
+def measure(x: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Clean measurements (2), y_{i,k} = C_i x_k + D v_{i,k}, shape (R, steps + 1, m)."""
+    return np.einsum("in,rkn->rki", C_rows, x) + D[0, 0] * v
+
+
 def draw_world(rng: np.random.Generator, runs: int, steps: int) -> dict[str, np.ndarray]:
     """x_0, x_hat_0 ~ N(0, sigma0 I); trajectories x_k and clean measurements y_{i,k}."""
     s = np.sqrt(sigma0)
@@ -307,47 +397,63 @@ def draw_world(rng: np.random.Generator, runs: int, steps: int) -> dict[str, np.
     xh0 = s * rng.standard_normal((runs, m, n_x))
     w = rng.standard_normal((runs, steps, n_x))
     v = rng.standard_normal((runs, steps + 1, m))
-    x = np.empty((runs, steps + 1, n_x))
-    x[:, 0] = x0
-    for k in range(steps):
-        x[:, k + 1] = x[:, k] @ A.T + w[:, k] @ B.T  # (1)
-    y = np.einsum("in,rkn->rki", C_rows, x) + D[0, 0] * v  # (2)
-    return {"x": x, "xh0": xh0, "y": y}
+    x = propagate(x0, w)
+    return {"x": x, "xh0": xh0, "y": measure(x, v)}
 
 
-def simulate(xh0, y, delta_seq, *, inspect_=True, inspection_cov="Gamma", const_gain=None,
-             keep_bounds=False, net=None):
-    """Run the secure filter (or a constant-gain filter) over all steps.
+def continue_world(rng: np.random.Generator, x_start: np.ndarray, steps: int) -> dict[str, np.ndarray]:
+    """The same target continued from x_start (R, n) for `steps` more steps, without attacks."""
+    w = rng.standard_normal((x_start.shape[0], steps, n_x))
+    v = rng.standard_normal((x_start.shape[0], steps + 1, m))
+    x = propagate(x_start, w)
+    return {"x": x, "y": measure(x, v)}
 
-    xh0 (R, m, n), y (R, N+1, m) measurements incl. attacks, delta_seq (N+1,).
-    net = (adjacency, weights) of another topology (default: the stand-in of Fig. 1).
-    Returns estimates (R, N+1, m, n), detector outcomes theta (R, N+1, m) (theta[:, 0] = 1:
-    no update at k = 0) and, with keep_bounds, Pi, Gamma (R, N+1, m, n, n), gains and counters.
+
+def initial_bound(value: np.ndarray | None, scale: float, runs: int) -> np.ndarray:
+    """Pi_0 or Gamma_0 for every run and node: scale * sigma0 * I unless an array is given."""
+    base = scale * sigma0 * np.eye(n_x) if value is None else np.asarray(value, dtype=float)
+    return np.broadcast_to(base, (runs, m, n_x, n_x)).copy()
+
+
+def simulate(xh0, y, delta_seq, *, kappa_=kappa, inspect_=inspection, inspection_cov="Gamma",
+             const_gain=None, form=cmp_form, Pi0=None, Gam0=None, keep_bounds=False, net=None):
+    """Run the secure filter (7)/(34) (or a constant-gain filter) over all steps.
+
+    Parameters
+    ----------
+    xh0 : (R, m, n) initial estimates; y : (R, steps + 1, m) measurements incl. attacks;
+    delta_seq : (>= steps,) channel states. kappa_ : coupling; inspect_ : apply (25);
+    inspection_cov : "Gamma" (25) or "Pi" (ablation); const_gain : (m, n) gains of the comparison
+    filter in structure `form`; Pi0, Gam0 : initial bounds ((n, n) or (R, m, n, n); default
+    pi0_scale, gamma0_scale times sigma0 I); net : (adjacency, weights) of another topology.
+
+    Returns
+    -------
+    dict with estimates "x" (R, steps + 1, m, n), test outcomes "theta" (R, steps + 1, m)
+    (theta[:, 0] = 1: no update at k = 0), the final bounds "Pi_end", "Gamma_end" and, with
+    keep_bounds, Pi, Gamma (R, steps + 1, m, n, n), gains and counters.
     """
     runs, steps = xh0.shape[0], y.shape[1] - 1
     adj_, H_ = (adj, H) if net is None else net
     x_post = xh0.copy()
-    Pi = np.broadcast_to(pi0_scale * sigma0 * np.eye(n_x), (runs, m, n_x, n_x)).copy()
-    Gam = Pi.copy()
+    Pi, Gam = initial_bound(Pi0, pi0_scale, runs), initial_bound(Gam0, gamma0_scale, runs)
     out = {"x": [x_post], "theta": [np.ones((runs, m))]}
     if keep_bounds:
-        out.update(Pi=[Pi], Gamma=[Gam], K=[], q1_psd=[], min_branch=[], Gamma_eta=[], Pi_eta=[],
-                   nis=[])
+        out.update(Pi=[Pi], Gamma=[Gam], K=[], q1_psd=[], min_branch=[], Gamma_eta=[], Pi_eta=[])
     for k in range(steps):
         if const_gain is not None:
-            x_prior, d_r = filters.consensus_prediction(x_post, delta_seq[k], adj_, H_, A, kappa,
+            x_prior, d_r = filters.consensus_prediction(x_post, delta_seq[k], adj_, H_, A, kappa_,
                                                          validate=(k == 0))
-            if cmp_form == "predictor":  # x_{k+1} = A x_k + kappa A xi_k + K_i (y_k - C_i x_k)
+            if form == "predictor":  # x_{k+1} = A x_k + kappa A xi_k + K_i (y_k - C_i x_k)
                 eta = y[:, k] - np.einsum("in,rin->ri", C_rows, x_post)
-                x_post = x_prior + const_gain[None] * eta[..., None]
             else:  # corrector: x+ = x- + K_i (y_{k+1} - C_i x-)
                 eta = y[:, k + 1] - np.einsum("in,rin->ri", C_rows, x_prior)
-                x_post = x_prior + const_gain[None] * eta[..., None]
+            x_post = x_prior + const_gain[None] * eta[..., None]
             theta = np.ones((runs, m))
         else:
             st = filters.secure_filter_step(
                 x_post, Pi, Gam, delta_seq[k], y[:, k + 1, :, None], A=A, BBt=BBt, C=C, DDt=DDt,
-                adj=adj_, weights=H_, kappa=kappa, threshold=threshold, inspect=inspect_,
+                adj=adj_, weights=H_, kappa=kappa_, threshold=threshold, inspect=inspect_,
                 inspection_cov=inspection_cov, tol=tol, strict=strict, validate=(k == 0))
             d_r = st.delta_r
             x_post, Pi, Gam, theta = st.x_post, st.Pi_post, st.Gamma_post, st.theta
@@ -357,20 +463,38 @@ def simulate(xh0, y, delta_seq, *, inspect_=True, inspection_cov="Gamma", const_
                                   ("Gamma_eta", np.einsum("iyn,rinm,iym->ri", C, st.Gamma_prior, C)
                                    + DDt[0, 0]),
                                   ("Pi_eta", np.einsum("iyn,rinm,iym->ri", C, st.Pi_prior, C)
-                                   + DDt[0, 0]), ("nis", st.nis)):
+                                   + DDt[0, 0])):
                     out[name].append(val)
         if not np.all(d_r == delta_seq[k]):  # literal (4) equals delta_k (P3)
             raise AssertionError(f"indicator (4) differs from delta_k at k = {k}")
         out["x"].append(x_post)
         out["theta"].append(theta)
-    return {key: np.stack(val, axis=1) for key, val in out.items()}
+    res = {key: np.stack(val, axis=1) for key, val in out.items()}
+    res["Pi_end"], res["Gamma_end"] = Pi, Gam
+    return res
+
+
+def pos_err(sim: dict, x: np.ndarray) -> np.ndarray:
+    """Position error x_hat_{i,k}(1) - x_{1,k}, shape (R, steps + 1, m)."""
+    return sim["x"][..., 0] - x[:, :, None, 0]
+
+
+def rmse(err: np.ndarray, ks: np.ndarray, i: int) -> np.ndarray:
+    """Position RMSE over the steps ks at node index i, one value per run."""
+    return np.sqrt(np.mean(err[:, ks, i] ** 2, axis=1))
+
+
+def locked(theta: np.ndarray, k: int) -> np.ndarray:
+    """(R, m) bool: the node rejected each of its last LOCK_STEPS measurements up to step k."""
+    return np.all(theta[:, k - LOCK_STEPS + 1 : k + 1] == 0, axis=1)
 
 # %% [markdown]
 # ## The example (Section V): Cases A and B, no inspection, constant gains
 #
-# One run with the default seed. Case A has no attack. Case B adds $+15$ to $y_{4,k}$ for
-# $k\in[90,95]$ and to $y_{12,k}$ for $k\in[50,55]$. The attacked data is not transmitted and
-# touches no other sensor. "No inspection" is Case B with $\tilde\vartheta\equiv1$ in (34) and (35).
+# One run with the default seed. Case A has no attack. Case B adds the injections of `attacks`
+# ($+15$ to $y_{4,k}$ for $k\in[90,95]$ and to $y_{12,k}$ for $k\in[50,55]$). The attacked data is not
+# transmitted and touches no other sensor. "No inspection" is Case B with $\tilde\vartheta\equiv1$
+# in (34) and (35). The constant-gain comparison filter runs in both readings of its structure.
 
 # %%
 world = draw_world(rng_world, 1, N)
@@ -379,88 +503,94 @@ y_attacked = y_clean + attack
 case_a = simulate(world["xh0"], y_clean, delta, keep_bounds=True)
 case_b = simulate(world["xh0"], y_attacked, delta, keep_bounds=True)
 no_insp = simulate(world["xh0"], y_attacked, delta, inspect_=False)
-const_a = simulate(world["xh0"], y_clean, delta, const_gain=K_const)
-const_b = simulate(world["xh0"], y_attacked, delta, const_gain=K_const)
+const = {form: {case: simulate(world["xh0"], y_, delta, const_gain=K_const, form=form)
+                for case, y_ in (("A", y_clean), ("B", y_attacked))} for form in CMP_FORMS}
 k_all = np.arange(N + 1)
-
-
-def pos_err(sim, x):
-    """Position error x_hat_{i,k}(1) - x_{1,k}, shape (R, N+1, m)."""
-    return sim["x"][..., 0] - x[:, :, None, 0]
-
-
-def rmse(err, ks, i):
-    """Position RMSE over steps ks at node index i, per run."""
-    return np.sqrt(np.mean(err[:, ks, i] ** 2, axis=1))
-
-
 err = {name: pos_err(sim, x_true) for name, sim in
-       (("A", case_a), ("B", case_b), ("N", no_insp), ("cA", const_a), ("cB", const_b))}
+       (("A", case_a), ("B", case_b), ("N", no_insp), ("cA", const[cmp_form]["A"]),
+        ("cB", const[cmp_form]["B"]))}
 rej_a = np.argwhere(case_a["theta"][0] == 0)
 rej_b = np.argwhere(case_b["theta"][0] == 0)
-print("Case A rejections (k, node):", [(int(k), int(i) + 1) for k, i in rej_a])
-print("Case B rejections (k, node):", [(int(k), int(i) + 1) for k, i in rej_b])
+print("Case A rejections (k, node):", [(int(k), int(i) + 1) for k, i in rej_a][:40])
+print("Case B rejections (k, node):", [(int(k), int(i) + 1) for k, i in rej_b][:40])
 
 # %% [markdown]
 # ## Fig. 3 — measurements under attack
 #
-# Received $y_{4,k}$ and $y_{12,k}$. The normal measurement, without the injection, is dashed.
+# Received $y_{i,k}$ of the attacked sensors. The normal measurement, without the injection, is dashed.
 # The paper's note that normal curves are "attacked minus 15" confirms an additive constant.
 
 
 # %%
+def label_windows(ax, nodes=None, text=True) -> None:
+    """Shade the attack windows of `nodes` (default: all) and name the attacked sensor above each."""
+    for node, ks in windows.items():
+        if nodes is not None and node not in nodes:
+            continue
+        ax.axvspan(ks[0], ks[-1], color="tab:red", alpha=0.12, lw=0)
+        if text:
+            ax.annotate(f"sensor {node} attacked", ((ks[0] + ks[-1]) / 2, 1.0),
+                        xycoords=("data", "axes fraction"), xytext=(0, 1.5), textcoords="offset points",
+                        ha="center", va="bottom", fontsize=7, color="tab:red")
+
+
 def measurement_figure(nodes, name, title):
-    fig, axes = plt.subplots(len(nodes), 1, figsize=(plotting.PAGE_WIDTH, 1.6 * len(nodes) + 0.4),
-                             sharex=True)
+    fig, axes = plt.subplots(len(nodes), 1, figsize=(plotting.PAGE_WIDTH, 1.7 * len(nodes) + 0.5),
+                             sharex=True, squeeze=False)
     data = {"k": k_all[1:]}
-    for ax, node in zip(np.atleast_1d(axes), nodes, strict=True):
+    for ax, node in zip(axes[:, 0], nodes, strict=True):
         i = node - 1
         ax.plot(k_all[1:], y_attacked[0, 1:, i], color="tab:red", label=f"received $y_{{{node},k}}$")
         ax.plot(k_all[1:], y_clean[0, 1:, i], color="k", ls="--", lw=0.9, label="normal (no injection)")
-        if node in windows:
-            ax.axvspan(windows[node][0], windows[node][-1], color="tab:red", alpha=0.15,
-                       label="attack window")
+        label_windows(ax, [node], text=False)
         ax.set_ylabel(f"$y_{{{node},k}}$ [sensor units]")
-        ax.legend(loc="upper left", ncol=3)
+        ax.legend(loc="upper left", ncol=2, fontsize=7)
         data[f"y{node}_received"] = y_attacked[0, 1:, i]
         data[f"y{node}_normal"] = y_clean[0, 1:, i]
-    np.atleast_1d(axes)[-1].set_xlabel("time step k")
-    np.atleast_1d(axes)[0].set_title(title)
-    plotting.save_figure(fig, FIG_DIR, name, data=data)
-    plt.show()
+    axes[-1, 0].set_xlabel("time step k")
+    axes[-1, 0].set_xlim(0, N)
+    axes[0, 0].set_title(title)
+    save(fig, name, data=data)
 
 
-measurement_figure([4, 12], "fig3_measurements_attack", "Fig. 3: measurements subject to attacks")
+measurement_figure(list(windows), "fig3_measurements_attack", "Fig. 3: measurements subject to attacks (shaded: attack window)")
 
 # %% [markdown]
-# ## Fig. 4 — position $x_{1,k}$ and its estimates at nodes 4, 12, 20
+# ## Fig. 4 — position $x_{1,k}$ and its estimates at the plotted nodes
 #
-# (a) Case A. (b) Case B with the inspection (25). (c) Case B without the inspection.
+# (a) Case A. (b) Case B with the inspection (25). (c) Case B without the inspection. The estimates
+# of sensors 12 and 20 nearly coincide at the scale of the position, so each figure has a second panel
+# with the estimation errors $\hat x^+_{i,k}(1)-x_{1,k}$; sensor 20 is drawn dashed under the others.
 
 # %%
-node_colors = {4: "tab:orange", 12: "tab:green", 20: "tab:purple"}
+PALETTE = ["tab:orange", "tab:green", "tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan"]
+node_colors = {node: PALETTE[j % len(PALETTE)] for j, node in enumerate(plot_nodes)}
+node_styles = {node: "-" if node - 1 in ATT else "--" for node in plot_nodes}
 
 
 def estimate_figure(sim, name, title, shade=True):
-    fig, ax = plt.subplots(figsize=(plotting.PAGE_WIDTH, 3.0))
+    fig, (ax, ax2) = plt.subplots(2, 1, figsize=(plotting.PAGE_WIDTH, 4.6), sharex=True,
+                                  height_ratios=[3, 2])
     ax.plot(k_all, x_true[0, :, 0], color="k", lw=1.6, label=r"position $x_{1,k}$")
     data = {"k": k_all, "x1": x_true[0, :, 0]}
-    for node in plot_nodes:
-        ax.plot(k_all, sim["x"][0, :, node - 1, 0], color=node_colors.get(node), lw=1.0,
-                label=f"estimate $\\hat x^+_{{{node},k}}(1)$, sensor {node}")
-        data[f"xhat{node}"] = sim["x"][0, :, node - 1, 0]
+    for node in sorted(plot_nodes, key=lambda n: n - 1 in ATT):  # unattacked first, underneath
+        est = sim["x"][0, :, node - 1, 0]
+        style = {"color": node_colors[node], "ls": node_styles[node], "lw": 1.0}
+        ax.plot(k_all, est, label=f"estimate $\\hat x^+_{{{node},k}}(1)$, sensor {node}", **style)
+        ax2.plot(k_all, est - x_true[0, :, 0], **style)
+        data[f"xhat{node}"] = est
+    data = {"k": data["k"], "x1": data["x1"], **{f"xhat{n}": data[f"xhat{n}"] for n in plot_nodes}}
     if shade:
-        for ks in windows.values():
-            ax.axvspan(ks[0], ks[-1], color="tab:red", alpha=0.12)
-        ax.axvspan(0, 0, color="tab:red", alpha=0.12,
-                   label=f"attack windows (sensors {', '.join(map(str, windows))})")
-    ax.set_xlabel("time step k")
+        label_windows(ax)
+        label_windows(ax2, text=False)
+    ax2.axhline(0.0, color="k", lw=0.6)
     ax.set_ylabel("position [length unit]")
-    ax.set_xlim(0, N)
-    ax.set_title(title)
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=3)
-    plotting.save_figure(fig, FIG_DIR, name, data=data)
-    plt.show()
+    ax2.set_ylabel("estimation error\n[length unit]")
+    ax2.set_xlabel("time step k")
+    ax2.set_xlim(0, N)
+    ax.set_title(title, pad=13 if shade else 6)
+    ax2.legend(*ax.get_legend_handles_labels(), loc="upper center", bbox_to_anchor=(0.5, -0.32), ncol=2)
+    save(fig, name, data=data)
 
 
 estimate_figure(case_a, "fig4a_estimates_case_a", "Fig. 4(a): Case A, no attack", shade=False)
@@ -469,25 +599,41 @@ estimate_figure(no_insp, "fig4c_estimates_no_inspection",
                 "Fig. 4(c): Case B, attacks, inspection removed")
 
 # %% [markdown]
-# ## How far the attack leaks into unattacked nodes (claims C2a, C2b)
+# ## "No obvious effect" between Figs. 4(a) and 4(b) (claim C2a) and the leak by hop (C2b)
 #
-# Comparing Figs. 4(a) and 4(b), the paper finds "no obvious effect on the filtering performance with or
-# without attacks". For the unattacked node 20 we read this as: its estimate is unaffected. The
-# injected data never leaves the attacked sensor. It still reaches other nodes in two ways. The
-# attacked node's estimate drifts during its six open-loop predictions, and the consensus term of
-# (7) passes that drift to its neighbours. Its bound $\Pi^+$ also grows while updates are skipped. That
-# bound enters the neighbours' $\tilde\Xi$ in (26), so their gains change. Each further hop
-# attenuates the effect again (the coupling $\kappa$ is weak, but it acts at every step). How much node 20 moves therefore depends on how far it is from
-# sensors 4 and 12 in Fig. 1, which we do not have.
+# The paper's words: "Combining Fig. 4(a) and Fig. 4(b), we can find that there is no obvious effect on
+# the filtering performance with or without attacks benefiting from the capability of designed
+# detection scheme." That is a statement about what a reader sees. We measure it on the plotted curves:
+# for each plotted sensor the largest shift of its estimate between Cases B and A,
+# $\max_k\lvert\hat x^+_{i,k}(1)\,\text{(B)}-\hat x^+_{i,k}(1)\,\text{(A)}\rvert$, as a fraction of the
+# axis range of Fig. 4(a), next to the same sensor's own largest error in Case A (from $k=1$). Our rule
+# for "no obvious effect" (the threshold is ours, the paper gives none): no curve is moved by the
+# attack further than its own error without attack already reaches in Fig. 4(a).
 #
-# We measure the leak $\max_k\lVert\hat x^+_{i,k}(\text{B})-\hat x^+_{i,k}(\text{A})\rVert_\infty$ on ten
-# stand-in topologies: the first ten seeds from the default, 2020–2029 (`leak_topology_seeds`). The list
-# was fixed before the sweep ran; only seeds 2020 and 2021 had been looked at before (see the provenance
-# table). The default topology is the first. Each topology gets one Case A and one Case B run on the default channel and world.
-# We record node 20's leak with its hop distance to the nearest attacked sensor, and the leak of
-# every unattacked node against its hop distance.
+# The injected data never leaves the attacked sensor. It still reaches other nodes in two ways. The
+# attacked node's estimate drifts during its open-loop predictions, and the consensus term of (7)
+# passes that drift to its neighbours. Its bound $\Pi^+$ also grows while updates are skipped; that
+# bound enters the neighbours' $\tilde\Xi$ in (26), so their gains change. Each further hop attenuates
+# the effect again. How much an unattacked node moves therefore depends on its distance from the
+# attacked sensors in Fig. 1, which we do not have. C2b (ours) quantifies this on ten stand-in
+# topologies fixed in advance (`leak_topology_seeds`, seeds 2020–2029, each with one Case A and one Case B
+# run on the default channel and world): the leak
+# $\max_k\lVert\hat x^+_{i,k}(\text{B})-\hat x^+_{i,k}(\text{A})\rVert_\infty$ of every unattacked node
+# against its hop distance to the nearest attacked sensor.
 
 # %%
+axis_range = float(np.ptp(np.concatenate([x_true[0, :, 0], *(case_a["x"][0, :, i, 0] for i in PLOT)])))
+c2a = {}
+for node in plot_nodes:
+    i = node - 1
+    shift = float(np.abs(case_b["x"][0, :, i, 0] - case_a["x"][0, :, i, 0]).max())
+    own = float(np.abs(err["A"][0, 1:, i]).max())
+    c2a[f"sensor{node}"] = {"shift": shift, "shift_fraction_of_axis": shift / axis_range,
+                            "case_a_error": own, "case_a_error_fraction_of_axis": own / axis_range,
+                            "hops_to_attacked": min(hops[i][a] for a in ATT)}
+    print(f"sensor {node}: shift {shift:.3g} ({shift / axis_range:.2%} of the axis range {axis_range:.3g}); "
+          f"own Case A error up to {own:.3g} ({own / axis_range:.2%})")
+
 leak_rows = []  # (topology seed, node (1-based), hops to the nearest attacked sensor, leak)
 for s_top in leak_topology_seeds:
     adj_s = graphs.check_connected(graphs.random_geometric_graph(m, radius, s_top))
@@ -497,78 +643,77 @@ for s_top in leak_topology_seeds:
     leak_s = np.abs(pair["x"][1] - pair["x"][0]).max(axis=(0, 2))
     hops_s = dict(nx.all_pairs_shortest_path_length(nx.from_numpy_array(adj_s)))
     for i in range(m):
-        h_i = min(hops_s[i][node - 1] for node in windows)
+        h_i = min(hops_s[i][a] for a in ATT)
         if h_i > 0:
             leak_rows.append((s_top, i + 1, h_i, float(leak_s[i])))
 leak_tab = np.array(leak_rows)
-node20 = leak_tab[leak_tab[:, 1] == 20]
-print("node 20 per topology seed (hops, leak):",
-      ", ".join(f"{int(s_)}: ({int(h_)}, {v:.1e})" for s_, _, h_, v in node20))
 leak_stats = {}
 for h_ in np.unique(leak_tab[:, 2]).astype(int):
     v = leak_tab[leak_tab[:, 2] == h_, 3]
     leak_stats[str(h_)] = {"nodes": int(v.size), "min": float(v.min()), "median": float(np.median(v)),
-                           "max": float(v.max()), "fraction_le_1e-3": float(np.mean(v <= 1e-3))}
+                           "max": float(v.max())}
     print(f"{h_} hop(s): {v.size:3d} node-topologies, leak min {v.min():.1e}, median {np.median(v):.1e}, "
-          f"max {v.max():.1e}, fraction <= 1e-3: {np.mean(v <= 1e-3):.2f}")
+          f"max {v.max():.1e}")
 
 # %%
 fig, ax = plt.subplots(figsize=(plotting.PAGE_WIDTH, 2.8))
+positive = leak_tab[:, 3] > 0
 jitter = (np.arange(len(leak_tab)) % 9 - 4) * 0.03
-others = leak_tab[:, 1] != 20
-ax.scatter(leak_tab[others, 2] + jitter[others], leak_tab[others, 3], s=10, color="0.55",
-           label="other unattacked nodes (10 topologies)")
-is20 = ~others
-ax.scatter(leak_tab[is20, 2] + jitter[is20], leak_tab[is20, 3], s=30, color="tab:purple",
-           edgecolors="k", lw=0.4, label="node 20 (10 topologies)")
-dflt = is20 & (leak_tab[:, 0] == topology_seed)
-ax.scatter(leak_tab[dflt, 2], leak_tab[dflt, 3], s=110, facecolors="none", edgecolors="tab:red",
-           lw=1.4, label=f"node 20, default topology (seed {topology_seed})")
+ax.scatter(leak_tab[positive, 2] + jitter[positive], leak_tab[positive, 3], s=10, color="0.45",
+           label=f"unattacked nodes ({len(leak_topology_seeds)} stand-in topologies)")
 hop_axis = np.array([int(h_) for h_ in leak_stats])
-ax.plot(hop_axis, [leak_stats[str(h_)]["median"] for h_ in hop_axis], color="k", marker="_",
-        ms=14, lw=1.0, label="median over nodes and topologies")
-ax.axhline(1e-3, color="tab:red", ls="--", lw=0.8, label="C2a limit $10^{-3}$")
-ax.set_yscale("log")
+medians = np.array([leak_stats[str(h_)]["median"] for h_ in hop_axis])
+ax.plot(hop_axis[medians > 0], medians[medians > 0], color="k", marker="_", ms=14, lw=1.0,
+        label="median over nodes and topologies")
+if not positive.any():
+    ax.text(0.5, 0.5, "every leak is exactly 0 (kappa = 0: the nodes are decoupled)",
+            transform=ax.transAxes, ha="center")
+else:
+    ax.set_yscale("log")
 ax.set_xticks(hop_axis)
-ax.set_xlabel("hop distance to the nearest attacked sensor (4 or 12)")
-ax.set_ylabel(r"leak $\max_k \|\hat x^+_B - \hat x^+_A\|_\infty$ [state units]")
-ax.set_title("Extra: leak of the attack into unattacked nodes, Case B vs Case A")
-ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7)
-plotting.save_figure(fig, FIG_DIR, "extra_leak_by_hop",
-                     data={"topology_seed": leak_tab[:, 0].astype(int), "node": leak_tab[:, 1].astype(int),
-                           "hops": leak_tab[:, 2].astype(int), "leak": leak_tab[:, 3]})
-plt.show()
+ax.set_xlabel("hop distance to the nearest attacked sensor")
+ax.set_ylabel(r"leak $\max_k \|\hat x^+_B - \hat x^+_A\|_\infty$" + "\n[state units]")
+ax.set_title("Extra: leak of the attack into unattacked nodes, Case B vs Case A (C2b)")
+ax.legend(loc="lower left", fontsize=7)
+save(fig, "extra_leak_by_hop", data={"topology_seed": leak_tab[:, 0].astype(int), "node": leak_tab[:, 1].astype(int),
+                                     "hops": leak_tab[:, 2].astype(int), "leak": leak_tab[:, 3]},
+     tolerance={"leak": results.CANCELLATION})
 
 # %% [markdown]
-# **What holds and what does not.** The leak decays geometrically with the hop distance. Its
-# median over nodes and topologies falls by more than a factor of ten per hop (printed above). Direct
-# neighbours of an attacked sensor are clearly affected, by a few $10^{-3}$ up to about $0.2$
-# in our runs, next to a position RMSE of about $0.3$–$0.5$ (P11). Two hops away the leak is around
-# $10^{-3}$. From three hops on it is at most about $10^{-3}$, and mostly far below. Node 20 is unaffected
-# in the paper's sense ($\le10^{-3}$) only in the topologies where it is at least two hops from
-# sensors 4 and 12, and not in all of those. In our default topology it is a direct neighbour of
-# sensor 12 (C2a does not hold). Its shift is still far too small to see at the scale of Fig. 4,
-# which is all the paper's figure can show.
+# **What the numbers say.** In the default run the attack's effect on the unattacked plotted sensor 20
+# is invisible (a few hundredths of a percent of the axis range), and the attacked sensors move by less
+# than their own ordinary error without attack: the paper's visual statement holds here (C2a). The rule
+# compares each curve with its own Case A error, so where Case A itself fails (a node locked out from
+# $k=1$, see X3) it is lenient; X3 reports that failure. The leak itself is real and decays
+# geometrically with the hop distance: its median over nodes and topologies falls by more than a factor
+# of twenty per hop, from about $3\cdot10^{-2}$ at direct neighbours (up to about $0.2$) to about
+# $10^{-3}$ two hops away (C2b). An earlier version of this notebook tested "node 20 is unaffected"
+# with a threshold of $10^{-3}$ of ours; that put a reading in the paper's mouth and is dropped.
 
 # %% [markdown]
 # ## Figs. 5 and 6 — the constant-gain comparison filter
 #
 # The paper's comparison filter comes from LMIs of its refs. [9], [13] and is not specified
 # beyond its gains. We use the same prediction (7), with the same $\kappa$, $\delta$ and $H$, and the
-# update $\hat x^+=\hat x^-+K_i\eta$ with the printed constant gains and no detector. It is stable:
-# the spectral radius of $(I-K_iC_i)A$ is printed below. The measurements
-# are the same draws as in Fig. 3 (common random numbers), so Fig. 5 shows sensors 4, 12 and 20.
+# printed constant gains without a detector, in two readings of the structure: **corrector**
+# $\hat x^+=\hat x^-+K_i(y_{i,k+1}-C_i\hat x^-)$ and **predictor**
+# $\hat x_{k+1}=A\hat x_k+\kappa A\hat\xi_k+K_i(y_{i,k}-C_i\hat x_k)$. Both are stable: the spectral
+# radii of $(I-K_iC_i)A$ and $A-K_iC_i$ are printed below. Fig. 6 shows the reading `cmp_form`; C9 is
+# measured in both. The measurements are the same draws as in Fig. 3 (common random numbers), so Fig. 5
+# shows the plotted sensors.
 
 # %%
-for label, kk, cc in (("nodes 1-7", K_const[0], C_rows[0]), ("nodes 8-20", K_const[-1], C_rows[-1])):
-    rho = max(abs(np.linalg.eigvals((np.eye(3) - np.outer(kk, cc)) @ A)))
-    print(f"{label}: C_i K_i = {cc @ kk:.4f}, spectral radius of (I - K_i C_i) A = {rho:.4f}")
-measurement_figure([4, 12, 20], "fig5_measurements_comparison",
+for label, kk, cc in (("nodes 1-7", K_const[0], C_rows[0]), (f"nodes 8-{m}", K_const[-1], C_rows[-1])):
+    rho_c = max(abs(np.linalg.eigvals((np.eye(3) - np.outer(kk, cc)) @ A)))
+    rho_p = max(abs(np.linalg.eigvals(A - np.outer(kk, cc))))
+    print(f"{label}: C_i K_i = {cc @ kk:.4f}; spectral radius of (I - K_i C_i) A = {rho_c:.4f} (corrector), "
+          f"of A - K_i C_i = {rho_p:.4f} (predictor)")
+measurement_figure(plot_nodes, "fig5_measurements_comparison",
                    "Fig. 5: measurements of the comparison run (same draws as Fig. 3)")
-estimate_figure(const_a, "fig6a_constant_gain_case_a", "Fig. 6(a): constant-gain filter, no attack",
-                shade=False)
-estimate_figure(const_b, "fig6b_constant_gain_case_b",
-                "Fig. 6(b): constant-gain filter, attacks (no detector)")
+estimate_figure(const[cmp_form]["A"], "fig6a_constant_gain_case_a",
+                f"Fig. 6(a): constant-gain filter ({cmp_form}), no attack", shade=False)
+estimate_figure(const[cmp_form]["B"], "fig6b_constant_gain_case_b",
+                f"Fig. 6(b): constant-gain filter ({cmp_form}), attacks (no detector)")
 
 # %% [markdown]
 # ## What the bounds do in practice (P6, P8)
@@ -576,7 +721,7 @@ estimate_figure(const_b, "fig6b_constant_gain_case_b",
 # Two counters show how the lower bound behaves. Whenever $\delta^r=1$ (after $k=0$),
 # $\tilde Q_1$ is indefinite, so $\Gamma^-=BB^T$. $\Gamma^-$ and $\tilde S_1$ are never ordered, so
 # $\Gamma^+=\lambda_{\min}I$ with $\lambda_{\min}\approx10^{-4}$. The test (25) therefore runs with
-# an almost constant normaliser $\Gamma_\eta\approx C_iBB^TC_i^T+DD^T$. The table below lists these values.
+# an almost constant normaliser $\Gamma_\eta\approx C_iBB^TC_i^T+DD^T$. The printout lists these values.
 
 # %%
 q1 = case_a["q1_psd"][0]
@@ -588,17 +733,18 @@ print("branch of min{Gamma^-, S1} (X, Y, lambda_min I):", np.bincount(branch.rav
 lam_gamma = np.linalg.eigvalsh(case_a["Gamma"][0, 1:])[..., -1]
 print(f"largest eigenvalue of Gamma^+ over k >= 1: {lam_gamma.max():.3g}")
 g_eta = case_a["Gamma_eta"][0]
-for lo_, hi_, lab in ((0, 7, "nodes 1-7"), (7, m, "nodes 8-20")):
-    cb = C_rows[lo_] @ BBt @ C_rows[lo_] + DDt[0, 0]
-    print(f"{lab}: Gamma_eta median {np.median(g_eta[:, lo_:hi_]):.4f} "
-          f"(C BB^T C^T + DD^T = {cb:.4f}); accepted |eta| < {np.sqrt(threshold * cb):.3f}")
+for lo_, hi_, lab in ((0, min(7, m), "nodes 1-7"), (7, m, f"nodes 8-{m}")):
+    if hi_ > lo_:
+        cb = C_rows[lo_] @ BBt @ C_rows[lo_] + DDt[0, 0]
+        print(f"{lab}: Gamma_eta median {np.median(g_eta[:, lo_:hi_]):.4f} "
+              f"(C BB^T C^T + DD^T = {cb:.4f}); accepted |eta| < {np.sqrt(threshold * cb):.3f}")
 print(f"for comparison, Pi_eta = C Pi^- C^T + DD^T of (32): median {np.median(case_a['Pi_eta'][0]):.3f}")
 
 # %% [markdown]
 # ## Exact covariance against the bounds (claim C5, extra figure)
 #
-# In Case A every update is accepted ($\tilde\vartheta\equiv1$). The conditioning on the test
-# outcome behind Lemma 1 and Theorem 2 is then trivial (E12), and the gains $K_{i,k}$ depend only
+# When every update is accepted ($\tilde\vartheta\equiv1$) the conditioning on the test
+# outcome behind Lemma 1 and Theorem 2 is trivial (E12), and the gains $K_{i,k}$ depend only
 # on $\delta$. So the exact stacked error covariance can be propagated. With
 # $e_{i,k}=x_k-\hat x_{i,k}$ and $L=I-H$:
 #
@@ -607,19 +753,25 @@ print(f"for comparison, Pi_eta = C Pi^- C^T + DD^T of (32): median {np.median(ca
 #
 # with $\mathrm{cov}(e^+_0)=(\mathbf 1\mathbf 1^T+I)\otimes\sigma_0I$. We check
 # $\lambda_{\min}(\Pi^+_{i,k}-P^+_{ii,k})\ge-10^{-9}\,\mathrm{tr}P^+_{ii,k}$ and the same for
-# $P^+-\Gamma^+$. A Monte Carlo run of Case A cross-checks the propagation.
+# $P^+-\Gamma^+$ on Case A. Theorems 1–2 start their induction from $\Gamma_0\preceq P_0\preceq\Pi_0$
+# and Lemma 1 needs the test outcome not to condition the error (all updates accepted): both are the
+# premise of C5. A Monte Carlo run of Case A cross-checks the propagation.
 
 
 # %%
-def exact_covariance(gains, delta_seq):
-    """Stacked (3m x 3m) posterior error covariance for recorded gains (N, m, n)."""
+def exact_covariance(gains: np.ndarray, delta_seq: np.ndarray, kappa_: float = kappa) -> np.ndarray:
+    """Stacked (3m x 3m) posterior error covariance for recorded gains (steps, m, n), diagonal blocks.
+
+    Propagates cov(e_k^+) exactly through the error dynamics above (Joseph form of (12) with
+    every update accepted), from cov(e_0^+) = (1 1^T + I) kron sigma0 I. Returns (steps + 1, m, n, n).
+    """
     n3 = m * n_x
     P = np.kron(np.ones((m, m)) + np.eye(m), sigma0 * np.eye(n_x))
     L_mat = np.eye(m) - H
     bw = np.kron(np.ones((m, 1)), B)
     blocks = [np.stack([P[n_x * i:n_x * (i + 1), n_x * i:n_x * (i + 1)] for i in range(m)])]
     for k in range(gains.shape[0]):
-        F = np.kron(np.eye(m), A) - kappa * delta_seq[k] * np.kron(L_mat, A)
+        F = np.kron(np.eye(m), A) - kappa_ * delta_seq[k] * np.kron(L_mat, A)
         Pm = F @ P @ F.T + bw @ bw.T
         KC = np.zeros((n3, n3))
         KD = np.zeros((n3, m))
@@ -630,50 +782,61 @@ def exact_covariance(gains, delta_seq):
         P = G @ Pm @ G.T + KD @ KD.T
         P = 0.5 * (P + P.T)
         blocks.append(np.stack([P[n_x * i:n_x * (i + 1), n_x * i:n_x * (i + 1)] for i in range(m)]))
-    return np.stack(blocks)  # (N+1, m, n, n)
+    return np.stack(blocks)
 
 
 all_accepted_a = bool(np.all(case_a["theta"] == 1))
+initial_order = bool(gamma0_scale <= 2.0 <= pi0_scale)
 P_exact = exact_covariance(case_a["K"][0], delta)
 tr_P = np.trace(P_exact, axis1=-2, axis2=-1)
 Pi_a, Gam_a = case_a["Pi"][0], case_a["Gamma"][0]
 gap_up = np.linalg.eigvalsh(Pi_a - P_exact)[..., 0] / tr_P
 gap_low = np.linalg.eigvalsh(P_exact - Gam_a)[..., 0] / tr_P
 ratio_tr = np.trace(Pi_a, axis1=-2, axis2=-1) / tr_P
-print(f"Case A all accepted: {all_accepted_a}")
+print(f"Case A all accepted: {all_accepted_a}; Gamma_0 <= P_0 <= Pi_0: {initial_order}")
 print(f"min_(i,k) lambda_min(Pi+ - P+)/tr P+ = {gap_up[1:].min():.3g}")
 print(f"min_(i,k) lambda_min(P+ - Gamma+)/tr P+ = {gap_low[1:].min():.3g}")
 print(f"median tr Pi+ / tr P+ = {np.median(ratio_tr[1:]):.3f}")
 
 # %%
-fig, (ax, ax2) = plt.subplots(2, 1, figsize=(plotting.PAGE_WIDTH, 4.2), sharex=True,
+fig, (ax, ax2) = plt.subplots(2, 1, figsize=(plotting.PAGE_WIDTH, 4.4), sharex=True,
                               height_ratios=[2, 1])
 data = {"k": k_all}
 for node in plot_nodes:
     i = node - 1
-    c = node_colors.get(node)
+    c = node_colors[node]
     tr_pi_i = np.trace(Pi_a[:, i], axis1=-2, axis2=-1)
-    tr_g_i = np.trace(Gam_a[:, i], axis1=-2, axis2=-1)
     ax.plot(k_all, tr_pi_i, color=c, label=f"sensor {node}: " + r"tr $\Pi^+$ (upper bound)")
     ax.plot(k_all, tr_P[:, i], color=c, ls="--", label=f"sensor {node}: " + r"tr $P^+$ (exact)")
-    ax2.semilogy(k_all, tr_g_i, color=c, ls=":", label=f"sensor {node}: " + r"tr $\Gamma^+$ (lower bound)")
-    data[f"trPi{node}"], data[f"trP{node}"], data[f"trGamma{node}"] = tr_pi_i, tr_P[:, i], tr_g_i
+    data[f"trPi{node}"], data[f"trP{node}"] = tr_pi_i, tr_P[:, i]
+    data[f"trGamma{node}"] = np.trace(Gam_a[:, i], axis1=-2, axis2=-1)
+for node in plot_nodes:
+    # curves equal to within 0.1 % share one line (nodes with the same C_i usually do)
+    same = [n for n in plot_nodes if np.allclose(data[f"trGamma{n}"], data[f"trGamma{node}"], rtol=1e-3, atol=0)]
+    if same[0] == node:
+        ax2.semilogy(k_all, data[f"trGamma{node}"], color=node_colors[node], ls=":",
+                     label=(f"sensors {', '.join(map(str, same))} (coincide)" if len(same) > 1 else f"sensor {node}")
+                     + r": tr $\Gamma^+$ (lower bound)")
 for a in (ax, ax2):
     for k in np.flatnonzero(delta == 0):
-        a.axvspan(k, k + 1, color="0.8", lw=0)
-ax.axvspan(0, 0, color="0.8", label=r"$\delta_k = 0$")
+        a.axvspan(k, k + 1, color="0.85", lw=0)
+ax.axvspan(0, 0, color="0.85", label=r"$\delta_k = 0$ (channel down)")
+upper = np.concatenate([data[f"trPi{n}"][1:] for n in plot_nodes] + [data[f"trP{n}"][1:] for n in plot_nodes])
+lower = np.concatenate([data[f"trGamma{n}"][1:] for n in plot_nodes])
 ax.set_yscale("log")
-ax.set_ylim(2, 30)
+ax.set_ylim(0.8 * upper.min(), 1.25 * upper.max())
 ax.set_xlim(0, N)
 ax.set_ylabel("trace [mixed units]")
 ax.set_title(r"Extra: consistency of the bounds, Case A ($\Gamma^+ \preceq P^+ \preceq \Pi^+$)")
-ax.legend(loc="upper center", ncol=3, fontsize=7)
-ax2.set_ylim(1e-4, 1e2)
+ax2.set_ylim(0.5 * lower.min(), 2.0 * lower.max())
 ax2.set_xlabel("time step k")
 ax2.set_ylabel("trace [mixed units]")
-ax2.legend(loc="upper right", ncol=3, fontsize=7)
-plotting.save_figure(fig, FIG_DIR, "extra_bound_consistency", data=data)
-plt.show()
+handles = ax.get_legend_handles_labels()
+handles2 = ax2.get_legend_handles_labels()
+fig.legend(handles[0] + handles2[0], handles[1] + handles2[1], loc="outside lower center", ncol=3,
+           fontsize=7)
+fig.set_layout_engine("constrained")
+save(fig, "extra_bound_consistency", data=data)
 
 # %% [markdown]
 # The upper bound is conservative (median $\mathrm{tr}\,\Pi^+/\mathrm{tr}\,P^+$ printed above) but
@@ -684,82 +847,261 @@ plt.show()
 # slightly because consensus is lost. The lower bound has collapsed to about $10^{-4}$ (P6).
 
 # %% [markdown]
-# ## Monte Carlo: detection, degradation and the χ² lockout
+# ## κ = 0: the nodes decouple exactly (claim X4)
+#
+# With $\kappa=0$ the prediction (7) is $\hat x^-_{i,k+1}=A\hat x^+_{i,k}$ and (26) is
+# $\Pi^-_{i,k+1}=A\Pi^+_{i,k}A^T+BB^T$: every node is a local Kalman filter of its own
+# measurements, whatever the channel. Two exact consequences: the attack cannot leak (the unattacked
+# nodes' estimates in Cases A and B are bit-for-bit equal), and without inspection $\Pi^+$ is the
+# exact covariance $P^+$ (the Riccati recursion with its optimal gain) when $\Pi_0=P_0$. The κ = 0
+# control uses $\Pi_0=\Gamma_0=P_0=2\sigma_0I$ and the run's other settings.
+
+# %%
+k0_a = simulate(world["xh0"], y_clean, delta, kappa_=0.0, Pi0=P0_exact, Gam0=P0_exact)
+k0_b = simulate(world["xh0"], y_attacked, delta, kappa_=0.0, Pi0=P0_exact, Gam0=P0_exact, keep_bounds=True)
+k0_free = simulate(world["xh0"], y_clean, delta, kappa_=0.0, inspect_=False, Pi0=P0_exact, Gam0=P0_exact,
+                   keep_bounds=True)
+unattacked = np.setdiff1d(np.arange(m), ATT)
+leak0 = float(np.abs(k0_b["x"][0][:, unattacked] - k0_a["x"][0][:, unattacked]).max())
+P_exact0 = exact_covariance(k0_free["K"][0], delta, kappa_=0.0)
+pi_vs_p0 = float((np.linalg.norm(k0_free["Pi"][0] - P_exact0, axis=(-2, -1))
+                  / np.linalg.norm(P_exact0, axis=(-2, -1))).max())
+first_rej = np.array([np.flatnonzero(k0_b["theta"][0, :, i] == 0)[0] if (k0_b["theta"][0, :, i] == 0).any()
+                      else N + 1 for i in range(m)])
+gam_vs_pi = np.linalg.norm(k0_b["Gamma"][0] - k0_b["Pi"][0], axis=(-2, -1)) / np.linalg.norm(
+    k0_b["Pi"][0], axis=(-2, -1))
+gam_pi_before = float(max(gam_vs_pi[:first_rej[i], i].max() for i in range(m)))
+lam_k0 = np.linalg.eigvalsh(k0_b["Gamma"][0, 1:])[..., -1]
+print(f"kappa = 0: leak into unattacked nodes = {leak0!r} (exactly 0 expected)")
+print(f"kappa = 0, no inspection: max_(i,k) ||Pi+ - P+||_F / ||P+||_F = {pi_vs_p0:.2g}")
+print(f"kappa = 0, Case B: max ||Gamma+ - Pi+|| / ||Pi+|| before each node's first rejection = {gam_pi_before:.2g}"
+      f"; largest eigenvalue of Gamma+ over k >= 1: {lam_k0.max():.3g} (kappa = {kappa:g}: {lam_gamma.max():.3g})")
+
+# %% [markdown]
+# ## Monte Carlo: detection, degradation, comparison and the χ² lockout
 #
 # We redraw $x_0$, $\hat x_{i,0}$, $w$ and $v$ in every run. The topology and the channel
-# sequence $\delta$ of Fig. 2 stay fixed. All runs go through the vectorised step at once.
-# The last case is an ablation of ours, not the paper's scheme: the test normalised by
-# $\Pi_\eta$ instead of $\Gamma_\eta$.
+# sequence $\delta$ of Fig. 2 stay fixed. All runs go through the vectorised step at once: Cases A and
+# B, Case B without inspection, the constant-gain filter in both structures, and two runs of ours
+# that are not the paper's scheme: the test normalised by $\Pi_\eta$ instead of $\Gamma_\eta$ (ablation
+# X2) and the κ = 0 control (X5).
 
 # %%
 mc_world = draw_world(rng_mc, R_MC, N)
 mc_clean, mc_att = mc_world["y"], mc_world["y"] + attack
 mc = {
-    "A": simulate(mc_world["xh0"], mc_clean, delta, keep_bounds=False),
+    "A": simulate(mc_world["xh0"], mc_clean, delta),
     "B": simulate(mc_world["xh0"], mc_att, delta),
     "N": simulate(mc_world["xh0"], mc_att, delta, inspect_=False),
     "B_Pi": simulate(mc_world["xh0"], mc_att, delta, inspection_cov="Pi"),
+    "B0": simulate(mc_world["xh0"], mc_att, delta, kappa_=0.0, Pi0=P0_exact, Gam0=P0_exact),
 }
+for form in CMP_FORMS:
+    mc[f"cA_{form}"] = simulate(mc_world["xh0"], mc_clean, delta, const_gain=K_const, form=form)
+    mc[f"cB_{form}"] = simulate(mc_world["xh0"], mc_att, delta, const_gain=K_const, form=form)
 mc_err = {key: pos_err(sim, mc_world["x"]) for key, sim in mc.items()}
-unattacked = np.setdiff1d(np.arange(m), [node - 1 for node in windows])
+mc_locked = {key: locked(mc[key]["theta"], N) for key in ("A", "B", "B_Pi", "B0")}
+ks_all = np.arange(1, N + 1)
+
+
+def wilson(count: int, n: int) -> dict:
+    """95 % Wilson interval of count / n as a claims entry."""
+    lo, hi = montecarlo.wilson_interval(int(count), int(n))
+    return results.interval(lo, hi, method="wilson")
+
+
+def boot(samples: np.ndarray, statistic: str = "median") -> dict:
+    """95 % percentile bootstrap interval (2000 resamples of the runs, seed 0) as a claims entry."""
+    lo, hi = montecarlo.bootstrap_interval(samples, statistic)
+    what = "ratio of means, paired by run" if np.ndim(samples) == 2 else statistic
+    return results.interval(lo, hi, method=f"bootstrap ({what})")
+
+
 mc_stats = {}
 for node, ks in windows.items():
     i = node - 1
     after = np.arange(ks[-1] + 1, N + 1)
     r_a, r_b, r_n = (rmse(mc_err[c], ks, i) for c in ("A", "B", "N"))
     th_b, th_pi = mc["B"]["theta"][:, :, i], mc["B_Pi"]["theta"][:, :, i]
-    mc_stats[node] = {
+    s = {
+        "runs_all_window_rejected": int((th_b[:, ks] == 0).all(axis=1).sum()),
         "reject_rate_window": float(1 - th_b[:, ks].mean()),
-        "median_B_over_A": float(np.median(r_b / r_a)),
+        "median_B_over_A": float(np.median(r_b / r_a)), "ci_B_over_A": boot(r_b / r_a),
+        "median_noinsp_over_B": float(np.median(r_n / r_b)), "ci_noinsp_over_B": boot(r_n / r_b),
         "p05_noinsp_over_B": float(np.percentile(r_n / r_b, 5)),
-        "median_noinsp_over_B": float(np.median(r_n / r_b)),
-        "locked_at_end": float(np.mean(th_b[:, -1] == 0)),
+        "locked": int(mc_locked["B"][:, i].sum()),
         "any_reject_after": float(np.mean((th_b[:, after] == 0).any(axis=1))),
+        "Pi_test_runs_all_window_rejected": int((th_pi[:, ks] == 0).all(axis=1).sum()),
         "Pi_test_reject_rate_window": float(1 - th_pi[:, ks].mean()),
-        "Pi_test_locked_at_end": float(np.mean(th_pi[:, -1] == 0)),
+        "Pi_test_locked": int(mc_locked["B_Pi"][:, i].sum()),
+        "kappa0_locked": int(mc_locked["B0"][:, i].sum()),
     }
-false_alarms_a = int((mc["A"]["theta"] == 0).sum())
-runs_with_alarm_a = float(np.mean((mc["A"]["theta"] == 0).any(axis=(1, 2))))
-outside_b = int((mc["B"]["theta"][:, :, unattacked] == 0).sum())
-print(f"{R_MC} runs. Case A: {false_alarms_a} rejections in total "
-      f"({runs_with_alarm_a:.1%} of runs with one); Case B, unattacked nodes: {outside_b}")
+    for form in CMP_FORMS:
+        r_c = rmse(mc_err[f"cB_{form}"], ks, i)
+        s[f"const_{form}_over_B"] = float(r_c.mean() / r_b.mean())
+        s[f"ci_const_{form}_over_B"] = boot(np.stack([r_c, r_b], axis=1), "mean")
+    mc_stats[node] = s
+locked_a = mc_locked["A"]
+runs_alarm_a = int((mc["A"]["theta"] == 0).any(axis=(1, 2)).sum())
+print(f"{R_MC} runs. Case A: {int((mc['A']['theta'] == 0).sum())} rejections in total, in {runs_alarm_a} runs; "
+      f"{int(locked_a.any(axis=1).sum())} runs with a node locked out at k = {N}; "
+      f"y_1 rejected by {np.mean(mc['A']['theta'][:, 1] == 0):.1%} of the nodes")
 for node, s in mc_stats.items():
-    print(f"sensor {node}: " + ", ".join(f"{k} {v:.3f}" for k, v in s.items()))
+    print(f"sensor {node}: " + ", ".join(f"{k} {v:.3f}" if isinstance(v, float) else f"{k} {v}"
+                                         for k, v in s.items() if not k.startswith("ci_")))
+
+# %% [markdown]
+# ### Recovery over a longer horizon
+#
+# A run is *locked out* at $k=150$ when the attacked sensor rejected each of its last ten measurements.
+# Does it stay locked? We continue every run in which an attacked sensor is locked at the horizon to
+# step `recovery_steps` (400 by default), with the same target, fresh noise, a continuation of the
+# channel chain from $\delta_{150}$ and no attack, and record when the sensor accepts a measurement again.
 
 # %%
-fig, ax = plt.subplots(figsize=(plotting.PAGE_WIDTH, 2.6))
+runs_cont = np.flatnonzero(mc_locked["B"][:, ATT].any(axis=1))
+S_REC = recovery_steps - N
+recovery = {}
+rec_curve = {}
+if runs_cont.size:
+    d_cont = channels.gilbert_elliott(p, q, S_REC + 1, rng_rec, initial=int(delta[N])).astype(float)
+    w_cont = continue_world(rng_rec, mc_world["x"][runs_cont, N], S_REC)
+    cont = simulate(mc["B"]["x"][runs_cont, N], w_cont["y"], d_cont, Pi0=mc["B"]["Pi_end"][runs_cont],
+                    Gam0=mc["B"]["Gamma_end"][runs_cont])
+    cont_err = pos_err(cont, w_cont["x"])
+    for node in windows:
+        i = node - 1
+        sel = mc_locked["B"][runs_cont, i]
+        if not sel.any():
+            continue
+        th = cont["theta"][sel, 1:, i]
+        still = locked(cont["theta"][sel], S_REC)[:, i]
+        recovery[f"sensor{node}"] = {
+            "locked_runs": int(sel.sum()), "resumed": int((th == 1).any(axis=1).sum()),
+            "locked_at_end": int(still.sum()),
+            "median_abs_error_at_end_if_locked": float(np.median(np.abs(cont_err[sel, -1, i])[still]))
+            if still.any() else None}
+        rec_curve[node] = np.concatenate([[1.0], 1 - (np.cumsum(th == 1, axis=1) > 0).mean(axis=0)])
+        print(f"sensor {node}: of {int(sel.sum())} runs locked at k = {N}, {recovery[f'sensor{node}']['resumed']} "
+              f"accept a measurement again by k = {recovery_steps}; "
+              f"{int(still.sum())} are locked at k = {recovery_steps}")
+else:
+    print(f"no run is locked out at k = {N}: nothing to continue")
+resumed = sum(v["resumed"] for v in recovery.values())
+locked_pairs = sum(v["locked_runs"] for v in recovery.values())
+
+# %%
+fig, (ax, ax2) = plt.subplots(2, 1, figsize=(plotting.PAGE_WIDTH, 4.6), height_ratios=[3, 2])
 data = {"k": k_all}
-for node, ks in windows.items():
+for node in windows:
     i = node - 1
-    c = node_colors.get(node)
-    rate = 1 - mc["B"]["theta"][:, :, i].mean(axis=0)
-    rate_pi = 1 - mc["B_Pi"]["theta"][:, :, i].mean(axis=0)
-    ax.plot(k_all, rate, color=c, label=f"sensor {node}, test (25) with $\\Gamma_\\eta$ (paper)")
-    ax.plot(k_all, rate_pi, color=c, ls=":",
-            label=f"sensor {node}, test with $\\Pi_\\eta$ (ablation, ours)")
-    ax.axvspan(ks[0], ks[-1], color="tab:red", alpha=0.12)
-    data[f"reject_rate{node}"] = rate
-    data[f"reject_rate_Pi{node}"] = rate_pi
+    c = node_colors.get(node, "tab:gray")
+    for key, ls, lab in (("B", "-", r"test (25) with $\Gamma_\eta$ (paper)"),
+                         ("B_Pi", ":", r"test with $\Pi_\eta$ (ablation, ours)"),
+                         ("B0", "--", r"$\kappa = 0$ control (ours)")):
+        rate = 1 - mc[key]["theta"][:, :, i].mean(axis=0)
+        ax.plot(k_all, rate, color=c, ls=ls, label=f"sensor {node}, {lab}")
+        data[f"reject_rate_{key}{node}"] = rate
+label_windows(ax)
 ax.set_xlabel("time step k")
 ax.set_ylabel(r"fraction of runs rejecting $y_{i,k}$")
 ax.set_xlim(0, N)
 ax.set_ylim(-0.02, 1.02)
-ax.set_title(f"Extra: rejection rate over {R_MC} Monte Carlo runs, Case B (lockout after the windows)")
-ax.legend(loc="center left", fontsize=7)
-plotting.save_figure(fig, FIG_DIR, "extra_lockout_rate", data=data)
-plt.show()
+ax.set_title(f"Extra: rejection rate over {R_MC} Monte Carlo runs, Case B (lockout after the windows)", pad=13)
+ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7)
+k_rec = np.arange(N, recovery_steps + 1)
+rec_data = {"k": k_rec}
+for node, curve in rec_curve.items():
+    ax2.step(k_rec, curve, where="post", color=node_colors.get(node, "tab:gray"),
+             label=f"sensor {node} ({recovery[f'sensor{node}']['locked_runs']} runs locked at k = {N})")
+    rec_data[f"still_rejecting{node}"] = curve
+if not rec_curve:
+    ax2.text(0.5, 0.5, f"no run locked out at k = {N}", transform=ax2.transAxes, ha="center")
+ax2.set_xlim(N, recovery_steps)
+ax2.set_ylim(-0.02, 1.02)
+ax2.set_xlabel("time step k (continuation without attack)")
+ax2.set_ylabel("fraction not yet\nresumed")
+ax2.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7)
+fig.set_layout_engine("constrained")
+plotting.save_data(FIG_DIR, "extra_lockout_recovery", rec_data)  # k only when no run is locked
+save(fig, "extra_lockout_rate", data=data)
 
 # %% [markdown]
-# **The lockout mechanism (P5).** $\Gamma^+$ is a lower bound that holds whether or not the
-# update happens, so it does not grow while updates are skipped. In practice it is pinned near
-# $10^{-4}I$, and $\Gamma_\eta$ stays at its floor $C_iBB^TC_i^T+DD^T$. The prediction error,
-# however, grows during the six skipped updates of an attack window. If the first clean innovation
-# after the window exceeds $\sqrt{25\,\Gamma_\eta}\approx4.2$–$4.6$, it is rejected too. The next
-# prediction is then worse again. The node never updates again and its error diverges: the
-# estimate is open-loop for good. The paper's Fig. 4(b), like our default run, shows a run without a lockout.
-# Over Monte Carlo runs the rate is far from zero (claim X1). A test normalised by $\Pi_\eta$,
-# which grows while updates are skipped, does not lock out. But it lets part of the attack through
-# (X2): it is not a fix within the paper's scheme.
+# **The lockout mechanism (P5) and its cause.** $\Gamma^+$ is a lower bound that holds whether or
+# not the update happens: (18) takes $\min\{\Gamma^-,\tilde S_1\}$, the smaller of the two outcomes,
+# so $\Gamma$ does not grow while updates are skipped. With the paper's $\kappa$ it has collapsed to
+# about $10^{-4}I$ anyway (P6), and $\Gamma_\eta$ stays at its floor $C_iBB^TC_i^T+DD^T$. The prediction
+# error, however, grows during the skipped updates of an attack window. If the first clean innovation
+# after the window exceeds $\sqrt{\chi^2\,\Gamma_\eta}$ (about 4.2–4.6 at threshold 25), it is rejected
+# too. The next prediction is then worse again, and the node runs open loop. The κ = 0 control
+# separates the two effects: there $\tilde Q_1\succeq0$ and $\Gamma^+=\Pi^+=P^+$ until a node's first
+# rejection (no collapse; printed above), yet the lockout persists, because after the first skipped
+# update (18) still returns the updated-looking $\tilde S_1$. Its cause is (17)–(18), not the
+# consensus terms. A test normalised by $\Pi_\eta$, which grows while updates are skipped, does not lock
+# out, but it lets part of the attack through (X2). Over a longer horizon some locked runs resume
+# when an innovation happens to fall inside the acceptance band again; the others keep diverging. The
+# paper's Fig. 4(b), like our default run, shows a run without a lockout.
+#
+# With a smaller but equally valid $\Gamma_0$ the test can also lock nodes out **without any attack**:
+# if $\tilde Q_1$ is indefinite already at $k=0$, $\Gamma^-_1=BB^T$ and the first innovation, whose
+# variance is set by $P_0$, is judged against the floor (claim X3).
+
+# %% [markdown]
+# ## The lockout over the declared space (from the robustness sweep)
+#
+# `make robustness` runs this notebook (fast mode: 100 Monte Carlo runs, a 600-step long run; the claims
+# measure the same quantities) at the 33 points of the declared space (`notebooks/ding2020.toml`: a
+# 32-point scrambled Sobol design over the eleven swept axes, plus the default point) and writes
+# `figures/ding2020/robustness.csv`. The figure below reads that table: the attack-induced lockout (X1)
+# against the threshold, and the lockout without attack (X3) against $\Gamma_0$; it shows the committed
+# table, and a fresh sweep updates it.
+#
+# **Cost.** A point is one papermill execution with figures off, about 12 s of CPU (kernel start
+# included), so the 33 points take about 3.5 minutes on two idle cores. The cost grows linearly with the
+# design: `n = 64` (65 points) about 7 minutes, `n = 128` about 14 minutes. Paper mode (300 runs) would
+# roughly double the cost of each point.
+#
+# **Reading the map.** Without attack (right), nodes lock out at $k=1$ unless $\Gamma_0$ is close to the
+# exact $P_0$: with a smaller $\Gamma_0$, $\tilde Q_1$ of (17) is already indefinite at $k=0$ (its negative
+# term scales with $\Pi_0$), so $\Gamma^-_1=BB^T$, and the first innovation, whose variance is set by
+# $P_0$, is judged against that floor. In the sweep X3 holds exactly where `gamma0_scale` ≥ 1.01. With
+# attack (left), the lockout rate falls with the threshold, within the declared range, to about 5–20 %
+# near the paper's 25 and above where $\Gamma_0$ is large; at small thresholds almost every run locks out.
+
+# %%
+sweep_csv = results.resolve("figures/ding2020/robustness.csv")
+fig, (ax, ax2) = plt.subplots(1, 2, figsize=(plotting.PAGE_WIDTH, 3.0), layout="constrained")
+map_data = {}
+if sweep_csv.exists():
+    with sweep_csv.open() as fh:
+        rows = [r for r in csv.DictReader(fh) if r["status"] == "ok" and r.get("X1.value", "") != ""]
+    thr = np.array([float(r["threshold"]) for r in rows])
+    g0 = np.array([float(r["gamma0_scale"]) for r in rows])
+    x1v = np.array([float(r["X1.value"]) for r in rows])
+    x3v = np.array([float(r["X3.value"]) for r in rows])
+    is_default = np.array([r["point"] == rows[0]["point"] for r in rows])
+    sc = ax.scatter(thr, x1v, c=np.log10(g0), cmap="viridis", s=22, edgecolors="k", lw=0.3)
+    sc2 = ax2.scatter(g0, x3v, c=thr, cmap="plasma", s=22, edgecolors="k", lw=0.3)
+    for a, xs, ys in ((ax, thr, x1v), (ax2, g0, x3v)):
+        a.scatter(xs[is_default], ys[is_default], s=120, facecolors="none", edgecolors="tab:red", lw=1.3,
+                  label="default point")
+    fig.colorbar(sc, ax=ax, label=r"$\log_{10}$ gamma0_scale")
+    fig.colorbar(sc2, ax=ax2, label="threshold")
+    map_data = {"threshold": thr, "gamma0_scale": g0, "X1_locked_fraction": x1v, "X3_runs_with_lockout": x3v}
+    ax.legend(loc="upper right", fontsize=7)
+else:
+    for a in (ax, ax2):
+        a.text(0.5, 0.5, "no sweep yet: run make robustness", transform=a.transAxes, ha="center")
+for a in (ax, ax2):
+    a.set_ylim(-0.03, 1.03)
+    a.set_ylabel("fraction of Monte Carlo runs")
+ax.set_xlabel(r"threshold $\chi^2_{1,\sigma}$ of (25)")
+ax.set_title("X1: an attacked sensor locked out at k = 150", fontsize=8)
+ax2.set_xscale("log")
+ax2.set_xlabel(r"gamma0_scale ($\Gamma_0$ = gamma0_scale $\sigma_0 I$)")
+ax2.set_title("X3: runs with a node locked out at k = 150, no attack", fontsize=8)
+fig.suptitle("Extra: the chi-square lockout over the declared space (robustness sweep)", fontsize=9)
+save(fig, "extra_lockout_map", data=map_data or None)
 
 # %% [markdown]
 # ## Theorem 4 for the example
@@ -767,8 +1109,18 @@ plt.show()
 # $\xi_q=\zeta\bar\alpha^2\big(1-q+q(1+\kappa)(1+\kappa\bar N)\big)$ and
 # $\xi_p=\zeta\bar\alpha^2\big(p+(1-p)(1+\kappa)(1+\kappa\bar N)\big)$ (42)–(43), with
 # $\zeta=\big((1+\nu)\underline c^2+\bar c^2(1-\sigma)\big)/\underline c^2$. (41) holds if both are
-# below 1. The proof's (45) carries $\tilde\kappa=2\kappa(1+\kappa)$, which gives
-# $(1+\kappa)(1+2\kappa\bar N)$ instead (E9); we evaluate both forms.
+# below 1.
+#
+# **Which form the proof implies.** The proof bounds the consensus part of (39) by
+# $\tilde\Pi_{\mathcal N_i}=2\kappa(1+\kappa)\sum_{j\in\mathcal N_i\cup\{i\}}A\Pi^+_jA^T$ (36), i.e. with
+# $\tilde\kappa=2\kappa(1+\kappa)$ in (44)–(45): the factor 2 is the one of $\tilde\Xi=2\sum\Pi^+_j$.
+# Summing (45) over the nodes in (47), each $\lVert\mathbb E\Pi^+_j\rVert$ appears once for its own node and
+# once for every neighbour, at most $1+\lvert\mathcal N_j\rvert\le\bar N$ times (undirected graph), so the
+# coefficient of $\sum_i\lVert\mathbb E\Pi^+_i\rVert$ under $\mathbf P_{k,0}$ is
+# $\zeta\bar\alpha^2\big(1-q+q(1+\kappa)+q\tilde\kappa\bar N\big)=\zeta\bar\alpha^2\big(1-q+q(1+\kappa)(1+2\kappa\bar N)\big)$,
+# and likewise for $\xi_p$. The proof therefore implies $(1+\kappa)(1+2\kappa\bar N)$; the printed
+# (42)–(43) drop the 2, which makes the printed condition weaker than what the proof establishes (E9). We
+# evaluate both; C8a decides on the printed form, the theorem as stated.
 
 # %%
 alpha_bar = np.linalg.norm(A, 2)
@@ -776,21 +1128,23 @@ c_norms = np.linalg.norm(C_rows, axis=1)
 c_lo, c_hi = c_norms.min(), c_norms.max()
 zeta = ((1 + nu) * c_lo**2 + c_hi**2 * (1 - sigma_fa)) / c_lo**2
 thm4 = {}
-for form, f in (("printed", 1.0), ("factor2", 2.0)):
+for form, f in (("printed", 1.0), ("proof_factor2", 2.0)):
     bracket = (1 + kappa) * (1 + f * kappa * N_bar)
     thm4[form] = {"xi_q": zeta * alpha_bar**2 * (1 - q + q * bracket),
                   "xi_p": zeta * alpha_bar**2 * (p + (1 - p) * bracket)}
+thm4_holds = bool(thm4["printed"]["xi_q"] < 1 and thm4["printed"]["xi_p"] < 1)
 print(f"alpha_bar^2 = {alpha_bar**2:.7f}, c_lo = {c_lo:.4f}, c_hi = {c_hi:.7f}, "
       f"zeta = {zeta:.6f}, zeta*alpha^2 = {zeta * alpha_bar**2:.5f}, N_bar = {N_bar}")
 for form, v in thm4.items():
-    print(f"{form:>8}: xi_q = {v['xi_q']:.4f}, xi_p = {v['xi_p']:.4f}")
+    print(f"{form:>14}: xi_q = {v['xi_q']:.4f}, xi_p = {v['xi_p']:.4f}")
 
 # %% [markdown]
 # **The condition fails, and it cannot hold for this plant.** The brackets are at least 1 for
-# every $p,q\in[0,1]$ and $\kappa\ge0$. $\zeta\ge2-\sigma$ whatever $\nu\ge 0$, and $\bar\alpha^2=1.073$. So
-# $\xi_q,\xi_p\ge\zeta\bar\alpha^2>2$. The condition would need $\lVert A\rVert^2<\approx0.5$, i.e. a
-# strongly stable plant, and the paper's own target is marginally unstable. Theorem 4 therefore says nothing about the
-# example. We show boundedness empirically instead (C8b): a long Case A run with its own channel chain.
+# every $p,q\in[0,1]$ and $\kappa\ge0$, so $\xi_q,\xi_p\ge\zeta\bar\alpha^2$ (equality at $\kappa=0$).
+# $\zeta\ge2-\sigma$ whatever $\nu\ge 0$, and $\bar\alpha^2=1.073$, so $\zeta\bar\alpha^2>2$. The condition
+# would need $\lVert A\rVert^2\lesssim0.5$, a strongly stable plant, and the paper's own target is
+# marginally unstable. Theorem 4 therefore says nothing about the example, and its conclusion (C8b) has
+# a failed premise. We still measure boundedness empirically: a long Case A run with its own channel chain.
 
 # %%
 delta_long = channels.gilbert_elliott(p, q, L_LONG + 1, rng_long, initial=delta0).astype(float)
@@ -798,11 +1152,12 @@ world_long = draw_world(rng_long, 1, L_LONG)
 long_run = simulate(world_long["xh0"], world_long["y"], delta_long, keep_bounds=True)
 tr_pi_max = np.trace(long_run["Pi"][0], axis1=-2, axis2=-1).max(axis=1)
 split = L_LONG // 2
-early = float(tr_pi_max[100:split + 1].max())
+burn = min(100, split // 2)
+early = float(tr_pi_max[burn:split + 1].max())
 late = float(tr_pi_max[split:].max())
 long_rejections = int((long_run["theta"] == 0).sum())
-print(f"{L_LONG} steps: max_i tr Pi+ in [100, {split}] = {early:.3f}, in [{split}, {L_LONG}] = "
-      f"{late:.3f}, min over k >= 100 = {tr_pi_max[100:].min():.3f}; rejections: {long_rejections}")
+print(f"{L_LONG} steps: max_i tr Pi+ in [{burn}, {split}] = {early:.3f}, in [{split}, {L_LONG}] = "
+      f"{late:.3f}, min over k >= {burn} = {tr_pi_max[burn:].min():.3f}; rejections: {long_rejections}")
 
 fig, ax = plt.subplots(figsize=(plotting.PAGE_WIDTH, 2.2))
 ax.plot(np.arange(L_LONG + 1), tr_pi_max, color="tab:blue", lw=0.7,
@@ -810,35 +1165,39 @@ ax.plot(np.arange(L_LONG + 1), tr_pi_max, color="tab:blue", lw=0.7,
 ax.axhline(1.5 * early, color="k", ls="--", lw=0.8, label="1.5 × max over the first half (C8b limit)")
 ax.set_yscale("log")
 ax.set_xlabel("time step k")
-ax.set_ylabel(r"$\max_i \mathrm{tr}\,\Pi^+_{i,k}$ [mixed units]")
+ax.set_ylabel(r"$\max_i \mathrm{tr}\,\Pi^+_{i,k}$" + "\n[mixed units]")
 ax.set_xlim(0, L_LONG)
-ax.set_title(f"Extra: the upper bound stays bounded over {L_LONG} steps (Case A) although (42)–(43) fail")
-ax.set_ylim(0.5 * tr_pi_max.min(), 3 * early)
-ax.legend(loc="lower right")
-plotting.save_figure(fig, FIG_DIR, "extra_pi_long_run",
-                     data={"k": np.arange(L_LONG + 1), "max_tr_Pi": tr_pi_max})
-plt.show()
+ax.set_title(f"Extra: the upper bound over {L_LONG} steps (Case A); (42)–(43) fail")
+ax.set_ylim(0.5 * tr_pi_max.min(), 3 * max(early, tr_pi_max.max()))
+ax.legend(loc="lower right", fontsize=7)
+save(fig, "extra_pi_long_run", data={"k": np.arange(L_LONG + 1), "max_tr_Pi": tr_pi_max})
 
 # %% [markdown]
 # ## The channel statistics (C6)
 #
 # $\hat p=\#(1\to0)/\#1$ and $\hat q=\#(0\to1)/\#0$ over consecutive pairs, on a long chain and on
-# the 151 samples of Fig. 2.
+# the samples of Fig. 2. Given the number of visits to a state, each transition count is binomial,
+# so a Wilson interval applies to each rate.
 
 
 # %%
-def rates(d):
+def transitions(d: np.ndarray) -> tuple[int, int, int, int]:
+    """(#(1 -> 0), #1, #(0 -> 1), #0) over consecutive pairs of the 0/1 sequence d."""
     a, b = d[:-1], d[1:]
-    return (float(np.sum((a == 1) & (b == 0)) / np.sum(a == 1)),
-            float(np.sum((a == 0) & (b == 1)) / np.sum(a == 0)), float(d.mean()))
+    return (int(np.sum((a == 1) & (b == 0))), int(np.sum(a == 1)),
+            int(np.sum((a == 0) & (b == 1))), int(np.sum(a == 0)))
 
 
 chain = channels.gilbert_elliott(p, q, chain_steps, rng_chain, initial=delta0)
-p_hat, q_hat, frac1 = rates(chain)
-p_fig2, q_fig2, _ = rates(delta)
+n10, n1, n01, n0 = transitions(chain)
+p_hat, q_hat, frac1 = n10 / n1, n01 / n0, float(chain.mean())
+p_ci = montecarlo.wilson_interval(n10, n1, level=0.999)
+q_ci = montecarlo.wilson_interval(n01, n0, level=0.999)
+f10, f1, f01, f0 = transitions(delta)
 stationary = channels.gilbert_elliott_stationary(p, q)
-print(f"{chain_steps} steps: p_hat = {p_hat:.4f}, q_hat = {q_hat:.4f}, fraction of ones = "
-      f"{frac1:.4f} (stationary {stationary:.5f}); Fig. 2: p_hat = {p_fig2:.3f}, q_hat = {q_fig2:.3f}")
+print(f"{chain_steps} steps: p_hat = {p_hat:.4f} (99.9 % Wilson {p_ci[0]:.4f}-{p_ci[1]:.4f}), q_hat = {q_hat:.4f} "
+      f"({q_ci[0]:.4f}-{q_ci[1]:.4f}), fraction of ones = {frac1:.4f} (stationary {stationary:.5f}); "
+      f"Fig. 2: {f10}/{f1} failures, {f01}/{f0} recoveries")
 
 # %% [markdown]
 # ## Vectorised against per-node implementation (C10) and Remark 4 (C7)
@@ -854,210 +1213,253 @@ print(f"{chain_steps} steps: p_hat = {p_hat:.4f}, q_hat = {q_hat:.4f}, fraction 
 
 # %%
 nbrs = graphs.neighbours(adj)
-x_vec, Pi_vec = world["xh0"].copy(), np.broadcast_to(pi0_scale * sigma0 * np.eye(n_x),
-                                                      (1, m, n_x, n_x)).copy()
-G_vec = Pi_vec.copy()
+x_vec, Pi_vec, G_vec = world["xh0"].copy(), initial_bound(None, pi0_scale, 1), initial_bound(None, gamma0_scale, 1)
 x_loop, Pi_loop, G_loop = x_vec[0].copy(), Pi_vec[0].copy(), G_vec[0].copy()
 steps_c10 = min(20, N)
 for k in range(steps_c10):
     st = filters.secure_filter_step(x_vec, Pi_vec, G_vec, delta[k], y_attacked[:, k + 1, :, None],
                                     A=A, BBt=BBt, C=C, DDt=DDt, adj=adj, weights=H, kappa=kappa,
-                                    threshold=threshold, tol=tol, strict=strict)
+                                    threshold=threshold, inspect=inspection, tol=tol, strict=strict)
     x_vec, Pi_vec, G_vec = st.x_post, st.Pi_post, st.Gamma_post
     new = [filters.secure_filter_node_step(
         x_loop[i], Pi_loop[i], G_loop[i], x_loop[nbrs[i]], Pi_loop[nbrs[i]], H[i, nbrs[i]],
         int(delta[k]), y_attacked[0, k + 1, i:i + 1], A=A, BBt=BBt, C_i=C[i], DDt=DDt,
-        kappa=kappa, threshold=threshold, tol=tol, strict=strict) for i in range(m)]
+        kappa=kappa, threshold=threshold, inspect=inspection, tol=tol, strict=strict) for i in range(m)]
     x_loop = np.stack([r[0] for r in new])
     Pi_loop = np.stack([r[1] for r in new])
     G_loop = np.stack([r[2] for r in new])
 c10_diff = float(max(np.abs(x_vec[0] - x_loop).max(),
                      np.abs(Pi_vec[0] - Pi_loop).max() / np.abs(Pi_loop).max(),
-                     np.abs(G_vec[0] - G_loop).max() / np.abs(G_loop).max()))
+                     np.abs(G_vec[0] - G_loop).max() / max(np.abs(G_loop).max(), 1e-300)))
 print(f"max |vectorised - per-node| after {steps_c10} steps: x {np.abs(x_vec[0] - x_loop).max():.2g}, "
       f"Pi {np.abs(Pi_vec[0] - Pi_loop).max():.2g}, Gamma {np.abs(G_vec[0] - G_loop).max():.2g}")
 
 # %% [markdown]
 # ## Claims
 #
-# RMSE means position RMSE. A window is $k\in[90,95]$ for sensor 4 and $k\in[50,55]$ for sensor 12.
-# The overall RMSE is over $k=1,\dots,150$. Thresholds are those of the reproduction brief.
+# RMSE means position RMSE; a window is the attacked sensor's attack window; the overall RMSE is over
+# $k=1,\dots,150$. Each claim carries the paper's place (`source`), the rule (`check`), and, for Monte
+# Carlo values, a 95 % interval (Wilson for fractions, bootstrap for medians and ratios) on which the rule
+# decides. A claim about the detector has the premise that the inspection (25) is applied. Thresholds
+# not in the paper are marked as ours or as the reproduction brief's.
 
 # %%
-w4, w12 = windows[4] if 4 in windows else None, windows[12] if 12 in windows else None
-ks_all = np.arange(1, N + 1)
-att_idx = {node: node - 1 for node in windows}
+INSPECTION_PREMISE = ("the chi-square inspection (25) is applied (inspection = true)", inspection)
 claims = {}
+att_names = [f"sensor{node}" for node in windows]
 
 # C1: detection
 rejected_b = {(int(k), int(i) + 1) for k, i in rej_b}
 expected_b = {(int(k), node) for node, ks in windows.items() for k in ks}
-c1_default = rejected_b == expected_b and rej_a.size == 0
-c1_rates = {f"sensor{node}": mc_stats[node]["reject_rate_window"] for node in windows}
+c1_runs = {f"sensor{n}": mc_stats[n]["runs_all_window_rejected"] / R_MC for n in windows}
+c1_worst = min(windows, key=lambda n: mc_stats[n]["runs_all_window_rejected"])
+c1_ci = wilson(mc_stats[c1_worst]["runs_all_window_rejected"], R_MC)
 claims["C1"] = results.claim(
-    paper="Fig. 4(b), Sec. V: the chi-square inspection (25) detects the injected data",
-    check="default seed: exactly the attacked (k, sensor) pairs are rejected in Case B and none in "
-    "Case A; Monte Carlo rejection rate inside the windows >= 0.99",
+    paper="Sec. V, Fig. 4(b): the chi-square inspection (25) removes the injected data ('benefiting from "
+    "the capability of designed detection scheme')",
+    check="default seed: every attacked (k, sensor) sample is rejected in Case B; Monte Carlo: fraction of "
+    "runs in which every attacked sample of a sensor is rejected, holds if the lower 95 % Wilson bound of "
+    "the worse sensor is >= 0.95 (threshold ours); per-sample rates and rejections outside the windows "
+    "are reported",
     measured={"default_rejected_in_windows": len(rejected_b & expected_b),
               "default_attacked_samples": len(expected_b),
               "default_rejections_elsewhere": len(rejected_b - expected_b) + int(rej_a.shape[0]),
-              "mc_reject_rate_window": c1_rates, "mc_runs": R_MC},
-    threshold={"mc_reject_rate_window": 0.99, "default_rejections_elsewhere": 0},
-    holds=bool(c1_default and min(c1_rates.values()) >= 0.99),
+              "mc_runs_all_rejected": c1_runs, "mc_runs_all_rejected_min": min(c1_runs.values()),
+              "mc_reject_rate_window": {f"sensor{n}": mc_stats[n]["reject_rate_window"] for n in windows},
+              "mc_runs": R_MC},
+    threshold={"mc_runs_all_rejected_lower_bound": 0.95},
+    holds=bool(expected_b <= rejected_b and c1_ci["low"] >= 0.95),
+    source="Sec. V, Fig. 4(b); test (25)", interval=c1_ci, premise=INSPECTION_PREMISE,
+    key="mc_runs_all_rejected_min", tolerance=MC_TOL,
+    section="Monte Carlo: detection, degradation, comparison and the χ² lockout",
 )
 
-# C2a: the paper's statement about node 20, over the ten stand-in topologies
-diff20 = float(np.abs(case_b["x"][0, :, 19] - case_a["x"][0, :, 19]).max())
-leak_by_hop_default = {}
-for i in unattacked:
-    h_min = min(hops[i][a] for a in att_idx.values())
-    leak = float(np.abs(case_b["x"][0, :, i] - case_a["x"][0, :, i]).max())
-    leak_by_hop_default[h_min] = max(leak_by_hop_default.get(h_min, 0.0), leak)
-per_seed20 = {str(int(s_)): {"hops": int(h_), "leak": float(v)} for s_, _, h_, v in node20}
+# C2a: the paper's visual statement
+c2a_ratio = max(v["shift"] / v["case_a_error"] for v in c2a.values())
 claims["C2a"] = results.claim(
-    paper="Sec. V, Figs. 4(a)-(b): 'there is no obvious effect on the filtering performance with or "
-    "without attacks'; for the unattacked node 20 (brief's reading): its estimate is unaffected "
-    "by the attacks on sensors 4 and 12",
-    check="leak = max_k ||x_hat_B - x_hat_A||_inf at sensor 20 <= 1e-3 in every one of the ten stand-in "
-    f"topologies (seeds {leak_topology_seeds[0]}..{leak_topology_seeds[-1]}, fixed in advance; the "
-    f"default topology is seed {topology_seed}); node 20's hop distance to the nearest attacked "
-    "sensor is reported with each leak",
-    measured={"default_topology_seed": topology_seed, "sensor20_default": diff20,
-              "hops_sensor20_default": [hops[19][a] for a in att_idx.values()],
-              "sensor20_by_topology": per_seed20,
-              "topologies_sensor20_le_1e-3": int(sum(v["leak"] <= 1e-3 for v in per_seed20.values())),
-              "topologies": len(per_seed20),
-              "default_max_leak_by_hop": {str(h): v for h, v in sorted(leak_by_hop_default.items())}},
-    threshold=1e-3,
-    holds=bool(all(v["leak"] <= 1e-3 for v in per_seed20.values())),
+    paper="Sec. V: 'Combining Fig. 4(a) and Fig. 4(b), we can find that there is no obvious effect on the "
+    "filtering performance with or without attacks benefiting from the capability of designed detection "
+    "scheme'",
+    check="default run, each plotted sensor: shift = max_k |x_hat_B(1) - x_hat_A(1)| and its own Case A "
+    "error max_{k>=1} |x_hat_A(1) - x_1|, both also as fractions of the axis range of Fig. 4(a); rule "
+    "(ours, the paper gives none): no obvious effect if no curve is moved by the attack further than its "
+    "own error without attack, i.e. max over sensors of shift / Case A error <= 1",
+    measured={**c2a, "axis_range": axis_range, "max_shift_over_case_a_error": c2a_ratio},
+    threshold={"max_shift_over_case_a_error": 1.0},
+    holds=bool(c2a_ratio <= 1.0),
+    source="Sec. V, Figs. 4(a)-(b)", premise=INSPECTION_PREMISE, key="max_shift_over_case_a_error",
+    tolerance=RUN_TOL,
+    section='"No obvious effect" between Figs. 4(a) and 4(b) (claim C2a) and the leak by hop (C2b)',
 )
 
-# C2b: how the leak decays with the hop distance (our criterion)
+# C2b: how the leak decays with the hop distance (ours)
 hop_keys = sorted(leak_stats, key=int)
-med_ratio_hop = [leak_stats[a]["median"] / leak_stats[b]["median"]
-                 for a, b in zip(hop_keys[:-1], hop_keys[1:], strict=True)]
+meds = [leak_stats[h_]["median"] for h_ in hop_keys]
+decays = [b <= 0.1 * a for a, b in zip(meds[:-1], meds[1:], strict=True)]
+ratios = [a / b if b > 0 else None for a, b in zip(meds[:-1], meds[1:], strict=True)]
+finite = [r for r in ratios if r is not None]
 claims["C2b"] = results.claim(
-    paper="(ours, quantifying C2a; no paper statement) the attack reaches unattacked nodes only "
-    "through the consensus term and the neighbours' bounds, so its effect decays with the hop "
-    "distance from the attacked sensors",
-    check="criterion (ours): over all unattacked nodes of the ten stand-in topologies, the median "
-    "leak max_k ||x_hat_B - x_hat_A||_inf falls by at least a factor of 10 per hop; min, median, "
-    "max and the fraction <= 1e-3 reported per hop distance",
-    measured={"by_hops": leak_stats, "median_ratio_per_hop": med_ratio_hop},
+    paper="(ours, no paper statement) the attack reaches unattacked nodes only through the consensus term "
+    "and the neighbours' bounds, so its effect decays with the hop distance from the attacked sensors",
+    check=f"criterion (ours): over all unattacked nodes of the {len(leak_topology_seeds)} stand-in "
+    "topologies of leak_topology_seeds, the median leak max_k ||x_hat_B - x_hat_A||_inf at hop distance "
+    "h+1 is at most 1/10 of that at h, for every h (exactly 0 leaks, as at kappa = 0, satisfy it)",
+    measured={"by_hops": leak_stats, "median_ratio_per_hop": ratios,
+              "min_median_ratio_per_hop": min(finite) if finite else None},
     threshold={"median_ratio_per_hop": 10.0},
-    holds=bool(len(med_ratio_hop) > 0 and min(med_ratio_hop) >= 10.0),
+    holds=bool(decays and all(decays)),
+    source="ours", key="min_median_ratio_per_hop", tolerance=RUN_TOL,
+    section='"No obvious effect" between Figs. 4(a) and 4(b) (claim C2a) and the leak by hop (C2b)',
 )
-print("leak by hop, median ratio per hop:", [f"{r:.1f}" for r in med_ratio_hop])
 
 # C3: mild effect with detection
+c3_worst = max(windows, key=lambda n: mc_stats[n]["median_B_over_A"])
+c3_ci = mc_stats[c3_worst]["ci_B_over_A"]
 max_err_b = {f"sensor{node}": float(np.abs(err["B"][0, ks, node - 1]).max()) for node, ks in windows.items()}
 med_ratio = {f"sensor{node}": mc_stats[node]["median_B_over_A"] for node in windows}
-default_ratio = {f"sensor{node}": float(rmse(err["B"], ks, node - 1)[0] / rmse(err["A"], ks, node - 1)[0])
-                 for node, ks in windows.items()}
 claims["C3"] = results.claim(
-    paper="Sec. V: with detection the attacked nodes are only mildly affected (Fig. 4(b) vs 4(a))",
-    check="Monte Carlo median of RMSE_B(window)/RMSE_A(window) <= 3 at each attacked sensor; "
-    "default seed: max |position error| in the window <= 2",
-    measured={"mc_median_ratio": med_ratio, "default_max_abs_error": max_err_b,
-              "default_ratio": default_ratio},
-    threshold={"mc_median_ratio": 3.0, "default_max_abs_error": 2.0},
-    holds=bool(max(med_ratio.values()) <= 3.0 and max(max_err_b.values()) <= 2.0),
+    paper="Sec. V, Figs. 4(a)-(b): with detection the attacked sensors are only mildly affected "
+    "('no obvious effect')",
+    check="Monte Carlo median over runs of RMSE_B(window)/RMSE_A(window), holds if the upper 95 % bootstrap "
+    "bound is <= 3 at each attacked sensor, and default seed: max |position error| in the window <= 2 "
+    "(thresholds of the reproduction brief)",
+    measured={"mc_median_ratio": med_ratio, "mc_median_ratio_max": max(med_ratio.values()),
+              "mc_ci_upper": {f"sensor{n}": mc_stats[n]["ci_B_over_A"]["high"] for n in windows},
+              "default_max_abs_error": max_err_b},
+    threshold={"mc_median_ratio_upper_bound": 3.0, "default_max_abs_error": 2.0},
+    holds=bool(max(mc_stats[n]["ci_B_over_A"]["high"] for n in windows) <= 3.0
+               and max(max_err_b.values()) <= 2.0),
+    source="Sec. V, Figs. 4(a)-(b)", interval=c3_ci, premise=INSPECTION_PREMISE, key="mc_median_ratio_max",
+    tolerance=MC_TOL, section="Monte Carlo: detection, degradation, comparison and the χ² lockout",
 )
 
 # C4: degradation without inspection
+c4_worst = min(windows, key=lambda n: mc_stats[n]["median_noinsp_over_B"])
 ratio_na = {f"sensor{node}": float(rmse(err["N"], ks, node - 1)[0] / rmse(err["A"], ks, node - 1)[0])
             for node, ks in windows.items()}
-p05 = {f"sensor{node}": mc_stats[node]["p05_noinsp_over_B"] for node in windows}
+med_nb = {f"sensor{n}": mc_stats[n]["median_noinsp_over_B"] for n in windows}
 claims["C4"] = results.claim(
-    paper="Sec. V, Fig. 4(c): without the inspection the filtering performance degrades at the "
-    "attack instants",
-    check="default seed: RMSE_noinsp(window)/RMSE_A(window) >= 5; Monte Carlo 5th percentile of "
-    "RMSE_noinsp(window)/RMSE_B(window) >= 2.5",
-    measured={"default_ratio_vs_A": ratio_na, "mc_p05_ratio_vs_B": p05,
-              "mc_median_ratio_vs_B": {f"sensor{n}": mc_stats[n]["median_noinsp_over_B"]
-                                       for n in windows}},
-    threshold={"default_ratio_vs_A": 5.0, "mc_p05_ratio_vs_B": 2.5},
-    holds=bool(min(ratio_na.values()) >= 5.0 and min(p05.values()) >= 2.5),
+    paper="Sec. V, Fig. 4(c): without the inspection 'the filtering performance is degraded at attack "
+    "instants' (in comparison with Fig. 4(b))",
+    check="Monte Carlo median over runs of RMSE_noinsp(window)/RMSE_B(window), holds if the lower 95 % "
+    "bootstrap bound is >= 2.5 at each attacked sensor (the brief's 2.5); the default run's ratio to "
+    "Case A and the 5th percentiles are reported",
+    measured={"mc_median_ratio_vs_B": med_nb, "mc_median_ratio_vs_B_min": min(med_nb.values()),
+              "mc_ci_lower": {f"sensor{n}": mc_stats[n]["ci_noinsp_over_B"]["low"] for n in windows},
+              "mc_p05_ratio_vs_B": {f"sensor{n}": mc_stats[n]["p05_noinsp_over_B"] for n in windows},
+              "default_ratio_vs_A": ratio_na},
+    threshold={"mc_median_ratio_lower_bound": 2.5},
+    holds=bool(min(mc_stats[n]["ci_noinsp_over_B"]["low"] for n in windows) >= 2.5),
+    source="Sec. V, Fig. 4(c)", interval=mc_stats[c4_worst]["ci_noinsp_over_B"], premise=INSPECTION_PREMISE,
+    key="mc_median_ratio_vs_B_min", tolerance=MC_TOL,
+    section="Monte Carlo: detection, degradation, comparison and the χ² lockout",
 )
 
 # C5: bounds against the exact covariance, with MC cross-check
-# runs with a (rare) false alarm in Case A have other gains: the exact P applies to the others
 clean_runs = np.all(mc["A"]["theta"] == 1, axis=(1, 2))
-e_mc = (mc_world["x"][:, :, None, :] - mc["A"]["x"])[clean_runs]
-emp_cov = np.einsum("rkia,rkib->kiab", e_mc, e_mc) / e_mc.shape[0]
-frob = np.linalg.norm(emp_cov - P_exact, axis=(-2, -1)) / np.linalg.norm(P_exact, axis=(-2, -1))
-mc_err_med = float(np.median(frob[1:]))
-mc_thr = 0.12 * np.sqrt(300 / int(clean_runs.sum()))
+n_clean = int(clean_runs.sum())
+mc_err_med, mc_thr = None, None
+if n_clean >= 30:
+    e_mc = (mc_world["x"][:, :, None, :] - mc["A"]["x"])[clean_runs]
+    emp_cov = np.einsum("rkia,rkib->kiab", e_mc, e_mc) / n_clean
+    frob = np.linalg.norm(emp_cov - P_exact, axis=(-2, -1)) / np.linalg.norm(P_exact, axis=(-2, -1))
+    mc_err_med, mc_thr = float(np.median(frob[1:])), 0.12 * np.sqrt(300 / n_clean)
+min_gap = float(min(gap_up[1:].min(), gap_low[1:].min()))
 claims["C5"] = results.claim(
-    paper="(8)/Theorems 1-3: Gamma+ <= P+ <= Pi+ for every node and step",
-    check="Case A (all updates accepted): min over (i, k >= 1) of lambda_min(Pi+ - P+)/tr P+ and "
-    "lambda_min(P+ - Gamma+)/tr P+ >= -1e-9, P+ the exact stacked covariance; its Monte Carlo "
-    "cross-check on the Monte Carlo runs without any rejection (median relative Frobenius "
-    "error) <= 0.12*sqrt(300/runs)",
-    measured={"case_a_all_accepted": all_accepted_a,
-              "min_eig_Pi_minus_P_rel": float(gap_up[1:].min()),
+    paper="(8), Theorems 1-3: Gamma+ <= P+ <= Pi+ for every node and step",
+    check="Case A: min over (i, k >= 1) of lambda_min(Pi+ - P+)/tr P+ and lambda_min(P+ - Gamma+)/tr P+ "
+    ">= -1e-9, P+ the exact stacked covariance (exact check); a Monte Carlo cross-check of P+ on the "
+    "runs without any rejection (median relative Frobenius error <= 0.12 sqrt(300/runs), when >= 30 such "
+    "runs) guards the propagation",
+    measured={"min_eig_rel": min_gap, "min_eig_Pi_minus_P_rel": float(gap_up[1:].min()),
               "min_eig_P_minus_Gamma_rel": float(gap_low[1:].min()),
               "median_trPi_over_trP": float(np.median(ratio_tr[1:])),
-              "mc_median_rel_frobenius_error": mc_err_med,
-              "mc_runs_all_accepted": int(clean_runs.sum()), "mc_runs": R_MC},
+              "mc_median_rel_frobenius_error": mc_err_med, "mc_runs_all_accepted": n_clean, "mc_runs": R_MC},
     threshold={"min_eig_rel": -1e-9, "mc_median_rel_frobenius_error": mc_thr},
-    holds=bool(all_accepted_a and gap_up[1:].min() >= -1e-9 and gap_low[1:].min() >= -1e-9
-               and mc_err_med <= mc_thr),
+    holds=bool(min_gap >= -1e-9 and (mc_err_med is None or mc_err_med <= mc_thr)),
+    source="(8); Theorems 1-3, (17)-(18), (26), (35)", key="min_eig_rel",
+    premise=("Gamma_0 <= P_0 <= Pi_0 (gamma0_scale <= 2 <= pi0_scale) and every update of the default "
+             "Case A run accepted (Lemma 1 without conditioning on the test, E12)",
+             initial_order and all_accepted_a),
+    section="Exact covariance against the bounds (claim C5, extra figure)",
 )
 
 # C6: channel statistics
 claims["C6"] = results.claim(
     paper="Sec. II: delta_k is a Gilbert-Elliott chain with failure rate p and recovery rate q",
-    check=f"on {chain_steps} steps: |p_hat - p| <= 0.005, |q_hat - q| <= 0.015, |fraction of ones - "
-    "q/(p+q)| <= 0.005; Fig. 2 sequence reported",
-    measured={"p_hat": p_hat, "q_hat": q_hat, "fraction_ones": frac1,
-              "fig2_p_hat": p_fig2, "fig2_q_hat": q_fig2, "fig2_ones": int(delta.sum()),
+    check=f"on {chain_steps} steps: p lies in the 99.9 % Wilson interval of p_hat = #(1->0)/#1 and q in that "
+    "of q_hat = #(0->1)/#0; the fraction of ones and Fig. 2's counts are reported",
+    measured={"p_hat": p_hat, "q_hat": q_hat, "p_hat_interval": list(p_ci), "q_hat_interval": list(q_ci),
+              "fraction_ones": frac1, "stationary": stationary,
+              "fig2_counts": {"failures": f10, "ones": f1, "recoveries": f01, "zeros": f0},
               "chain_steps": chain_steps},
-    threshold={"p": p, "q": q, "stationary": stationary, "tol_p": 0.005, "tol_q": 0.015,
-               "tol_stationary": 0.005},
-    holds=bool(abs(p_hat - p) <= 0.005 and abs(q_hat - q) <= 0.015
-               and abs(frac1 - stationary) <= 0.005),
+    threshold={"p": p, "q": q},
+    holds=bool(p_ci[0] <= p <= p_ci[1] and q_ci[0] <= q <= q_ci[1]),
+    source="Sec. II, Fig. 2", key="p_hat",
+    interval=results.interval(*p_ci, level=0.999, method="wilson"),
+    section="The channel statistics (C6)",
 )
 
 # C8a: Theorem 4's sufficient condition for the example
-thm4_holds = all(v["xi_q"] < 1 and v["xi_p"] < 1 for v in thm4.values())
 claims["C8a"] = results.claim(
-    paper="Theorem 4, (42)-(43): the mean upper bound sum_i ||E Pi+_{i,k}|| stays bounded if "
-    "xi_q < 1 and xi_p < 1; Sec. V applies the scheme to the example",
-    check="xi_q < 1 and xi_p < 1 for the example's values (p, q, kappa, A, C_i, threshold 25, "
-    "nu = 0, N_bar = 1 + max degree), in the printed form of (42)-(43) and in the factor-2 form "
-    "of the proof's (45)",
-    measured={"xi": thm4, "N_bar": int(N_bar), "zeta_alpha2": float(zeta * alpha_bar**2)},
+    paper="Theorem 4, (42)-(43): (41) holds if xi_q < 1 and xi_p < 1 (a condition on p, q, kappa, R2); the "
+    "paper does not evaluate it for its example",
+    check="exact: xi_q and xi_p for the run's (p, q, kappa, nu, threshold), A, C_i, N_bar = 1 + max "
+    "degree, in the printed form of (42)-(43) (decides) and in the form (1+kappa)(1+2 kappa N_bar) the "
+    "proof (36), (44)-(47) implies; also the infimum over all p, q in [0, 1], kappa >= 0: zeta alpha^2",
+    measured={"xi": thm4, "N_bar": int(N_bar), "zeta_alpha2": float(zeta * alpha_bar**2),
+              "max_xi_printed": float(max(thm4["printed"].values()))},
     threshold={"xi": 1.0},
-    holds=bool(thm4_holds),
+    holds=thm4_holds,
+    source="Theorem 4, (42)-(43); proof (44)-(47)", key="max_xi_printed",
+    section="Theorem 4 for the example",
 )
 
-# C8b: Pi bounded over a long run (empirical)
+# C8b: Pi bounded over a long run (Theorem 4's conclusion; its premise fails)
 claims["C8b"] = results.claim(
-    paper="Theorem 4 / problem R2: Pi+_{i,k} stays bounded as k grows",
+    paper="Theorem 4, (41): sum_i ||E Pi+_{i,k}|| stays bounded as k grows (R2)",
     check=f"empirical, one Case A run of {L_LONG} steps with its own channel chain: "
-    f"max_i tr Pi+ over k in [{split}, {L_LONG}] <= 1.5 x its max over k in [100, {split}]",
+    f"max_i tr Pi+ over the second half <= 1.5 x its max over k in [{burn}, {split}]",
     measured={"max_trPi_first_half": early, "max_trPi_second_half": late, "steps": L_LONG,
-              "rejections": long_rejections},
-    threshold={"growth_factor": 1.5},
+              "rejections": long_rejections, "growth": late / early},
+    threshold={"growth": 1.5},
     holds=bool(late <= 1.5 * early),
+    source="Theorem 4, (41)", key="growth", tolerance=MC_TOL,
+    premise=("(42)-(43) hold for the example (printed form, C8a)", thm4_holds),
+    section="Theorem 4 for the example",
 )
 
-# C9: comparison with the constant-gain filter
-ratio_const = {f"sensor{n}": float(rmse(err["cA"], ks_all, n - 1)[0] / rmse(err["A"], ks_all, n - 1)[0])
-               for n in plot_nodes}
-ratio_const_win = {f"sensor{n}": float(rmse(err["cB"], ks, n - 1)[0] / rmse(err["cA"], ks, n - 1)[0])
-                   for n, ks in windows.items()}
+# C9: comparison with the constant-gain filter, both readings of its structure
+c9 = {}
+for form in CMP_FORMS:
+    r_cA = {n: rmse(mc_err[f"cA_{form}"], ks_all, n - 1) for n in plot_nodes}
+    r_pA = {n: rmse(mc_err["A"], ks_all, n - 1) for n in plot_nodes}
+    no_att = {f"sensor{n}": float(np.median(r_cA[n] / r_pA[n])) for n in plot_nodes}
+    no_att_ci = {f"sensor{n}": boot(r_cA[n] / r_pA[n]) for n in plot_nodes}
+    under = {f"sensor{n}": mc_stats[n][f"const_{form}_over_B"] for n in windows}
+    under_ci = {f"sensor{n}": mc_stats[n][f"ci_const_{form}_over_B"] for n in windows}
+    c9[form] = {"no_attack_median_ratio": no_att,
+                "no_attack_ci": {k: [v["low"], v["high"]] for k, v in no_att_ci.items()},
+                "attack_window_ratio": under,
+                "attack_window_ci": {k: [v["low"], v["high"]] for k, v in under_ci.items()},
+                "similar": bool(all(0.8 <= v["low"] and v["high"] <= 1.6 for v in no_att_ci.values())),
+                "more_reliable": bool(all(v["low"] > 1.0 for v in under_ci.values()))}
+c9_form, c9_node = min(((f, n) for f in CMP_FORMS for n in windows),
+                       key=lambda fn: mc_stats[fn[1]][f"const_{fn[0]}_over_B"])
 claims["C9"] = results.claim(
-    paper="Sec. V, Figs. 5-6: without attacks the LMI (constant-gain) filter performs similarly; "
-    "under attack the proposed filter is more reliable",
-    check="RMSE_const,A/RMSE_A over k = 1..150 in [0.8, 1.6] at sensors 4, 12, 20; "
-    "RMSE_const,B(window)/RMSE_const,A(window) >= 5",
-    measured={"overall_ratio_const_vs_proposed": ratio_const, "window_ratio_const_B_vs_A": ratio_const_win,
-              "cmp_form": cmp_form},
-    threshold={"overall_ratio": [0.8, 1.6], "window_ratio": 5.0},
-    holds=bool(all(0.8 <= v <= 1.6 for v in ratio_const.values())
-               and min(ratio_const_win.values()) >= 5.0),
+    paper="Sec. V, Figs. 5-6: 'these two schemes have similar filtering performance ... when there are no "
+    "attacks. Furthermore, the reliability of developed scheme is clearly verified' (under attack)",
+    check="Monte Carlo, for each reading of the comparison filter (corrector, predictor): (i) no attack: "
+    "median over runs of RMSE_const,A/RMSE_A over k = 1..N at each plotted sensor, 95 % bootstrap "
+    "interval inside [0.8, 1.6] (the brief's 'similar'); (ii) under attack: RMSE_const,B/RMSE_B over "
+    "each attack window (ratio of mean RMSEs, paired bootstrap), lower 95 % bound > 1 at each attacked "
+    "sensor; holds if (i) and (ii) hold in both readings",
+    measured={**c9, "attack_window_ratio_min": min(v for f in CMP_FORMS for v in c9[f]["attack_window_ratio"].values())},
+    threshold={"no_attack_ratio": [0.8, 1.6], "attack_window_ratio_lower_bound": 1.0},
+    holds=bool(all(c9[f]["similar"] and c9[f]["more_reliable"] for f in CMP_FORMS)),
+    source="Sec. V, Figs. 5-6", interval=mc_stats[c9_node][f"ci_const_{c9_form}_over_B"],
+    premise=INSPECTION_PREMISE, key="attack_window_ratio_min", tolerance=MC_TOL,
+    section="Monte Carlo: detection, degradation, comparison and the χ² lockout",
 )
 
 # C10: vectorised against per-node
@@ -1068,62 +1470,118 @@ claims["C10"] = results.claim(
     measured=c10_diff,
     threshold=1e-10,
     holds=c10_diff <= 1e-10,
+    source="Remark 4", section="Vectorised against per-node implementation (C10) and Remark 4 (C7)",
+    tolerance=results.ROUNDING_RESIDUAL,
 )
 
-# X1: lockout rate (ours, not a paper claim)
-locked = {f"sensor{n}": mc_stats[n]["locked_at_end"] for n in windows}
+# X1: lockout after the attack (ours)
+x1_frac = {f"sensor{n}": mc_stats[n]["locked"] / R_MC for n in windows}
+x1_worst = max(windows, key=lambda n: mc_stats[n]["locked"])
+x1_ci = wilson(mc_stats[x1_worst]["locked"], R_MC)
 claims["X1"] = results.claim(
-    paper="(implied by Fig. 4(b)) after the attack window the attacked nodes resume normal filtering",
-    check="fraction of Monte Carlo runs in which the attacked sensor still rejects at k = 150 "
-    "(locked out); also the fraction with any rejection after its window, and Case A false alarms",
-    measured={"locked_at_end": locked,
-              "any_reject_after_window": {f"sensor{n}": mc_stats[n]["any_reject_after"]
-                                          for n in windows},
-              "case_a_runs_with_rejection": runs_with_alarm_a, "mc_runs": R_MC},
-    threshold=0.0,
-    holds=bool(max(locked.values()) == 0.0),
+    paper="(implied by Fig. 4(b), not stated) after its attack window an attacked sensor resumes normal "
+    "filtering",
+    check=f"Monte Carlo: fraction of runs in which the attacked sensor is locked out at k = {N} (rejected "
+    f"each of its last {LOCK_STEPS} measurements); holds if the upper 95 % Wilson bound of the worse sensor "
+    f"is <= 0.05 (ours); reported: runs with any rejection after the window, recovery of the locked runs "
+    f"by k = {recovery_steps}, Case A runs with a rejection",
+    measured={"locked_fraction": x1_frac, "locked_fraction_max": max(x1_frac.values()),
+              "any_reject_after_window": {f"sensor{n}": mc_stats[n]["any_reject_after"] for n in windows},
+              "recovery": recovery, "recovery_resumed_fraction": resumed / locked_pairs if locked_pairs else None,
+              "case_a_runs_with_rejection": runs_alarm_a / R_MC, "mc_runs": R_MC},
+    threshold={"locked_fraction_upper_bound": 0.05},
+    holds=bool(x1_ci["high"] <= 0.05),
+    source="ours (Sec. V, Fig. 4(b))", interval=x1_ci, premise=INSPECTION_PREMISE, key="locked_fraction_max",
+    tolerance=MC_TOL, section="Monte Carlo: detection, degradation, comparison and the χ² lockout",
 )
 
 # X2: ablation with Pi_eta (ours)
-x2_lock = max(mc_stats[n]["Pi_test_locked_at_end"] for n in windows)
-x2_rate = min(mc_stats[n]["Pi_test_reject_rate_window"] for n in windows)
+x2_lock_n = max(mc_stats[n]["Pi_test_locked"] for n in windows)
+x2_det_n = min(mc_stats[n]["Pi_test_runs_all_window_rejected"] for n in windows)
+x2_lock_ci, x2_det_ci = wilson(x2_lock_n, R_MC), wilson(x2_det_n, R_MC)
 claims["X2"] = results.claim(
-    paper="(ours, no paper statement) question: does normalising the test by Pi_eta instead of "
-    "Gamma_eta fix the chi-square lockout (X1) without giving up detection?",
-    check="criterion (ours): a fix needs, at both attacked sensors over the Monte Carlo runs, "
-    "(i) lockout rate at k = 150 equal to 0 and (ii) rejection rate inside the windows >= 0.99, "
-    "the detection level C1 requires of the paper's test; holds = (i) and (ii)",
-    measured={**{f"sensor{n}": {"reject_rate_window": mc_stats[n]["Pi_test_reject_rate_window"],
-                                "locked_at_end": mc_stats[n]["Pi_test_locked_at_end"]} for n in windows},
-              "removes_lockout": bool(x2_lock == 0.0), "keeps_detection": bool(x2_rate >= 0.99),
+    paper="(ours, no paper statement) question: does normalising the test by Pi_eta instead of Gamma_eta fix "
+    "the lockout (X1) without giving up detection?",
+    check="criterion (ours): at both attacked sensors, (i) lockout as in X1: upper 95 % Wilson bound <= 0.05, "
+    "and (ii) detection as in C1: lower 95 % Wilson bound of the runs rejecting every attacked sample "
+    ">= 0.95; holds = (i) and (ii)",
+    measured={**{f"sensor{n}": {"runs_all_window_rejected": mc_stats[n]["Pi_test_runs_all_window_rejected"] / R_MC,
+                                "reject_rate_window": mc_stats[n]["Pi_test_reject_rate_window"],
+                                "locked_fraction": mc_stats[n]["Pi_test_locked"] / R_MC} for n in windows},
+              "locked_fraction_max": x2_lock_n / R_MC, "runs_all_rejected_min": x2_det_n / R_MC,
+              "removes_lockout": bool(x2_lock_ci["high"] <= 0.05), "keeps_detection": bool(x2_det_ci["low"] >= 0.95),
               "mc_runs": R_MC},
-    threshold={"locked_at_end": 0.0, "reject_rate_window": 0.99},
-    holds=bool(x2_lock == 0.0 and x2_rate >= 0.99),
+    threshold={"locked_fraction_upper_bound": 0.05, "runs_all_rejected_lower_bound": 0.95},
+    holds=bool(x2_lock_ci["high"] <= 0.05 and x2_det_ci["low"] >= 0.95),
+    source="ours", interval=x2_det_ci, premise=INSPECTION_PREMISE, key="runs_all_rejected_min", tolerance=MC_TOL,
+    section="Monte Carlo: detection, degradation, comparison and the χ² lockout",
 )
 
-results.write_claims(results_path, claims)
+# X3: lockout without attack (ours)
+runs_locked_a = int(locked_a.any(axis=1).sum())
+x3_ci = wilson(runs_locked_a, R_MC)
+claims["X3"] = results.claim(
+    paper="(implied by Fig. 4(a), not stated) without attacks every node keeps filtering",
+    check=f"Monte Carlo, Case A at this Gamma_0: fraction of runs with at least one node locked out at k = {N}; "
+    "holds if its upper 95 % Wilson bound is <= 0.05 (ours); reported: the node-run fraction locked out and "
+    "the fraction of nodes rejecting y_1",
+    measured={"runs_with_a_locked_node": runs_locked_a / R_MC, "node_runs_locked": float(locked_a.mean()),
+              "nodes_rejecting_y1": float(np.mean(mc["A"]["theta"][:, 1] == 0)),
+              "gamma0_scale": gamma0_scale, "mc_runs": R_MC},
+    threshold={"runs_with_a_locked_node_upper_bound": 0.05},
+    holds=bool(x3_ci["high"] <= 0.05),
+    source="ours (Sec. V, Fig. 4(a))", interval=x3_ci, premise=INSPECTION_PREMISE, key="runs_with_a_locked_node",
+    tolerance=MC_TOL, section="Monte Carlo: detection, degradation, comparison and the χ² lockout",
+)
+
+# X4: exact decoupling at kappa = 0 (ours)
+claims["X4"] = results.claim(
+    paper="(ours, a sanity check of (7), (26)) at kappa = 0 the nodes decouple: every node is a local Kalman "
+    "filter",
+    check="exact, kappa = 0 control (Pi_0 = Gamma_0 = P_0): the unattacked nodes' estimates in Cases A and B "
+    "are identical (max |difference| == 0), and without inspection max_(i,k) ||Pi+ - P+||_F/||P+||_F <= 1e-9 "
+    "against the exact covariance",
+    measured={"leak_unattacked": leak0, "max_rel_Pi_minus_P": pi_vs_p0},
+    threshold={"leak_unattacked": 0.0, "max_rel_Pi_minus_P": 1e-9},
+    holds=bool(leak0 == 0.0 and pi_vs_p0 <= 1e-9),
+    source="ours", key="max_rel_Pi_minus_P", section="κ = 0: the nodes decouple exactly (claim X4)",
+)
+
+# X5: lockout at kappa = 0, where Gamma does not collapse (ours)
+x5_frac = {f"sensor{n}": mc_stats[n]["kappa0_locked"] / R_MC for n in windows}
+x5_worst = max(windows, key=lambda n: mc_stats[n]["kappa0_locked"])
+x5_ci = wilson(mc_stats[x5_worst]["kappa0_locked"], R_MC)
+claims["X5"] = results.claim(
+    paper="(ours) the lockout does not need the collapse of Gamma (P6): its cause is that (17)-(18) do not "
+    "let Gamma grow while updates are skipped",
+    check="kappa = 0 control (Pi_0 = Gamma_0 = P_0): Gamma+ = Pi+ before each node's first rejection in the "
+    "default Case B run (relative difference <= 1e-9, exact), and the attacked sensors still lock out: the "
+    "lower 95 % Wilson bound of the worse sensor's locked fraction at k = N is > 0",
+    measured={"locked_fraction": x5_frac, "locked_fraction_max": max(x5_frac.values()),
+              "gamma_vs_pi_before_first_rejection": gam_pi_before, "mc_runs": R_MC},
+    threshold={"gamma_vs_pi_before_first_rejection": 1e-9, "locked_fraction_lower_bound": 0.0},
+    holds=bool(gam_pi_before <= 1e-9 and x5_ci["low"] > 0.0),
+    source="ours", interval=x5_ci, premise=INSPECTION_PREMISE, key="locked_fraction_max", tolerance=MC_TOL,
+    section="Monte Carlo: detection, degradation, comparison and the χ² lockout",
+)
+
+written = results.write_claims(results_path, claims, robustness="figures/ding2020/robustness.json")
+merged = json.loads(written.read_text())
 for cid, c in claims.items():
-    print(cid, "holds" if c["holds"] else "DOES NOT HOLD")
+    print(f"{cid:4s} {'holds' if c['holds'] else 'does not hold'} here; verdict {merged[cid]['verdict']}")
 
 # %% [markdown]
-# The claims table with what each one means for the paper:
-#
-# | id | paper | verdict |
-# |---|---|---|
-# | C1 | the detector catches the injections | holds: every attacked sample is rejected, and there are no false alarms in the default run |
-# | C2a | the unattacked node 20 is unaffected ($\le10^{-3}$) | **does not hold** in general. Node 20's leak depends on its hop distance to sensors 4 and 12 in the unknown Fig. 1. Over the ten stand-in topologies it stays $\le10^{-3}$ only in some of those where it is at least two hops away. In the default topology it is a direct neighbour of sensor 12 and moves by about $10^{-2}$, which is invisible at the scale of Fig. 4 |
-# | C2b | (ours) the leak decays with the hop distance | holds: the median leak falls by more than 10× per hop. Direct neighbours move by a few $10^{-3}$ up to about 0.2, nodes two hops away by about $10^{-3}$. The effect comes through the consensus term and through the attacked node's inflated $\Pi^+$, which enters their $\tilde\Xi$ and changes their gains |
-# | C3 | mild effect with detection | holds (median ratio about 2: six open-loop predictions) |
-# | C4 | degradation without inspection | holds, by an order of magnitude |
-# | C5 | $\Gamma^+\preceq P^+\preceq\Pi^+$ | holds against the exact covariance (Case A) |
-# | C6 | channel follows $(p,q)$ | holds |
-# | C7 | Remark 4, cost per node independent of $m$ | timing: `make bench` |
-# | C8a | Theorem 4's sufficient condition (42)–(43) for the example | **does not hold**: $\xi_q,\xi_p\approx2.46$ (2.56 with the proof's factor 2), and no $(p,q,\kappa)$ can satisfy it with this plant. Theorem 4 says nothing about the example |
-# | C8b | $\Pi^+$ stays bounded (Theorem 4's conclusion) | holds empirically over 2000 steps (Case A), although the condition fails |
-# | C9 | LMI filter similar without attack, worse with | holds with our stand-in structure of the comparison filter |
-# | C10 | per-node computation | vectorised and per-node steps agree to round-off |
-# | X1 | (ours) recovery after the attack | **does not hold**: χ² lockout in a sizeable fraction of runs |
-# | X2 | (ours) does the Π-normalised test fix the lockout without giving up detection? | **no**, by our criterion (no lockout *and* ≥ 0.99 of attacked samples rejected): it removes the lockout but rejects only about 60 % of the attacked samples |
+# The claims with their verdicts, read back from the claims file (over the declared space when the
+# robustness sweep has been run: `undetermined` gives the fraction of the 33 design points where the
+# claim holds and the region):
+
+# %%
+lines = ["| id | source | holds here | verdict | where it holds over the declared space |", "|---|---|---|---|---|"]
+for cid, c in merged.items():
+    rob = c.get("robustness")
+    where = (f"{rob['outcomes']['holds']}/{rob['points']} points; {rob['region']}" if rob else "(no sweep)")
+    lines.append(f"| {cid} | {c.get('source', '')} | {c['holds']} | **{c['verdict']}** | {where} |")
+display(Markdown("\n".join(lines)))
 
 # %% [markdown]
 # ## Deviations from the paper
@@ -1137,28 +1595,27 @@ for cid, c in claims.items():
 # | E5 | $\delta_k$ vs $\delta^r_{i,k}$ | both used | $\delta_k$ in (3), $\delta^r$ elsewhere; asserted equal each step | a.s. equal |
 # | E6 | (35) vs (27) | (35) drops $\max\{\Pi^-,S^*\}$ | (35), equal to (27) under the non-strict order | $\Pi^--S^*$ has rank 1; a strict reading gives $\lambda_{\max}I$ |
 # | E7 | (6) vs (25) | (6) needs unknown $P_\eta$ | (25) with $\Gamma_\eta$ | as the paper does |
-# | E8 | $\nu$ in Assumption 2 | bounds $\mathbb P\{\vartheta=0,\tilde\vartheta=1\}\equiv0$ | read as the extra rejection probability; $\nu=0$ | the printed event is empty |
-# | E9 | (42)–(43) vs (45) | $(1+\kappa)(1+\kappa\bar N)$ vs $\tilde\kappa=2\kappa(1+\kappa)$ | both evaluated | neither changes the verdict |
+# | E8 | $\nu$ in Assumption 2 | bounds $\mathbb P\{\vartheta=0,\tilde\vartheta=1\}\equiv0$ | read as the extra rejection probability; $\nu=0$ by default, swept over $[0,1]$ | the printed event is empty |
+# | E9 | (42)–(43) vs the proof | $(1+\kappa)(1+\kappa\bar N)$ | the proof ((36), (44)–(47), $\tilde\kappa=2\kappa(1+\kappa)$) implies $(1+\kappa)(1+2\kappa\bar N)$; both evaluated, C8a decides on the printed form | the factor 2 of $\tilde\Xi$ is dropped in print; neither form holds |
 # | E10 | noise index in (10), (16) | $v_{i,k}$ | $v_{i,k+1}$ | typo |
 # | E11 | Remark 2 | $\sigma$ "detection probability" | false-alarm probability $5.73\cdot10^{-7}$ | threshold 25 is the $(1-\sigma)$-quantile |
-# | E12 | Lemma 1 / Thm 2 conditioning | conditional on the test outcome | bounds checked on Case A only (all accepted) | conditioning on $\vartheta$ truncates $\eta$ |
-# | — | Theorem 4 | claims boundedness under (42)–(43) | the condition fails for the example (C8a, recorded as not holding); boundedness is shown empirically (C8b) | $\zeta\bar\alpha^2>2$ |
-# | — | node 20 unaffected (Fig. 4(b)) | unattacked node 20 unchanged | measured over ten stand-in topologies. It fails where node 20 is a direct neighbour of an attacked sensor, including the default topology (C2a). The leak decays by more than 10× per hop (C2b, our criterion) | Fig. 1 not available |
-# | — | Π-normalised test (X2) | — | our ablation, judged by our own criterion: a fix must remove the lockout and keep ≥ 0.99 of attacked samples rejected | no paper statement |
-# | — | Fig. 1 topology | a figure we do not have | random geometric graph, $r=0.35$, seed 2020 (the first candidate) | C2a depends on node 20's hop distance to the attacked nodes, so C2 is measured over ten stand-in topologies (seeds 2020–2029, fixed in advance). An earlier version switched to seed 2021 after seeing seed 2020's result; that was dropped |
-# | — | comparison filter | LMI design of refs. [9], [13] | printed constant gains in structure (7) without detector | structure not given |
-# | — | Fig. 5 | measurements of the comparison run | identical to Fig. 3 (common random numbers), sensors 4, 12, 20 | same draws, as the paper states |
-# | — | initial values | "randomly produced" | $x_0$, $\hat x^+_{i,0}$ i.i.d. $\mathcal N(0, I_3)$, independent | zero mean keeps (9)–(10); non-zero estimates make (4) exact at $k=0$ (P3) |
-# | — | $\Pi^+_0$, $\Gamma^+_0$ | not given | $2I_3$, the exact initial error covariance | both bounds hold at $k=0$ |
-# | — | $\delta_0$ | not given | $\delta_0=1$ (`delta0`) | channel initially good |
-# | — | first measurement update | not stated | at $k=1$ (no update at $k=0$; the first measurement used is $y_{i,1}$) | (7) updates at $k+1$ |
-# | — | `tol`, `strict` | order relations of (17)–(19), (27) without a numerical tolerance | relative tolerance $10^{-10}$ for every $\succeq0$ / $\preceq$ test; non-strict reading of "$Y\prec X$" (`strict=False`) | round-off; the strict reading breaks (35) (E6) |
-# | — | Monte Carlo sizes | one run per figure | 300 runs (fast mode 100) for C1, C3, C4, C5, X1, X2; one 2000-step run (fast mode 600) for C8b; a $10^5$-step chain for C6; one Case A/B pair on each of ten topologies for C2 | the paper reports single runs |
-# | — | seeds and common random numbers | not given; the paper says the comparison uses the same parameters and channel | `SeedSequence(2020).spawn(5)` (channel, world, Monte Carlo, chain, long run). Cases A, B, no inspection and the comparison filter share $\delta$, $x_0$, $\hat x_0$, $w$, $v$; the Monte Carlo runs share the topology and $\delta$ of Fig. 2 and redraw $x_0$, $\hat x_0$, $w$, $v$ | comparable curves; common random numbers reduce the variance of the ratios |
+# | E12 | Lemma 1 / Thm 2 conditioning | conditional on the test outcome | bounds checked against the exact covariance on Case A with every update accepted (premise of C5) | conditioning on $\vartheta$ truncates $\eta$ |
+# | — | Theorem 4 | boundedness under (42)–(43) | the condition fails for the example and any $(p,q,\kappa)$ with this plant (C8a); C8b's verdict is fails-premise, although $\Pi$ stays bounded in a 2000-step run | $\zeta\bar\alpha^2>2$ |
+# | — | "no obvious effect" (Figs. 4(a)–(b)) | a visual statement | C2a: each plotted curve's shift between Cases B and A, as a fraction of the axis range, against the same sensor's own Case A error (rule ours); the hop law of the leak is ours (C2b) | the paper gives no threshold; an earlier reading "node 20 moves ≤ $10^{-3}$" was ours and is dropped |
+# | — | "more reliable" under attack (Figs. 5–6) | stated for the LMI filter | C9 measures constant-gain B against proposed B over the attack windows (Monte Carlo, paired bootstrap), and similarity without attack, in both readings of the comparison filter | an earlier version compared constant-gain B with constant-gain A |
+# | — | comparison filter | LMI design of refs. [9], [13] | printed constant gains in prediction (7) without detector, as corrector (default in Fig. 6) and as predictor; C9 holds only if it holds in both | structure not given |
+# | — | Fig. 1 topology | a figure we do not have | random geometric graph, $r=0.35$, seed 2020 by default; seed and radius are axes of the declared space; C2b uses ten topologies fixed in advance (seeds 2020–2029) | an earlier version switched to seed 2021 after seeing seed 2020's result; that was dropped |
+# | — | $\Pi^+_0$, $\Gamma^+_0$ | not given | two parameters, $\Pi_0=$ `pi0_scale`$\,\sigma_0I$, $\Gamma_0=$ `gamma0_scale`$\,\sigma_0I$; default both $2\sigma_0I=P_0$, the exact initial covariance; swept over $\Pi_0\in[P_0,10P_0]$, $\Gamma_0\in[P_0/1000,P_0]$ (log-uniform) | any valid bounds; a smaller valid $\Gamma_0$ locks nodes out without attack (X3) |
+# | — | initial values | "randomly produced" | $x_0$, $\hat x^+_{i,0}$ i.i.d. $\mathcal N(0,\sigma_0I)$, independent; $\sigma_0=1$, swept over $[0.1,10]$ | zero mean keeps (9)–(10); non-zero estimates make (4) exact at $k=0$ (P3) |
+# | — | $\delta_0$, first update | not given | $\delta_0=1$ (swept over $\{0,1\}$); first measurement update at $k=1$ | (7) updates at $k+1$ |
+# | — | `tol`, `strict` | order relations without a numerical tolerance | relative tolerance $10^{-10}$; non-strict reading of "$Y\prec X$" | round-off; only the non-strict reading makes (35) equal (27) (E6) |
+# | — | threshold, $p$, $q$ | printed: 25, 0.1, 0.92 | defaults as printed; swept (threshold over the χ²₁ quantiles of $\sigma=10^{-2}\dots10^{-9}$, $p$ and $1-q$ within a factor 2) to map the lockout | the verdicts over the declared space therefore also carry the sensitivity to these three printed values |
+# | — | Monte Carlo sizes | one run per figure | 300 runs (fast mode and sweep: 100) for C1, C3, C4, C9, X1–X3, X5; a 2000-step run (600) for C8b; locked runs continued to $k=400$; a $10^5$-step chain for C6; ten topologies for C2b | the paper reports single runs |
+# | — | seeds and common random numbers | not given; the comparison uses "the same" channel and noises | `SeedSequence(seed).spawn(6)`; Cases A, B, no inspection, the κ = 0 control and the comparison filter share $\delta$, $x_0$, $\hat x_0$, $w$, $v$; the Monte Carlo runs share the topology and the $\delta$ of Fig. 2 | comparable curves, lower variance of the ratios |
+# | — | decision rules | none | Monte Carlo claims decide on 95 % intervals (Wilson for fractions, bootstrap for medians and ratios); thresholds of the brief (C3: 3, C4: 2.5, C9: [0.8, 1.6]) or ours (C1: runs rejecting every attacked sample, lower bound ≥ 0.95; X1, X3: upper bound ≤ 0.05) | stated in each claim's `check` |
 # | — | delivery of $\Pi^+_{j,k}$ | not stated | sent in the same packet as $\hat x^+_{j,k}$, lost with it | (26) needs the neighbours' bounds only when $\delta^r=1$ |
-# | — | Monte Carlo cross-check of C5 | — | uses the Case A runs without any rejection (a rare false alarm changes that run's gains) | the exact covariance is computed for the all-accepted gains |
 # | — | Remark 4 timing (C7) | cost per node independent of $m$ | not measured here | timings belong to `make bench` |
-# | — | χ² lockout | not shown | measured (X1), mechanism explained | the paper's scheme has it |
+# | — | χ² lockout | not shown | measured: after attacks (X1), without attack at smaller $\Gamma_0$ (X3), recovery by $k=400$, the κ = 0 control (X5), a $\Pi_\eta$-normalised test (X2, no fix: it lets most attacked samples through) | the paper's scheme has it |
 
 # %%
 manifest_path = run.finish(extra={"mc_runs": R_MC, "long_steps": L_LONG})

@@ -28,26 +28,36 @@
 # Lyapunov-stable plants). The example: a three-inertia system with five single-sensor banks on a
 # ring, and an attack on sensor 1 that agent 1 alone cannot detect.
 #
-# **Verdict: [Re].** Every claim that numbers can check holds: Theorem 1 on every graph and
-# gain tested; 2q-redundant observability ($q=1$) and Assumption 4 with a constructed basis;
-# Fig. 1 — agent 1's own estimate is off by exactly $\pi$ after the attack while the network's
-# estimates are not. The printed Fig. 1 is not available (OCR text only), and the observer poles,
-# basis, initial conditions and horizon are ours. At the paper's gains the resilient estimates
-# keep offsets of $O(1/\gamma)$ (0.65 rad on agent 1's θ-sum at $\gamma=2$), consistent with the
-# semi-global Theorem 2 and predicted here in closed form.
+# **Verdict: [Re, partial]** — one remark of the paper does not hold; everything else reproduces,
+# checked against the text and the caption of Fig. 1 (the printed figure is not available: OCR
+# text only). Holding at all 24 points of the declared space (observer poles × basis
+# normalisation × ring order × initial guess): Theorem 1 on every graph and gain, with final
+# distances equal to the minimisers of a regularised median (X3); the example's 2-redundant
+# observability and Assumption 4; Fig. 1 — agent 1's own estimate off by exactly $\pi$ after the
+# attack, the network's estimates not (C3); Theorem 2's steady state, whose offsets follow a
+# closed-form law $\propto1/\gamma$ independent of $\kappa$ (C4); attack identification (C7);
+# Theorem 3 (C8). **Fails (C6, 0/24 points):** "the steady-state error depends only on the
+# parameter γ" (Sec. III-C) is true of Theorem 3's bound and of (6), but the steady state of (11)
+# moves with $\kappa$ (agent 1's θ-sum offset 0.744 → 0.689 rad for $\kappa$ = 0.5 → 2, not a step
+# size effect). **What Fig. 1's details depend on:** the post-attack offsets of the blue curves
+# scale with the basis normalisation (0.65 rad for agent 1 with unit-norm $v_l$, 1.125 rad with
+# the paper's unnormalised $[1,0,1,0,1,0]^\top$), and the literal "near −1" poles leave the network
+# unconverged until ≈ 22 s: X5 (ours, "the attack lands on a converged network") is
+# **undetermined, holding at 18/24 points** — it fails exactly at the 6 points with poles "near"
+# and the off initial guess (θ-sum errors 0.060–0.063 rad > 0.05 before the attack).
 
 # %% tags=["parameters"]
-mode = "paper"  # "paper": the full runs; "fast": shorter horizons for the tests
-T = 20.0  # horizon of the Section II demo [s] (MISSING; brief Fig. S1)
-dt = 1e-3  # explicit Euler step of the Section II solver [s] (MISSING)
-gamma = 5.0  # coupling gain of (4) in the Section II demo (MISSING; brief Fig. S1)
-z = [0.8, 1.3, 0.9, 1.1, 1.6, 0.5, 6.0]  # measured values z_i; agent 7 attacked (MISSING)
-s = [1, 1, 1, 1, 1, 0, 1]  # indicators s_i; agent 6 has no measurement (MISSING)
-x0 = [-2.0, 3.0, 0.0, 1.0, -1.0, 4.0, 2.0]  # initial solver states x_i(0) (MISSING)
-settle_fraction = 0.25  # "limsup": max distance over this last fraction of the horizon
+mode = "paper"  # "paper": the full runs; "fast": shorter horizons for the tests (ours)
+T = 20.0  # horizon of the Section II demo [s] (ours: Section II has no example)
+dt = 1e-3  # explicit Euler step of the Section II solver [s] (ours)
+gamma = 5.0  # coupling gain of (4) in the Section II demo (ours)
+z = [0.8, 1.3, 0.9, 1.1, 1.6, 0.5, 6.0]  # measured values z_i; agent 7 is the outlier (ours)
+s = [1, 1, 1, 1, 1, 0, 1]  # indicators s_i; agent 6 has no measurement (ours)
+x0 = [-2.0, 3.0, 0.0, 1.0, -1.0, 4.0, 2.0]  # initial solver states x_i(0) (ours)
+settle_fraction = 0.25  # "limsup": max distance over this last fraction of the horizon (ours)
 sweep_gammas = [0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 50.0]  # Theorem 1 sweep (ours)
 sweep_T = 20.0  # horizon of the sweep [s] (ours)
-sweep_z5 = [0.8, 1.3, 0.9, 1.1, 6.0]  # values of the ring-5 case, agent 5 attacked (ours)
+sweep_z5 = [0.8, 1.3, 0.9, 1.1, 6.0]  # values of the ring-5 case, agent 5 the outlier (ours)
 sweep_x05 = [-2.0, 3.0, 0.0, 1.0, -1.0]  # initial states of the ring-5 case (ours)
 J_inertia = 0.01  # J1, J2, J3 [kg m^2] (PAPER, Section IV)
 b_damping = 0.007  # b1, b2, b3 [N m s/rad] (PAPER)
@@ -55,20 +65,22 @@ k_spring = 1.37  # k1, k2 [N m/rad] (PAPER)
 u_amplitude = 0.01  # u(t) is u_amplitude * sin(u_frequency t) [N m] (PAPER)
 u_frequency = 0.5  # [rad/s] (PAPER)
 kappa = 0.5  # gain of the sign correction in (6) (PAPER)
+kappa_alt = 2.0  # second kappa of the kappa-independence check C6 (ours)
 gamma_ex = 2.0  # coupling gain of (6) (PAPER)
 q = 1  # number of corruptible banks (PAPER: "2-redundant observable")
 ring_order = [1, 2, 3, 4, 5]  # agents around the ring (MISSING: "ring network")
+basis_normalisation = "unit"  # scaling of the basis v_l of Assumption 4: "unit" or "integer" (MISSING)
+observer_poles = "near"  # "near" (-1, -1.1, ...) or "shifted" (MISSING: "near -1")
 attack_bank = 1  # attacked sensor bank, 1-based (PAPER)
 attack_amplitude = 1.0471975511965976  # pi/3 rad (PAPER)
 attack_start = 10.0  # [s] (PAPER)
 x0_plant = [0.5, 0.0, 0.3, 0.0, 0.1, 0.0]  # plant state x(0) (MISSING)
-z0_guess = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]  # z_i(0) is W_i z0_guess; N rows: one per agent (MISSING)
-xhat0 = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]  # x_hat_i(0) of every agent; N rows: one per agent (MISSING)
-T_ex = 40.0  # horizon of the example [s] (MISSING)
-dt_ex = 1e-3  # exponential-Euler step of the example [s] (MISSING)
-record_dt = 0.01  # recording grid [s]
-final_window = 5.0  # steady-state values are averages over the last final_window seconds
-observer_poles = "near"  # "near" (-1, -1.1, ...) or "shifted" (MISSING: "near -1")
+z0_guess = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]  # z_i(0) is W_i z0_guess; or N rows, one per agent (MISSING)
+xhat0 = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]  # x_hat_i(0) of every agent; or N rows, one per agent (MISSING)
+T_ex = 40.0  # horizon of the example [s] (ours)
+dt_ex = 1e-3  # exponential-Euler step of the example [s] (ours)
+record_dt = 0.01  # recording grid [s] (ours)
+final_window = 5.0  # steady-state values are averages over the last final_window seconds (ours)
 offset_gammas = [2.0, 5.0, 20.0]  # gains of the offset-law check (ours)
 amplitude_sweep = [3.141592653589793, 10.0]  # further attack sizes [rad] (ours)
 accuracy_T = 20.0  # horizon of the integrator comparison [s] (ours)
@@ -80,6 +92,9 @@ fig_dir = "figures/lee2020"
 results_path = "figures/lee2020/claims.json"
 
 # %%
+import json
+from dataclasses import dataclass
+
 import control
 import cvxpy as cp
 import matplotlib.pyplot as plt
@@ -87,59 +102,89 @@ import matplotlib.ticker as mticker
 import networkx as nx
 import numpy as np
 import scipy.linalg as sla
+from IPython.display import Markdown, display
 from scipy.integrate import solve_ivp
 
-from secest import graphs, plotting, results, systems
+from secest import graphs, plotting, results, spaces, systems
+from secest.validation import ValidationError
 
 print(results.environment_summary())
 
 run = results.Run("lee2020", globals())
-if mode not in ("paper", "fast"):
-    raise ValueError(f"mode must be 'paper' or 'fast', found {mode!r}")
-horizon = T if mode == "paper" else min(T, 10.0)
-sweep_horizon = sweep_T if mode == "paper" else min(sweep_T, 10.0)
-accuracy_T = accuracy_T if mode == "paper" else min(accuracy_T, 8.0)
+accuracy_T = accuracy_T if mode == "paper" else min(accuracy_T, 4.0)
 stall_T = stall_T if mode == "paper" else min(stall_T, 5e-4)
 z_vals, s_vals, x_init = np.asarray(z, float), np.asarray(s, float), np.asarray(x0, float)
 N = z_vals.size
 FIG_DIR = results.resolve(fig_dir)
 plotting.setup(enabled=figures)
 
+
+def require(ok: bool, name: str, message: str) -> None:
+    """Raise a one-line ValidationError naming the parameter ``name`` unless ``ok``."""
+    if not ok:
+        raise ValidationError(f"parameter {name}: {message}")
+
+
+require(N >= 3 and len(s) == N and len(x0) == N, "z",
+        f"z, s and x0 need one entry per agent, at least 3; found {len(z)}, {len(s)}, {len(x0)}")
+require(set(s) <= {0, 1} and 1 in s, "s", f"indicators must be 0 or 1 with at least one 1, found {s}")
+require(len(sweep_z5) >= 3 and len(sweep_x05) == len(sweep_z5), "sweep_x05",
+        f"needs one entry per value of sweep_z5 (at least 3), found {len(sweep_x05)} and {len(sweep_z5)}")
+for _name, _vals in (("sweep_gammas", sweep_gammas), ("offset_gammas", offset_gammas),
+                     ("tanh_eps", tanh_eps)):
+    require(len(_vals) > 0 and min(_vals) > 0, _name, f"needs at least one value, all > 0, found {_vals}")
+require(sorted(ring_order) == [1, 2, 3, 4, 5], "ring_order",
+        f"must list the agents 1..5 once each, found {ring_order}")
+record_every = int(round(record_dt / dt_ex))
+require(record_every >= 1 and abs(record_every * dt_ex - record_dt) <= 1e-9 * record_dt, "record_dt",
+        f"must be a multiple of dt_ex = {dt_ex:g} s, found {record_dt:g} s")
+_ref_every = record_dt / accuracy_ref_dt
+require(accuracy_ref_dt <= dt_ex / 2 and abs(_ref_every - round(_ref_every)) <= 1e-9 * _ref_every,
+        "accuracy_ref_dt", f"must be <= dt_ex/2 and divide record_dt = {record_dt:g} s, "
+        f"found {accuracy_ref_dt:g} s")
+require(record_dt <= final_window < T_ex, "final_window",
+        f"must lie in [record_dt, T_ex) = [{record_dt:g}, {T_ex:g}) s, found {final_window:g} s")
+require(attack_start < T_ex - final_window, "attack_start",
+        f"the attack must start before the final window [{T_ex - final_window:g}, {T_ex:g}] s, "
+        f"found {attack_start:g} s")
+
 # %% [markdown]
 # ## Parameter provenance
 #
-# Section II of the paper has no numerical example; every Section II value is ours. Section IV
-# gives the plant, the gains $\kappa,\gamma$, the network type and the attack.
+# Every parameter of the notebook, rendered from `notebooks/lee2020.toml`: its default, its tag
+# (PAPER: printed in the paper; MISSING: the paper withholds it; ours: our addition), what it
+# admits, the declared space that `make robustness` sweeps and why. The space was fixed from the
+# paper's text before any sweep ran (the header of the TOML file states the rule): the two readings
+# of "near −1", the two scalings of the basis, the three classes of ring orders that Section IV's
+# final remark allows, and the observers' initial guess — $2\times2\times3\times2=24$ points.
+# Section II has no numerical example in the paper, so its data are ours; so are the numerical
+# settings (steps, horizons, windows) that approximate the paper's continuous-time,
+# $t\to\infty$ statements: their adequacy is measured (X1, X3), not swept.
 #
-# | name | value | tag | source / reason |
+# *Cost of the sweep.* Each point is one papermill run with figures off, about 13 s of CPU
+# including the kernel start: the 24 points take about 3 minutes on two idle cores. A denser
+# design costs in proportion: all ten admissible rings instead of one per class, 80 points
+# (≈ 9 minutes); a third initial guess, ×1.5; sampling `kappa` or `gamma_ex` around the paper's
+# values would multiply it again (they are printed, so they are not swept).
+
+# %%
+display(Markdown(spaces.provenance_markdown("lee2020")))
+
+# %% [markdown]
+# Constants of the model that are not parameters:
+#
+# | item | value | tag | source / reason |
 # |---|---|---|---|
-# | graphs (Section II) | ring and all-to-all, $N=7$; ring $N=5$ in the sweep | PAPER | Remark 2 discusses exactly these two families |
-# | `z` | 0.8, 1.3, 0.9, 1.1, 1.6, 0.5, 6.0 | MISSING | clean values near 1, agent 7 attacked (6.0) |
-# | `s` | 1, 1, 1, 1, 1, 0, 1 | MISSING | agent 6 has no measurement, so $S=6$ is even and the median set is an interval |
-# | `x0` | −2, 3, 0, 1, −1, 4, 2 | MISSING | spread initial states, so convergence is visible |
-# | `gamma` | 5 | MISSING | a moderate gain for the demo |
-# | `T`, `dt` | 20 s, 1e-3 s | MISSING | explicit Euler; $dt < 2/(\gamma\lambda_{\max}(\mathcal L))$ = 0.1 (ring) and 0.057 (all-to-all) |
-# | `settle_fraction` | 0.25 | MISSING | "limsup" measured as the max over the last quarter of the horizon |
-# | `sweep_gammas`, `sweep_T`, `sweep_z5`, `sweep_x05` | 0.5 … 50; 20 s; ring-5 data | MISSING | Theorem 1 across graphs and gains (ours) |
-# | `J_inertia`, `b_damping`, `k_spring` | 0.01, 0.007, 1.37 | PAPER (IV) | three-inertia system |
-# | `u_amplitude`, `u_frequency` | 0.01, 0.5 rad/s | PAPER (IV) | $u=0.01\sin(0.5t)$ |
-# | `kappa`, `gamma_ex` | 0.5, 2 | PAPER (IV) | gains of (6) |
-# | `q` | 1 | PAPER (IV) | "2-redundant observable" |
-# | `attack_bank`, `attack_amplitude`, `attack_start` | 1, $\pi/3$, 10 s | PAPER (IV) | $a_1(t)=\pi/3$ for $t\ge10$ |
-# | `ring_order` | 1–2–3–4–5–1 | MISSING | "ring network"; the natural order, for which the final remark of Section IV holds |
-# | basis $\{v_l\}$ | grouped projected-orthonormal, unit norm | MISSING (ours; derived, not a parameter) | Assumption 4 only asks for existence. Built by `common_basis` (Section "Assumption 4" below): real invariant subspaces of $A$ grouped by their observation pattern, in each group Gram–Schmidt on the projections of $e_1,e_2,\dots$; verified against the $\mathcal U_i$. Speed and offsets depend on the scaling |
-# | `observer_poles` | "near": $-1,-1.1,\dots$ (first $o_i$) | MISSING | "eigenvalues … near −1"; distinct poles for single-output placement; "shifted" is the alternative |
-# | `x0_plant` | [0.5, 0, 0.3, 0, 0.1, 0] | MISSING | plant state $x(0)$; a visible transient |
-# | `z0_guess` | zeros (length $n$; or $N$ rows, one per agent) | MISSING | $z_i(0)=\mathcal W_i\,$`z0_guess` (any $z_i(0)\in\mathbb R^{o_i}$ is reachable, $\mathcal W_i$ has full row rank); default: partial observers (5) not initialised (Theorems 2, 3 allow any) |
-# | `xhat0` | zeros (length $n$; or $N$ rows, one per agent) | MISSING | $\hat x_i(0)$ of (6) / (11); default: uninitialised, the same for every agent |
-# | `T_ex`, `final_window` | 40 s, last 5 s | MISSING | banks 1 and 3 peak until ≈ 20 s with "near" poles, and the attack restarts bank 1's transient |
-# | `dt_ex`, `record_dt` | 1e-3 s, 0.01 s | MISSING | exponential Euler (integrator section) |
-# | $P$ of (11) | $T^{-\top}T^{-1}$, $T$ real modal | MISSING (ours; derived, not a parameter) | built in the Theorem 3 section from the real modal matrix $T$ of $A$ (columns: the real invariant subspaces above); gives $PA+A^\top P\le0$ with $\bar P=V^\top PV$ block-diagonal over the indicator groups. Theorem 3's bound (C8) scales with $\|V\bar P^{-1/2}\|$, so its value depends on this choice |
-# | `offset_gammas`, `amplitude_sweep` | 2, 5, 20; $\pi$, 10 | ours | offset law and baseline |
-# | `accuracy_T`, `accuracy_ref_dt`, `tanh_eps`, `stall_T` | 20 s, 1e-4 s, 1e-3 and 1e-2, 2 ms | ours | integrator comparison |
+# | $A,B,C$ | three-inertia system, $y=[\theta_1,\theta_2,\theta_3,\theta_1-\theta_2,\theta_2-\theta_3]$ | PAPER (IV) | built from `J_inertia`, `b_damping`, `k_spring` |
+# | graphs (Section II) | ring and all-to-all, $N=7$; ring $N=5$ in the sweep | ours | Remark 2 discusses exactly these two families |
+# | basis $\{v_l\}$ | grouped projected-orthonormal, then scaled by `basis_normalisation` | MISSING (derived) | Assumption 4 only asks for existence; built by `common_basis` below and verified against the $\mathcal U_i$ |
+# | $P$ of (11) | $T^{-\top}T^{-1}$, $T$ real modal | MISSING (derived) | $PA+A^\top P\le0$ with $\bar P=V^\top PV$ block-diagonal over the indicator groups; Theorem 3's bound (C8) depends on it |
+# | chattering tolerance | $10\,\kappa\,dt\,\|v_l\|$ (θ-sum: $|\mathbf 1_\theta^\top v_l|$; coordinates: $\kappa\,dt$) | ours (fixed before any run) | ten steps of the sign correction of (6); the Section II analogue is $10\,dt$ |
+# | explicit-Euler demonstration step | $3\times$ the stability limit of $I+dt\,M$ | ours | the unstable run of X1: at this step the $(1,-2,1)$ mode grows as $e^{0.7t}$, visible within the horizon (at $2\times$ a switching transient masked it) |
 #
-# Fast mode (tests) shortens the Section II horizons to 10 s, the integrator comparison to 8 s and
-# the exact-sign demonstration to 0.5 ms; the example itself always runs the full `T_ex`.
+# Fast mode (tests) shortens the integrator comparison to 4 s and the exact-sign demonstration to
+# 0.5 ms, and integrates the figure-only runs with the recording step (up to 10× coarser);
+# Section II and the example's claims always run in full.
 
 # %% [markdown]
 # ## Section II — the median set
@@ -158,8 +203,6 @@ plotting.setup(enabled=figures)
 def median_set(values: np.ndarray, indicators: np.ndarray) -> tuple[float, float]:
     """Median set [lo, hi] of the indicated values (a single point when S is odd)."""
     zs = np.sort(values[indicators == 1])
-    if zs.size == 0:
-        raise ValueError("indicators must mark at least one value (s_i = 1)")
     return float(zs[(zs.size - 1) // 2]), float(zs[zs.size // 2])
 
 
@@ -182,19 +225,26 @@ print(f"S = {int(s_vals.sum())}, median set = [{lo}, {hi}]")
 # \text{i.e.}\quad \dot x = s\odot\mathrm{sgn}(z-x) - \gamma\mathcal L x,$$
 #
 # with $\mathrm{sgn}(0)=0$ and solutions in the Filippov sense. We integrate it with explicit
-# Euler, vectorised over agents. On a sliding surface the Euler iterate chatters within
-# $dt$ of it, which is far below the distances measured here.
+# Euler, vectorised over agents (and over gains in the sweep). On a sliding surface the Euler
+# iterate chatters: each step moves an agent by at most $dt$ through its sign term, so the
+# chattering is $O(dt)$ (we allow $10\,dt$ where a value is compared with a limit, X3).
 
 
 # %%
+def euler_limit(adj: np.ndarray, gains: np.ndarray) -> float:
+    """Largest stable explicit-Euler step 2 / (gamma_max lambda_max(L)) of (4)."""
+    return float(2.0 / (np.max(gains) * np.linalg.eigvalsh(graphs.laplacian(adj))[-1]))
+
+
 def median_solver(
     adj: np.ndarray, values: np.ndarray, indicators: np.ndarray, x_start: np.ndarray,
     gain: float, horizon_s: float, step: float,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Explicit-Euler solution of (4); returns times (K,) and states (K, N)."""
     lap = graphs.laplacian(graphs.check_connected(adj))
-    if step >= 2.0 / (gain * np.linalg.eigvalsh(lap)[-1]):
-        raise ValueError(f"dt={step} is above the Euler stability limit 2/(gamma*lambda_max(L))")
+    require(step < euler_limit(adj, np.array([gain])), "dt",
+            f"{step:g} s is above the Euler stability limit 2/(gamma lambda_max(L)) = "
+            f"{euler_limit(adj, np.array([gain])):.3g} s")
     steps = int(round(horizon_s / step))
     xs = np.empty((steps + 1, values.size))
     xs[0] = x_start
@@ -215,9 +265,9 @@ def median_solver(
 graph_set = {"ring": graphs.ring_graph(N), "all-to-all": graphs.complete_graph(N)}
 runs = {}
 for name, adj in graph_set.items():
-    t, xs = median_solver(adj, z_vals, s_vals, x_init, gamma, horizon, dt)
+    t, xs = median_solver(adj, z_vals, s_vals, x_init, gamma, T, dt)
     lam2 = graphs.algebraic_connectivity(adj)
-    tail = t >= (1.0 - settle_fraction) * horizon
+    tail = t >= (1.0 - settle_fraction) * T
     runs[name] = {
         "t": t,
         "x": xs,
@@ -231,41 +281,117 @@ for name, adj in graph_set.items():
 # %% [markdown]
 # ## Fig. S1 (ours) — agents of (4) against the median set and the Theorem 1 band
 #
-# The paper has no figure for Section II. Shaded: the median set $[1.1, 1.3]$; dashed: the
-# median set widened by the Theorem 1 bound.
+# The paper has no figure for Section II. Shaded: the median set; dashed: the median set widened
+# by the Theorem 1 bound. The time axis shows the transient (up to 1.5 times the time after which
+# every agent stays within 1 % of the initial spread of its final value); the rest of the horizon
+# is flat. Dashed brown: the agent without a measurement ($s_i=0$); black: the outlier (the
+# indicated value farthest from the median set, "attacked").
+
 
 # %%
-fig, axes = plt.subplots(1, 2, figsize=(plotting.PAGE_WIDTH, 2.8), sharey=True)
+def settle_time(t: np.ndarray, xs: np.ndarray, frac: float = 0.01) -> float:
+    """Last time any agent is farther than frac * (initial spread) from its final-window mean."""
+    final = xs[t >= (1.0 - settle_fraction) * t[-1]].mean(axis=0)
+    far = np.nonzero(np.abs(xs - final).max(axis=1) > frac * max(np.ptp(xs[0]), 1e-12))[0]
+    return float(t[far.max()]) if far.size else 0.0
+
+
+outlier_dist = np.where(s_vals == 1, distance_to_set(z_vals, lo, hi), -1.0)
+outlier = int(np.argmax(outlier_dist)) if outlier_dist.max() > 0 else -1
+
+
+def solver_style(i: int) -> dict:
+    """Label and line style of agent i in Fig. S1 (unmeasured and outlier agents marked)."""
+    if s_vals[i] == 0:
+        return {"label": f"agent {i + 1} ($s_{{{i + 1}}}=0$: no measurement)", "color": "tab:brown",
+                "ls": "--", "lw": 1.4}
+    if i == outlier:
+        return {"label": f"agent {i + 1} ($z_{{{i + 1}}}={z_vals[i]:g}$: outlier)", "color": "k",
+                "lw": 1.6}
+    return {"label": f"agent {i + 1}", "color": f"C{i % 10}", "lw": 1.0}
+
+
+t_zoom = min(T, max(10 * dt, 1.5 * max(settle_time(r["t"], r["x"]) for r in runs.values())))
+fig, axes = plt.subplots(1, 2, figsize=(plotting.PAGE_WIDTH, 3.4), sharey=True, layout="constrained")
 for ax, (name, r) in zip(axes, runs.items(), strict=True):
-    ax.axhspan(lo, hi, color="tab:green", alpha=0.25, label="median set $\\mathcal{M}$")
-    ax.axhline(lo - r["bound"], color="k", ls="--", lw=0.8, label="$\\mathcal{M}$ ± Theorem 1 bound")
-    ax.axhline(hi + r["bound"], color="k", ls="--", lw=0.8)
-    ax.plot(r["t"], r["x"], lw=1.0, label=[f"agent {i + 1}" for i in range(N)])
-    ax.set_title(f"{name}, N = {N}, γ = {gamma:g}, bound = {r['bound']:.3f}")
-    ax.set_xlabel("time t [s]")
+    view = r["t"] <= t_zoom
+    ax.axhspan(lo, hi, color="0.8", label="median set $\\mathcal{M}$")
+    ax.axhline(lo - r["bound"], color="0.3", ls="-.", lw=0.9,
+               label="$\\mathcal{M}$ ± Theorem 1 bound")
+    ax.axhline(hi + r["bound"], color="0.3", ls="-.", lw=0.9)
+    for i in range(N):
+        ax.plot(r["t"][view], r["x"][view, i], **solver_style(i))
+    ax.set_xlim(0.0, t_zoom)
+    ax.set_title(f"{name}, N = {N}, γ = {gamma:g}: bound {r['bound']:.3f}")
+    ax.set_xlabel(f"time t [s] (first {t_zoom:.2g} s of {T:g} s)")
 axes[0].set_ylabel("solver state $x_i(t)$ [–]")
-axes[0].legend(loc="upper right", ncol=2, fontsize=7)
-axes[0].set_ylim(-2.5, 4.5)
+fig.legend(*axes[0].get_legend_handles_labels(), loc="outside lower center", ncol=3, fontsize=7)
 stride = max(1, int(round(0.01 / dt)))
-plotting.save_figure(
+_ = plotting.save_figure(  # the saved path; shown inline by save_figure
     fig, FIG_DIR, "extra_s1_median_solver",
     data={"t_s": runs["ring"]["t"][::stride],
           **{f"x_{g}": r["x"][::stride] for g, r in runs.items()}},
 )
-plt.show()
 
 # %% [markdown]
 # ## Section II-B — Theorem 1 across graphs and gains
 #
-# The bound $2\sqrt N/(\gamma\lambda_2)$ against the measured final distance for
-# $\gamma\in\{0.5,\dots,50\}$ on three graphs: ring $N=5$ with $z=[0.8,1.3,0.9,1.1,6.0]$, all
-# $s_i=1$ (median $\{1.1\}$), and ring and all-to-all $N=7$ with the data above (median set
-# $[1.1,1.3]$). All $\gamma$ of one graph run as columns of one explicit-Euler recursion
-# ($dt$ below $2/(\gamma\lambda_{\max})$ for every $\gamma$, checked).
+# The bound $2\sqrt N/(\gamma\lambda_2)$ against the measured final distance for every gain of
+# `sweep_gammas` on three graphs: ring $N=5$ with `sweep_z5`, all $s_i=1$ (the median set is a
+# point), and ring and all-to-all $N=7$ with the data above. All gains of one graph run as
+# columns of one explicit-Euler recursion ($dt$ below $2/(\gamma\lambda_{\max})$ for every
+# $\gamma$, checked).
+#
+# **Where the agents end (ours).** The equilibria of (4) are the points where
+# $0\in s_i\,\mathrm{Sgn}(z_i-x_i)-\gamma(\mathcal Lx)_i$ for every $i$: the optimality condition
+# of the convex problem
+#
+# $$\min_x\ f_\gamma(x)=\sum_i s_i|z_i-x_i|+\tfrac{\gamma}{2}x^\top\mathcal Lx,$$
+#
+# and (4) is the subgradient flow $\dot x\in-\partial f_\gamma(x)$, which converges to a
+# minimiser. The final distances are therefore not just below Theorem 1's bound: they are the
+# distances of the minimiser the flow reaches. When $S$ is even $f_\gamma$ can have a segment of
+# minimisers (the agents' mean can slide inside $\mathcal M$), and which point the flow reaches
+# depends on where it starts; we therefore project the run's final-window mean $\bar x$ onto the
+# set of minimisers (one CLARABEL solve of the proximal problem
+# $\min_x f_\gamma(x)+\frac{\varepsilon}{2}\|x-\bar x\|^2$, $\varepsilon=10^{-3}$, whose solution tends
+# to that projection as $\varepsilon\to0$; the bias is $O(\varepsilon\,\|\bar x-x^*\|/(\gamma\lambda_2))$,
+# far below $dt$) and predict the final
+# distance as that point's $\max_i\|x^*_i\|_{\mathcal M}$. Claim X3 compares them with the
+# simulation within $10\,dt$ (the chattering of explicit Euler is $O(dt)$). At the default data
+# the minimisers give closed forms: on ring-5 (one minimiser, $S$ odd) the distance is $0.4/\gamma$
+# for $\gamma\ge1$; on the all-to-all graph $1.3/7$ and $0.3/7$ at $\gamma=0.5,1$ and zero from
+# $\gamma=2$ on; on ring-7 the minimisers form a segment for $\gamma\ge5$ along which the
+# distance grows with the agents' mean, and the flow, arriving from below (mean of $x(0)$ = 1),
+# stops at its lower end: $0.6/7$ at $\gamma=5$ and $1/(7\gamma)$ for $\gamma\ge10$. The Euler
+# iterate drifts $O(dt)$ into that segment, so at $\gamma=50$, where the value is only $2.9\,dt$,
+# measured and projected distances differ by about $1.4\,dt$ — inside the stated bound.
+
 
 # %%
+def minimiser_projection(adj: np.ndarray, values: np.ndarray, indicators: np.ndarray):
+    """DPP problem: the minimiser of f_gamma nearest to a point (a proximal step with a large step)."""
+    x = cp.Variable(values.size)
+    gain, target = cp.Parameter(nonneg=True), cp.Parameter(values.size)
+    f = (cp.sum(cp.multiply(indicators, cp.abs(values - x)))
+         + gain / 2 * cp.quad_form(x, cp.psd_wrap(graphs.laplacian(adj))))
+    prox = cp.Problem(cp.Minimize(f + PROX_WEIGHT / 2 * cp.sum_squares(x - target)))
+
+    def project(gain_value: float, point: np.ndarray) -> np.ndarray:
+        """argmin_x f_gamma(x) + (eps/2)||x - point||^2: the projection of ``point`` onto argmin f."""
+        gain.value, target.value = gain_value, point
+        prox.solve(solver=cp.CLARABEL)
+        if prox.status != cp.OPTIMAL:
+            raise RuntimeError(f"minimiser of f_gamma: solver status {prox.status}")
+        return np.asarray(x.value)
+
+    return project
+
+
+PROX_WEIGHT = 1e-3
 sweep_cases = {
-    "ring5": (graphs.ring_graph(5), np.array(sweep_z5, float), np.ones(5), np.array(sweep_x05, float)),
+    "ring5": (graphs.ring_graph(len(sweep_z5)), np.array(sweep_z5, float), np.ones(len(sweep_z5)),
+              np.array(sweep_x05, float)),
     "ring7": (graphs.ring_graph(N), z_vals, s_vals, x_init),
     "complete7": (graphs.complete_graph(N), z_vals, s_vals, x_init),
 }
@@ -273,46 +399,74 @@ gam_sweep = np.asarray(sweep_gammas, dtype=float)
 sweep = {}
 for name, (adj, zc, sc, xc) in sweep_cases.items():
     lap = graphs.laplacian(graphs.check_connected(adj))
-    if dt >= 2.0 / (gam_sweep.max() * np.linalg.eigvalsh(lap)[-1]):
-        raise ValueError("dt above the Euler stability limit of the sweep")
+    require(dt < euler_limit(adj, gam_sweep), "dt",
+            f"{dt:g} s is above the Euler stability limit of the sweep on {name}, "
+            f"{euler_limit(adj, gam_sweep):.3g} s (largest gain {gam_sweep.max():g})")
     lo_c, hi_c = median_set(zc, sc)
     xs = np.repeat(xc[:, None], gam_sweep.size, axis=1)
-    steps = int(round(sweep_horizon / dt))
+    steps = int(round(sweep_T / dt))
     tail_from = int(round((1.0 - settle_fraction) * steps))
-    dist = np.zeros(gam_sweep.size)
+    dist, x_sum = np.zeros(gam_sweep.size), np.zeros_like(xs)
     for k in range(steps):
         xs = xs + dt * (sc[:, None] * np.sign(zc[:, None] - xs) - gam_sweep[None, :] * (lap @ xs))
         if k + 1 >= tail_from:
             dist = np.maximum(dist, distance_to_set(xs, lo_c, hi_c).max(axis=0))
+            x_sum += xs
+    x_bar = x_sum / (steps + 1 - tail_from)
+    project = minimiser_projection(adj, zc, sc)
+    x_star = np.column_stack([project(g, x_bar[:, j]) for j, g in enumerate(gam_sweep)])
     lam2 = graphs.algebraic_connectivity(adj)
     sweep[name] = {"distance": dist, "bound": 2 * np.sqrt(zc.size) / (gam_sweep * lam2),
-                   "lambda2": lam2, "median": (lo_c, hi_c)}
+                   "lambda2": lam2, "median": (lo_c, hi_c),
+                   "predicted": distance_to_set(x_star, lo_c, hi_c).max(axis=0),
+                   "to_minimiser": np.abs(x_bar - x_star).max(axis=0)}
     print(f"{name:>9}: lambda2 = {lam2:.6f}, median set = [{lo_c}, {hi_c}]")
-    print("   distance:", np.round(dist, 4))
-    print("   bound:   ", np.round(sweep[name]["bound"], 4))
-
-# %%
-fig, ax = plt.subplots(figsize=(plotting.COLUMN_WIDTH * 1.6, 3.0))
-for k, (name, r) in enumerate(sweep.items()):
-    ax.loglog(gam_sweep, np.maximum(r["distance"], 1e-4), "o-", color=f"C{k}", ms=4,
-              label=f"{name}: measured")
-    ax.loglog(gam_sweep, r["bound"], "--", color=f"C{k}", lw=1.0, label=f"{name}: 2√N/(γλ₂)")
-ax.set_xlabel("coupling gain γ [–]")
-ax.set_ylabel(r"final $\max_i\|x_i\|_{\mathcal{M}}$ [–] (0 drawn at 1e-4)")
-ax.set_title("Theorem 1: distance to the median set against the bound")
-ax.legend(fontsize=6.5, ncol=2)
-plotting.save_figure(
-    fig, FIG_DIR, "extra_theorem1_gamma_sweep",
-    data={"gamma": gam_sweep, **{f"distance_{g}": r["distance"] for g, r in sweep.items()},
-          **{f"bound_{g}": r["bound"] for g, r in sweep.items()}},
-)
-plt.show()
+    print("   distance: ", np.round(dist, 4))
+    print("   minimiser:", np.round(sweep[name]["predicted"], 4))
+    print("   bound:    ", np.round(sweep[name]["bound"], 4))
 
 # %% [markdown]
-# The distance falls roughly as $1/\gamma$ and stays 7 to 50 times below the bound (the bound adds
-# a worst case for the disagreement and one for the average); on the all-to-all graph the agents reach the median set exactly from $\gamma=2$ on (they slide inside
-# it). **Remark 2** — $\lambda_2=2(1-\cos(2\pi/N))$ on rings and $\lambda_2=N$ on all-to-all graphs —
-# checked against networkx's `algebraic_connectivity` for $N=3,\dots,12$:
+# One panel per graph, each with its own bound (dashed). Filled circles: measured final distance
+# (max over the last quarter of the horizon); open squares: the distance of the minimiser of
+# $f_\gamma$ (X3). Distances that are exactly zero (the agents end inside $\mathcal M$) cannot be
+# drawn on a log axis: they are marked ▼ (and □) on the lower edge, without connecting lines.
+
+# %%
+fig, axes = plt.subplots(1, 3, figsize=(plotting.PAGE_WIDTH, 3.1), sharey=True, layout="constrained")
+positive = np.concatenate([np.ravel(r[k]) for r in sweep.values() for k in ("distance", "predicted",
+                                                                             "bound")])
+positive = positive[positive > 1e-9]
+floor = 10.0 ** np.floor(np.log10(positive.min())) / 2
+for ax, (name, r) in zip(axes, sweep.items(), strict=True):
+    ax.loglog(gam_sweep, r["bound"], "k--", lw=1.0, label="Theorem 1 bound 2√N/(γλ₂)")
+    nz = r["distance"] > 1e-9
+    ax.loglog(gam_sweep[nz], r["distance"][nz], "o-", color="tab:blue", ms=4, label="measured")
+    ax.loglog(gam_sweep[~nz], np.full((~nz).sum(), floor), "v", color="tab:blue", ms=6,
+              clip_on=False, label="measured = 0 (inside $\\mathcal{M}$)")[0].set_in_layout(False)
+    pz = r["predicted"] > 1e-9
+    ax.loglog(gam_sweep[pz], r["predicted"][pz], "s", mfc="none", color="tab:orange", ms=7,
+              label="minimiser of $f_\\gamma$ (X3)")
+    ax.loglog(gam_sweep[~pz], np.full((~pz).sum(), floor), "s", mfc="none", color="tab:orange",
+              ms=9, clip_on=False)[0].set_in_layout(False)
+    ax.set_ylim(floor, positive.max() * 2)
+    ax.set_title(f"{name}: λ₂ = {r['lambda2']:.3f}")
+    ax.set_xlabel("coupling gain γ [–]")
+axes[0].set_ylabel(r"final $\max_i\|x_i\|_{\mathcal{M}}$ [–]")
+fig.legend(*axes[0].get_legend_handles_labels(), loc="outside lower center", ncol=2, fontsize=7)
+_ = plotting.save_figure(  # the saved path; shown inline by save_figure
+    fig, FIG_DIR, "extra_theorem1_gamma_sweep",
+    data={"gamma": gam_sweep, **{f"distance_{g}": r["distance"] for g, r in sweep.items()},
+          **{f"minimiser_{g}": r["predicted"] for g, r in sweep.items()},
+          **{f"bound_{g}": r["bound"] for g, r in sweep.items()}},
+)
+
+# %% [markdown]
+# The distance falls roughly as $1/\gamma$ and stays far below the bound (the bound adds a worst
+# case for the disagreement and one for the average); on the all-to-all graph the agents end
+# exactly inside $\mathcal M$ at intermediate gains (their mean slides inside the interval). Every
+# measured distance is that of the minimiser of $f_\gamma$ to within the chattering of the Euler
+# iterate. **Remark 2** — $\lambda_2=2(1-\cos(2\pi/N))$ on rings and $\lambda_2=N$ on all-to-all
+# graphs — checked against networkx's `algebraic_connectivity` for $N=3,\dots,12$:
 
 # %%
 remark2_n = np.arange(3, 13)
@@ -327,7 +481,6 @@ for nn in remark2_n:
 lam2_ring_seq = 2 * (1 - np.cos(2 * np.pi / remark2_n))
 print(f"max |networkx - closed form| over N = 3..12: {remark2_dev:.1e}; ring lambda2 decreasing: "
       f"{bool(np.all(np.diff(lam2_ring_seq) < 0))}")
-
 # %% [markdown]
 # ## Section III-A — the example plant and its unobservable subspaces
 #
@@ -396,7 +549,8 @@ def real_invariant_subspaces(a: np.ndarray) -> list[tuple[complex, np.ndarray]]:
     if np.min(np.abs(lam[:, None] - lam[None, :]) + np.eye(lam.size) * 1e9) < 1e-9 * max(
         1.0, np.abs(lam).max()
     ):
-        raise ValueError("repeated eigenvalues: use the Jordan-chain fallback of the brief")
+        raise ValidationError("parameters J_inertia, b_damping, k_spring: A has repeated eigenvalues; "
+                              "our basis construction needs distinct ones")
     out = []
     for idx in np.argsort(-lam.real + 1e-9 * np.abs(lam.imag)):
         mu = lam[idx]
@@ -427,7 +581,8 @@ pbh = np.array(
     [[int(np.linalg.norm(Ci @ X) > 1e-9 * np.linalg.norm(Ci) * np.linalg.norm(X)) for Ci in banks]
      for _, X in modes]
 )
-assert np.array_equal(pattern, pbh), "staircase and PBH disagree"
+if not np.array_equal(pattern, pbh):
+    raise RuntimeError("the staircase and the PBH test disagree on the observation pattern")
 print("banks observing each real mode (rows: modes, columns: banks 1..5)")
 for (mu, _), row in zip(modes, pattern, strict=True):
     print(f"  lambda = {mu.real:+.3f}{mu.imag:+.3f}j : {row}")
@@ -438,14 +593,16 @@ for (mu, _), row in zip(modes, pattern, strict=True):
 # "2-redundant observable", i.e. $q=1$.
 
 # %%
-red = {qq: systems.redundant_observability(A, banks, q=qq) for qq in (1, 2)}
+red = {qq: systems.redundant_observability(A, banks, q=qq) for qq in range(1, (N_banks - 1) // 2 + 1)}
+q_max = max((qq for qq, r in red.items() if r.holds), default=0)
 for qq, r in red.items():
     failing = [tuple(i + 1 for i in f) for f in r.failing]
     print(f"q = {qq}: {r.n_subsets} subsets of {N_banks - 2 * qq} banks, holds = {r.holds}, "
           f"failing (1-based) = {failing}")
 
 # %% [markdown]
-# For $q=2$ every single bank would have to observe the plant; banks 2, 4 and 5 do not.
+# For $q=2$ every single bank would have to observe the plant; banks 2, 4 and 5 do not: the
+# example is $2q$-redundant observable for $q=1$ only (`q_max`), as the paper states.
 #
 # ## Assumption 4 — a common basis $\{v_l\}$
 #
@@ -466,9 +623,12 @@ for qq, r in red.items():
 # The procedure covers matrices with distinct eigenvalues (as here); for repeated eigenvalues the
 # function refuses, and the brief's fallback (intersecting the $\mathcal U_i$ of bank subsets) would
 # be needed — Appendix B items 4 and 8 show that Assumption 4 can then genuinely fail.
-# Any basis satisfying Assumption 4 is admissible, but the sign corrections move $\hat x_i$ by
-# $\kappa\|v_l\|$ per coordinate, so scaling and rotation inside a group change speed and
-# steady-state offsets (our unit-norm choice is recorded in the provenance table).
+# Any basis satisfying Assumption 4 is admissible, but the sign corrections of (6) move
+# $\hat x_i$ along $\kappa v_l$, so the scaling of the $v_l$ changes speed and steady-state offsets.
+# The paper does not fix it; Section IV writes the rigid-body span unnormalised,
+# $\mathrm{span}\{[1,0,1,0,1,0]^\top,[0,1,0,1,0,1]^\top\}$. Parameter `basis_normalisation`:
+# `"unit"` ($\|v_l\|=1$, default) or `"integer"` (every $v_l$ scaled so that its smallest
+# nonzero entry is $1$: the paper's two vectors and the integer torsion shapes).
 
 
 # %%
@@ -500,35 +660,47 @@ def common_basis(
     return np.column_stack(cols), np.array(ind).T, np.column_stack(modal)
 
 
-V, S_ind, T_modal = common_basis(modes, pattern)
-W = np.linalg.inv(V)  # rows w_l^T: [w_1 ... w_n]^T [v_1 ... v_n] = I
-# verification of Assumption 4
+def normalise_basis(v_unit: np.ndarray, how: str) -> np.ndarray:
+    """Scale the columns of a unit-norm basis: "unit" (as is) or "integer" (smallest |entry| = 1)."""
+    if how == "unit":
+        return v_unit
+    scale = [np.abs(col[np.abs(col) > 1e-9 * np.abs(col).max()]).min() for col in v_unit.T]
+    return v_unit / np.array(scale)
+
+
+V_unit, S_ind, T_modal = common_basis(modes, pattern)
+# verification of Assumption 4 (membership does not depend on the scaling of the v_l)
 a4_resid = 0.0
 a4_ok = True
 for i, U in enumerate(U_sub):
     a4_ok &= int((S_ind[i] == 0).sum()) == U.shape[1]
     for ll in range(n):
-        member = in_span(V[:, ll], U)
+        member = in_span(V_unit[:, ll], U)
         a4_ok &= member == (S_ind[i, ll] == 0)
         if member and U.shape[1]:
-            a4_resid = max(a4_resid, float(np.linalg.norm(V[:, ll] - U @ (U.T @ V[:, ll]))))
+            a4_resid = max(a4_resid, float(np.linalg.norm(V_unit[:, ll] - U @ (U.T @ V_unit[:, ll]))))
 banks_per_coord = S_ind.sum(axis=0)
-print("sqrt(3, 3, 2, 2, 6, 6) * V =")
-print(np.round(V * np.sqrt([3, 3, 2, 2, 6, 6]), 6))
+print("basis, 'unit' (columns v_l):")
+print(np.round(V_unit, 6))
+print("basis, 'integer':")
+print(np.round(normalise_basis(V_unit, "integer"), 6))
 print("indicators s_i^l (rows: banks, columns: l):")
 print(S_ind)
 print("Assumption 4 verified:", a4_ok, f"(max membership residual {a4_resid:.1e})")
 print("banks per coordinate:", banks_per_coord, f">= 2q+1 = {2 * q + 1} (Lemma 1)")
-A_bar = W @ A @ V
-print("A_bar = W A V =")
-print(np.round(A_bar, 6))
+A_bar_unit = V_unit.T @ A @ V_unit
+print("A_bar = W A V ('unit' basis) =")
+print(np.round(A_bar_unit, 6))
 
 # %% [markdown]
-# The basis is $v_1=[1,0,1,0,1,0]/\sqrt3$, $v_2=[0,1,0,1,0,1]/\sqrt3$ (rigid body,
+# The unit basis is $v_1=[1,0,1,0,1,0]/\sqrt3$, $v_2=[0,1,0,1,0,1]/\sqrt3$ (rigid body,
 # eigenvalues $0,-0.7$), $v_3,v_4$ the mode shape $(1,0,-1)/\sqrt2$ in angle and rate, and
 # $v_5,v_6$ the shape $(1,-2,1)/\sqrt6$. It is orthonormal ($W=V^\top$), and
 # $\bar A=WAV=\operatorname{blockdiag}\big(\begin{smallmatrix}0&1\\0&-0.7\end{smallmatrix},
 # \begin{smallmatrix}0&1\\-137&-0.7\end{smallmatrix},\begin{smallmatrix}0&1\\-411&-0.7\end{smallmatrix}\big)$.
+# The integer basis is the same up to the factors $\sqrt3,\sqrt3,\sqrt2,\sqrt2,\sqrt6,\sqrt6$; its
+# $v_1,v_2$ are the paper's $[1,0,1,0,1,0]^\top,[0,1,0,1,0,1]^\top$, and $\bar A$ is the same
+# ($\bar A\to D^{-1}\bar AD$ with equal factors inside each $2\times2$ block).
 # The indicator table: banks 1 and 3 see everything, bank 2 ($\theta_2$) misses the
 # $(1,0,-1)$ mode, banks 4 and 5 (angle differences) miss the rigid-body motion; each coordinate
 # is observed by $[3,3,4,4,5,5]\ge 2q+1=3$ banks, as Lemma 1 requires.
@@ -540,62 +712,106 @@ print(np.round(A_bar, 6))
 # $\tilde{\mathcal W}_i$ the rest, $\mathcal W_iA\tilde{\mathcal V}_i=0$ and
 # $C_i\tilde{\mathcal V}_i=0$ (Kalman observability decomposition). The gain $L_i$ makes
 # $F_i=\mathcal W_iA\mathcal V_i-L_iC_i\mathcal V_i$ Hurwitz; the paper only says its eigenvalues
-# are "near $-1$" (MISSING). Default `observer_poles="near"`: $-1,-1.1,\dots$ (first $o_i$;
-# single-output placement needs distinct poles). Alternative `"shifted"`: keep the imaginary
-# parts of $\operatorname{eig}(\mathcal W_iA\mathcal V_i)$ and move all real parts to $-1$
-# (real eigenvalues to $-1,-1.1$). Gains by pole placement with python-control
-# (`control.place`, on the dual pair).
+# are "near $-1$" (MISSING). `observer_poles="near"` (default): $-1,-1.1,\dots$ (first $o_i$;
+# single-output placement needs distinct poles). `"shifted"`: keep the imaginary parts of
+# $\operatorname{eig}(\mathcal W_iA\mathcal V_i)$ and move all real parts to $-1$ (real
+# eigenvalues to $-1,-1.1$). Gains by pole placement with python-control (`control.place`, on the
+# dual pair).
+#
+# Scaling the basis, $\mathcal V_i\to\mathcal V_iD_i$ with $D_i$ diagonal, maps the pair
+# $(\mathcal W_iA\mathcal V_i, C_i\mathcal V_i)$ to a similar one, so the placed gain becomes
+# $D_i^{-1}L_i$ and the partial estimates $\mathcal V_iz_i$ do not change: the normalisation acts
+# on the median correction of (6) only (checked below). We build all four readings
+# (normalisation × poles): the figures compare them, the claims use this run's.
+
 
 # %%
 masks = [S_ind[i] == 1 for i in range(N_banks)]
-V_i = [V[:, m] for m in masks]
-W_i = [W[m] for m in masks]
 o_i = np.array([int(m.sum()) for m in masks])
+
+
+@dataclass(frozen=True)
+class Observers:
+    """One reading of the design: basis V (columns v_l), W = V^-1, and per bank V_i, W_i, L_i, F_i."""
+
+    V: np.ndarray
+    W: np.ndarray
+    V_i: list[np.ndarray]
+    W_i: list[np.ndarray]
+    L: list[np.ndarray]
+    F: list[np.ndarray]
+
+
+def placed_poles(f_i: np.ndarray, which: str) -> np.ndarray:
+    """Poles of F_i: "near" (-1, -1.1, ...) or "shifted" (real parts of eig(f_i) moved to -1)."""
+    if which == "near":
+        return -1.0 - 0.1 * np.arange(f_i.shape[0])
+    ev = np.linalg.eigvals(f_i)
+    real, cplx = ev[np.abs(ev.imag) < 1e-9], ev[np.abs(ev.imag) >= 1e-9]
+    return np.concatenate([-1.0 - 0.1 * np.arange(real.size), -1.0 + 1j * cplx.imag])
+
+
+def make_observers(normalisation: str, poles: str) -> Observers:
+    """Basis, partial-observer matrices and gains L_i of (5) by pole placement for one reading."""
+    v_mat = normalise_basis(V_unit, normalisation)
+    w_mat = np.linalg.inv(v_mat)  # rows w_l^T: [w_1 ... w_n]^T [v_1 ... v_n] = I
+    v_i, w_i = [v_mat[:, m] for m in masks], [w_mat[m] for m in masks]
+    gains, closed = [], []
+    for i in range(N_banks):
+        f_i, h_i = w_i[i] @ A @ v_i[i], banks[i] @ v_i[i]
+        gain = control.place(f_i.T, h_i.T, placed_poles(f_i, poles)).T
+        gains.append(gain)
+        closed.append(f_i - gain @ h_i)
+    return Observers(v_mat, w_mat, v_i, w_i, gains, closed)
+
+
+def peak_gain(f: np.ndarray, horizon: float = 20.0, steps: int = 400) -> float:
+    """max_t ||exp(F t)||_2 over t = 0, h, ..., horizon (transient peaking of the observer error).
+
+    exp(F k h) = exp(F h)^k: one matrix exponential, then products (each expm of a stiff F
+    costs many squarings)."""
+    step, power, peak = sla.expm(f * (horizon / steps)), np.eye(f.shape[0]), 1.0
+    for _ in range(steps):
+        power = power @ step
+        peak = max(peak, float(np.linalg.norm(power, 2)))
+    return peak
+
+
+READINGS = [(nrm, p) for p in ("near", "shifted") for nrm in ("unit", "integer")]
+# reproduction tolerance (make verify) of figure data from the observers with "near" poles
+NEAR_POLES = results.Tolerance(
+    rtol=0.05, atol=0.05,
+    reason="observers with near-pole gains (up to 1.5e3 at clustered poles: ill-conditioned) amplify "
+    "the chattering differences of the sign-driven dynamics: under other BLAS kernels up to 0.017 "
+    "late and 1.4 % of the value during the transient peak")
+observers = {rd: make_observers(*rd) for rd in READINGS}
+this_reading = (basis_normalisation, observer_poles)
+obs = observers[this_reading]
+V, W, V_i, W_i, L_gain, F_cl = obs.V, obs.W, obs.V_i, obs.W_i, obs.L, obs.F
 decomp_resid = max(
     max(np.abs(W_i[i] @ A @ V[:, ~masks[i]]).max(initial=0.0),
         np.abs(banks[i] @ V[:, ~masks[i]]).max(initial=0.0))
     for i in range(N_banks)
 )
 print("o_i =", o_i, f"; max |W_i A V~_i|, |C_i V~_i| = {decomp_resid:.1e}")
-
-
-def observer_gains(which: str) -> tuple[list[np.ndarray], list[np.ndarray]]:
-    """Gains L_i of (5) by pole placement; returns (L_i, F_i = W_i A V_i - L_i C_i V_i)."""
-    gains, closed = [], []
+for p in ("near", "shifted"):
+    ob = observers[(basis_normalisation, p)]
+    print(f"observer_poles = {p!r} (basis {basis_normalisation!r})")
     for i in range(N_banks):
-        f_i, h_i = W_i[i] @ A @ V_i[i], banks[i] @ V_i[i]
-        if which == "near":
-            poles = -1.0 - 0.1 * np.arange(o_i[i])
-        elif which == "shifted":
-            ev = np.linalg.eigvals(f_i)
-            real = ev[np.abs(ev.imag) < 1e-9]
-            cplx = ev[np.abs(ev.imag) >= 1e-9]
-            poles = np.concatenate([-1.0 - 0.1 * np.arange(real.size), -1.0 + 1j * cplx.imag])
-        else:
-            raise ValueError(f"observer_poles must be 'near' or 'shifted', found {which!r}")
-        gain = control.place(f_i.T, h_i.T, poles).T
-        gains.append(gain)
-        closed.append(f_i - gain @ h_i)
-    return gains, closed
-
-
-def peak_gain(f: np.ndarray) -> float:
-    """max_t ||exp(F t)||_2 over a grid of [0, 20] s (transient peaking of the observer error)."""
-    return max(np.linalg.norm(sla.expm(f * tk), 2) for tk in np.linspace(0.0, 20.0, 401))
-
-
-gain_sets = {p: observer_gains(p) for p in ("near", "shifted")}
-for p, (gains, closed) in gain_sets.items():
-    print(f"observer_poles = {p!r}")
-    for i in range(N_banks):
-        print(f"  bank {i + 1}: max|L_i| = {np.abs(gains[i]).max():9.3f}, "
-              f"max Re eig(F_i) = {np.linalg.eigvals(closed[i]).real.max():+.3f}, "
-              f"peak ||exp(F_i t)|| = {peak_gain(closed[i]):9.1f}")
-L_gain, F_cl = gain_sets[observer_poles]
+        print(f"  bank {i + 1}: max|L_i| = {np.abs(ob.L[i]).max():9.3f}, "
+              f"max Re eig(F_i) = {np.linalg.eigvals(ob.F[i]).real.max():+.3f}, "
+              f"peak ||exp(F_i t)|| = {peak_gain(ob.F[i]):9.1f}")
+# the partial estimates V_i z_i do not depend on the scaling: V_i L_i is the same for both
+invariance = max(np.abs(observers[("unit", p)].V_i[i] @ observers[("unit", p)].L[i]
+                        - observers[("integer", p)].V_i[i] @ observers[("integer", p)].L[i]).max()
+                 / np.abs(observers[("unit", p)].V_i[i] @ observers[("unit", p)].L[i]).max()
+                 for p in ("near", "shifted") for i in range(N_banks))
+print(f"max relative |V_i L_i (unit) - V_i L_i (integer)| = {invariance:.1e}")
 
 # %% [markdown]
 # The literal "near $-1$" placement pulls the $11.7$ and $20.3$ rad/s modes down to $-1.2\dots-1.5$:
-# gains up to $1.5\cdot10^3$ and a transient peak $\|e^{F_it}\|\approx5\cdot10^4$ for banks 1 and 3.
+# gains up to $1.5\cdot10^3$ and a transient peak $\|e^{F_it}\|\approx5\cdot10^4$ for banks 1 and 3
+# (unit basis; the numbers in $z$-coordinates change with the scaling, $\mathcal V_iz_i$ does not).
 # Their partial estimates of the torsion modes are wrong for about 20 s; the θ-sum of Fig. 1 is
 # unaffected (both torsion shapes have zero angle sum). The "shifted" placement has gains
 # $\le 11$ and a peak of $\approx17$.
@@ -636,6 +852,7 @@ z_start = n + np.r_[0, np.cumsum(o_i)]  # z_i occupies rows z_start[i]:z_start[i
 xh0 = n + int(o_i.sum())  # first row of x_hat_1
 n_state = xh0 + N_banks * n
 s_flat = S_ind.reshape(-1).astype(float)
+k_att = attack_bank - 1  # the attacked bank / agent, 0-based
 
 
 def ring_adjacency(order: list[int]) -> np.ndarray:
@@ -649,26 +866,33 @@ lap_ex = graphs.laplacian(graphs.check_connected(adj_ex))
 lam2_ex = graphs.algebraic_connectivity(adj_ex)
 
 
-def network_system(gains, gain_gamma, v_corr=None, w_corr=None):
-    """Matrices M, E_w, E_s, R of the stacked system (1), (5), (6) [or (11) via v_corr, w_corr]."""
-    v_corr = V if v_corr is None else v_corr
-    w_corr = W if w_corr is None else w_corr
+def network_system(gains, gain_gamma, v_corr=None, w_corr=None, *, ob=None, gain_kappa=None):
+    """Matrices M, E_w, E_s, R of the stacked system (1), (5), (6) [or (11) via v_corr, w_corr].
+
+    ``ob`` is the reading (basis and partial observers; this run's by default), ``gains`` its L_i,
+    ``gain_kappa`` the kappa of (6) (``kappa`` by default).
+    """
+    ob = obs if ob is None else ob
+    gain_kappa = kappa if gain_kappa is None else gain_kappa
+    v_corr = ob.V if v_corr is None else v_corr
+    w_corr = ob.W if w_corr is None else w_corr
     m_mat = np.zeros((n_state, n_state))
     e_w = np.zeros((n_state, 1 + N_banks))
     r_mat = np.zeros((N_banks * n, n_state))
     m_mat[:n, :n], e_w[:n, 0] = A, B
     for i in range(N_banks):
         zi = slice(z_start[i], z_start[i + 1])
-        m_mat[zi, zi] = W_i[i] @ A @ V_i[i] - gains[i] @ banks[i] @ V_i[i]
+        m_mat[zi, zi] = ob.W_i[i] @ A @ ob.V_i[i] - gains[i] @ banks[i] @ ob.V_i[i]
         m_mat[zi, :n] = gains[i] @ banks[i]
-        e_w[zi, 0], e_w[zi, 1 + i] = W_i[i] @ B, gains[i][:, 0]
+        e_w[zi, 0], e_w[zi, 1 + i] = ob.W_i[i] @ B, gains[i][:, 0]
         rows = slice(i * n, (i + 1) * n)
-        r_mat[rows, zi] = w_corr @ V_i[i]
+        r_mat[rows, zi] = w_corr @ ob.V_i[i]
         r_mat[rows, xh0 + i * n : xh0 + (i + 1) * n] = -w_corr
-    m_mat[xh0:, xh0:] = np.kron(np.eye(N_banks), A) - kappa * gain_gamma * np.kron(lap_ex, np.eye(n))
+    m_mat[xh0:, xh0:] = (np.kron(np.eye(N_banks), A)
+                         - gain_kappa * gain_gamma * np.kron(lap_ex, np.eye(n)))
     e_w[xh0:, 0] = np.tile(B, N_banks)
     e_s = np.zeros((n_state, N_banks * n))
-    e_s[xh0:] = kappa * np.kron(np.eye(N_banks), v_corr)
+    e_s[xh0:] = gain_kappa * np.kron(np.eye(N_banks), v_corr)
     return m_mat, e_w, e_s, r_mat
 
 
@@ -688,33 +912,33 @@ def exogenous(amplitudes):
 
 def per_agent(value, name: str) -> np.ndarray:
     """One length-n vector per agent, (N, n): shape (n,) is shared by all agents, (N, n) is per agent."""
-    arr = np.asarray(value, dtype=float)
+    try:
+        arr = np.asarray(value, dtype=float)
+    except ValueError:
+        arr = np.zeros(0)
     if arr.shape == (n,):
         arr = np.tile(arr, (N_banks, 1))
-    if arr.shape != (N_banks, n):
-        raise ValueError(f"{name} must have shape ({n},) or ({N_banks}, {n}), found {arr.shape}")
+    require(arr.shape == (N_banks, n), name,
+            f"needs {n} numbers or {N_banks} rows of {n}, found shape {arr.shape}")
     return arr
 
 
-def initial_state() -> np.ndarray:
+def initial_state(ob: Observers) -> np.ndarray:
     """X(0) = [x(0); z_1(0); ...; z_N(0); x_hat_1(0); ...; x_hat_N(0)] from the parameters.
 
     z_i(0) = W_i z0_guess[i] (the partial observer (5) started from a state guess) and
     x_hat_i(0) = xhat0[i]; a single length-n vector is used for every agent.
     """
-    x_plant = np.asarray(x0_plant, dtype=float)
-    if x_plant.shape != (n,):
-        raise ValueError(f"x0_plant must have shape ({n},), found {x_plant.shape}")
     guesses = per_agent(z0_guess, "z0_guess")
     out = np.zeros(n_state)
-    out[:n] = x_plant
+    out[:n] = x0_plant
     for i in range(N_banks):
-        out[z_start[i] : z_start[i + 1]] = W_i[i] @ guesses[i]
+        out[z_start[i] : z_start[i + 1]] = ob.W_i[i] @ guesses[i]
     out[xh0:] = per_agent(xhat0, "xhat0").ravel()
     return out
 
 
-X_init = initial_state()  # validated once, before any run
+X_init = initial_state(obs)  # validated once, before any run
 
 
 def phi_sign(r: np.ndarray) -> np.ndarray:
@@ -727,18 +951,24 @@ def phi_linear(r: np.ndarray) -> np.ndarray:
     return s_flat[:, None] * r
 
 
-def simulate(amplitudes, *, gains=None, gain_gamma=None, phi=phi_sign, v_corr=None, w_corr=None,
-             step=None, horizon_s=None, method="expeuler"):
-    """Run (1), (5), (6) for a batch of attack amplitudes; returns t (K,), X (K, n_state, B)."""
-    gains = L_gain if gains is None else gains
+def simulate(amplitudes, *, ob=None, gains=None, gain_gamma=None, gain_kappa=None, phi=phi_sign,
+             v_corr=None, w_corr=None, step=None, horizon_s=None, method="expeuler", every=None):
+    """Run (1), (5), (6) for a batch of attack amplitudes; returns t (K,), X (K, n_state, B).
+
+    Defaults: this run's reading, its gains, gamma_ex, kappa, dt_ex, T_ex; states recorded every
+    record_dt (``every`` steps overrides it).
+    """
+    ob = obs if ob is None else ob
+    gains = ob.L if gains is None else gains
     gain_gamma = gamma_ex if gain_gamma is None else gain_gamma
     step = dt_ex if step is None else step
     horizon_s = T_ex if horizon_s is None else horizon_s
-    m_mat, e_w, e_s, r_mat = network_system(gains, gain_gamma, v_corr, w_corr)
+    m_mat, e_w, e_s, r_mat = network_system(gains, gain_gamma, v_corr, w_corr, ob=ob,
+                                            gain_kappa=gain_kappa)
     amps = np.atleast_1d(np.asarray(amplitudes, dtype=float))
-    x_start = np.repeat(X_init[:, None], amps.size, axis=1)
+    x_start = np.repeat(initial_state(ob)[:, None], amps.size, axis=1)
     n_steps = int(round(horizon_s / step))
-    every = int(round(record_dt / step))
+    every = int(round(record_dt / step)) if every is None else every
     out = systems.integrate_switched_linear(
         m_mat, e_w, exogenous(amps), e_s, r_mat, phi, x_start, step, n_steps,
         record_every=every, method=method,
@@ -753,7 +983,6 @@ def unpack(X: np.ndarray) -> dict[str, np.ndarray]:
         "z": [X[:, z_start[i] : z_start[i + 1]] for i in range(N_banks)],
         "xh": X[:, xh0:].reshape((X.shape[0], N_banks, n) + X.shape[2:]),
     }
-
 # %% [markdown]
 # ## Integrating the discontinuous dynamics
 #
@@ -779,14 +1008,17 @@ def unpack(X: np.ndarray) -> dict[str, np.ndarray]:
 # step, all agents and scenarios at once), has no stability limit from the plant, the observers or
 # the coupling $\kappa\gamma$, and converges with order one in $dt$ to the Filippov solution.
 #
-# *Do not:* run explicit Euler above $dt\approx1.7\cdot10^{-3}$ s here; hand the exact $\mathrm{sgn}$
-# to an adaptive solver; or smooth $\mathrm{sgn}$ with an $\varepsilon$ comparable to the
-# offsets under study. Accuracy comparison below: every method against exponential Euler with
-# $dt=10^{-4}$ s (reference) on the attacked example; the speed side of the comparison is
-# measured in the benchmark suite, not here (timings are machine-dependent). For it, the stacked
-# matrices are written to `extra_integrator_system.csv` (columns `M[j]`, `E_w[j]`, `E_s[j]` with the
-# indicators folded in, `R_T[j]`, `x0`): $\dot X=MX+E_ww(t)+E_s\,\mathrm{sgn}(RX)$ with
-# $w=[0.01\sin0.5t;\ a_1(t);0;0;0;0]$, $a_1=\pi/3$ for $t\ge10$ s.
+# *Do not:* run explicit Euler above its stability limit (here $dt\approx1.7\cdot10^{-3}$ s); hand
+# the exact $\mathrm{sgn}$ to an adaptive solver; or smooth $\mathrm{sgn}$ with an $\varepsilon$
+# comparable to the offsets under study. Accuracy comparison below: every method against
+# exponential Euler with `accuracy_ref_dt` $=10^{-4}$ s (reference) on the attacked example, at
+# this run's reading; explicit Euler also at three times its stability limit (largest step with
+# spectral radius of $I+dt\,M$ at most one, computed from $\operatorname{eig}(M)$). The speed side
+# of the comparison (including explicit Euler at matched accuracy) is measured in the benchmark
+# suite, not here (timings are machine-dependent). For it, the stacked matrices are written to
+# `extra_integrator_system.csv` (columns `M[j]`, `E_w[j]`, `E_s[j]` with the indicators folded in,
+# `R_T[j]`, `x0`): $\dot X=MX+E_ww(t)+E_s\,\mathrm{sgn}(RX)$ with
+# $w=[u(t);\ a_1(t);\dots;a_N(t)]$, the attack on bank `attack_bank` from `attack_start` on.
 
 # %%
 acc_amp = [attack_amplitude]
@@ -794,23 +1026,33 @@ t_acc, X_ref = simulate(acc_amp, step=accuracy_ref_dt, horizon_s=accuracy_T)
 xh_ref = unpack(X_ref)["xh"][..., 0]
 
 
-def deviation_from_ref(X: np.ndarray) -> np.ndarray:
-    """max_i ||x_hat_i - x_hat_i^ref||_inf on the common 0.01 s grid."""
-    return np.abs(unpack(X)["xh"][..., 0] - xh_ref).max(axis=(1, 2))
+def deviation_from_ref(t_run: np.ndarray, X: np.ndarray) -> np.ndarray:
+    """max_i ||x_hat_i - x_hat_i^ref||_inf on the reference's recording grid (linear interpolation)."""
+    xh = unpack(X)["xh"][..., 0].reshape(t_run.size, -1)
+    if t_run.size != t_acc.size or np.abs(t_run - t_acc).max() > 1e-9:
+        xh = np.column_stack([np.interp(t_acc, t_run, col) for col in xh.T])
+    return np.abs(xh.reshape(xh_ref.shape) - xh_ref).max(axis=(1, 2))
 
-
-acc_runs = {}
-for label, meth, step in [
-    ("exponential Euler, dt = 1e-3 (ours)", "expeuler", 1e-3),
-    ("exponential Euler, dt = 5e-4", "expeuler", 5e-4),
-    ("explicit Euler, dt = 1e-3", "euler", 1e-3),
-    ("explicit Euler, dt = 1e-4", "euler", 1e-4),
-    ("explicit Euler, dt = 2.5e-3 (unstable)", "euler", 2.5e-3),
-]:
-    _, X_m = simulate(acc_amp, step=step, horizon_s=accuracy_T, method=meth)
-    acc_runs[label] = deviation_from_ref(X_m)
 
 m_acc, ew_acc, es_acc, r_acc = network_system(L_gain, gamma_ex)
+eig_m = np.linalg.eigvals(m_acc)
+moving = np.abs(eig_m) > 1e-9 * np.abs(eig_m).max()
+euler_dt_max = float(np.min(-2.0 * eig_m[moving].real / np.abs(eig_m[moving]) ** 2))
+dt_unstable = 3.0 * euler_dt_max
+label_ours = f"exponential Euler, dt = {dt_ex:g} (ours)"
+label_half = f"exponential Euler, dt = {dt_ex / 2:g}"
+label_euler = f"explicit Euler, dt = {dt_ex:g}"
+label_unstable = f"explicit Euler, dt = {dt_unstable:.2g} (3 × limit: unstable)"
+acc_runs = {}
+for label, meth, step, every in [
+    (label_ours, "expeuler", dt_ex, None),
+    (label_half, "expeuler", dt_ex / 2, None),
+    (label_euler, "euler", dt_ex, None),
+    (label_unstable, "euler", dt_unstable, 1),
+]:
+    t_m, X_m = simulate(acc_amp, step=step, horizon_s=accuracy_T, method=meth, every=every)
+    acc_runs[label] = deviation_from_ref(t_m, X_m)
+
 w_acc = exogenous(acc_amp)
 x_start_acc = X_init.copy()
 
@@ -819,7 +1061,11 @@ x_start_acc = X_init.copy()
 # w(t) = [u(t); a_1(t); ...; a_N(t)] and the indicators folded into E_s (10 significant digits)
 plotting.save_data(FIG_DIR, "extra_integrator_system", {
     "M": m_acc, "E_w": ew_acc, "E_s": es_acc * s_flat[None, :], "R_T": r_acc.T, "x0": x_start_acc,
-})
+}, tolerance=dict.fromkeys(["M", "E_w"], results.Tolerance(
+    rtol=1e-3, atol=1e-9,
+    reason="observer gains placed at the clustered poles -1, -1.1, ... (ill-conditioned): up to "
+    "3.8e-5 (large gains) and 1.7e-4 (small entries) relative between BLAS kernels; near-zero "
+    "entries are rounding residuals (~1e-13)")))
 
 
 def rhs_smooth(t: float, X: np.ndarray, eps: float) -> np.ndarray:
@@ -830,7 +1076,8 @@ def rhs_smooth(t: float, X: np.ndarray, eps: float) -> np.ndarray:
 for eps in tanh_eps:
     sol = solve_ivp(rhs_smooth, (0.0, accuracy_T), x_start_acc, args=(eps,), t_eval=t_acc,
                     rtol=1e-6, atol=1e-9, max_step=0.01)
-    acc_runs[f"RK45, sgn = tanh(./{eps:g}), rtol = 1e-6"] = deviation_from_ref(sol.y.T[:, :, None])
+    acc_runs[f"RK45, sgn = tanh(./{eps:g}), rtol = 1e-6"] = deviation_from_ref(
+        sol.t, sol.y.T[:, :, None])
 
 
 def rhs_exact(t: float, X: np.ndarray) -> np.ndarray:
@@ -845,61 +1092,93 @@ print(f"RK45 with the exact sgn (rtol 1e-6): {stall.nfev} RHS evaluations for th
 acc_table = {
     label: (float(np.sqrt(np.mean(d**2))), float(d.max())) for label, d in acc_runs.items()
 }
-print(f"{'method':45s} {'RMS dev.':>10s} {'max dev.':>10s}")
+print(f"{'method':50s} {'RMS dev.':>10s} {'max dev.':>10s}")
 for label, (rms, mx) in acc_table.items():
-    print(f"{label:45s} {rms:10.2e} {mx:10.2e}")
+    print(f"{label:50s} {rms:10.2e} {mx:10.2e}")
 
 # %%
 rho_euler = {step: float(np.abs(np.linalg.eigvals(np.eye(n_state) + step * m_acc)).max())
-             for step in (1e-3, 2.5e-3)}
-print("spectral radius of I + dt M:", {k: round(v, 6) for k, v in rho_euler.items()})
-fig, axes = plt.subplots(1, 2, figsize=(plotting.PAGE_WIDTH, 2.9), sharey=True)
+             for step in (dt_ex, dt_unstable)}
+print(f"explicit-Euler stability limit {euler_dt_max:.4g} s; spectral radius of I + dt M:",
+      {f"{k:.3g}": round(v, 6) for k, v in rho_euler.items()})
+fig, axes = plt.subplots(1, 2, figsize=(plotting.PAGE_WIDTH, 3.6), sharey=True, layout="constrained")
+acc_floor = 10.0 ** np.floor(np.log10(max(np.percentile(np.concatenate(
+    [d[d > 0] for d in acc_runs.values()]), 1.0), 1e-12)))
+acc_top = 10.0 ** np.ceil(np.log10(max(d.max() for d in acc_runs.values())))
 for k, (label, d) in enumerate(acc_runs.items()):
     ax = axes[1] if label.startswith("RK45") else axes[0]
-    color = "k" if "(ours)" in label else f"C{k}"
-    ax.semilogy(t_acc, np.maximum(d, 1e-6), lw=0.9, color=color, label=label)
-axes[1].semilogy(t_acc, np.maximum(acc_runs["exponential Euler, dt = 1e-3 (ours)"], 1e-6), lw=0.9,
-                 color="k", label="exponential Euler, dt = 1e-3 (ours)")
+    color = "k" if label == label_ours else f"C{k}"
+    ax.semilogy(t_acc, np.maximum(d, acc_floor), lw=0.9, color=color, label=label)
+axes[1].semilogy(t_acc, np.maximum(acc_runs[label_ours], acc_floor), lw=0.9, color="k",
+                 label=label_ours)
 axes[0].set_title("fixed-step schemes")
 axes[1].set_title("adaptive RK45 with a smoothed sign")
 for ax in axes:
-    ax.axvline(attack_start, color="k", lw=0.6, ls=":")
+    if attack_start <= accuracy_T:
+        ax.axvline(attack_start, color="k", lw=0.6, ls=":")
     ax.set_xlabel("time t [s]")
-    ax.legend(loc="upper right", fontsize=6.5)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.18), fontsize=6.5)
 axes[0].set_ylabel(r"$\max_i\|\hat x_i-\hat x_i^{\mathrm{ref}}\|_\infty$ [rad, rad/s]")
-axes[0].set_ylim(1e-5, 1e3)
-plotting.save_figure(
+axes[0].set_ylim(acc_floor, acc_top)
+_ = plotting.save_figure(  # the saved path; shown inline by save_figure
     fig, FIG_DIR, "extra_integrator_accuracy",
     data={"t_s": t_acc, **{f"dev[{lab}]": d for lab, d in acc_runs.items()}},
+    tolerance={"dev*": results.Tolerance(
+        rtol=0.1, atol=0.05,
+        reason="deviation of one integration of the sign-driven system from another: a difference of "
+        "two chattering trajectories (up to 0.013, or 0.0075 + 10 % of the value, under other BLAS "
+        "kernels)")},
 )
-plt.show()
 
 # %% [markdown]
-# Exponential Euler at $dt=10^{-3}$ s tracks the reference about four times more closely than
-# explicit Euler at the same step, and halving its step halves the deviation (order one: the
-# deviation is chattering on the sliding surfaces). Explicit Euler at $dt=2.5\cdot10^{-3}$ s is unstable (spectral radius of
-# $I+dt\,M$ above one, from the $20.3$ rad/s plant mode); that mode is barely excited in this run
-# (the initial angles have no $(1,-2,1)$ component), so its deviation grows only slowly here (×2.1
-# over 20 s, X1), but it grows. The $\tanh$ smoothing with $\varepsilon=10^{-2}$ shifts the sliding offsets.
-#
+# Exponential Euler at `dt_ex` tracks the reference about four times more closely than explicit
+# Euler at the same step, and halving its step halves the deviation (order one: the deviation is
+# chattering on the sliding surfaces). Explicit Euler at three times its stability limit (the
+# limit is set by the $-0.35\pm20.27j$ plant mode, $0.7/411\approx1.7\cdot10^{-3}$ s) grows without
+# bound: the torque $u$ excites the $(1,-2,1)$ mode, which the scheme amplifies at every step. The $\tanh$
+# smoothing with $\varepsilon=10^{-2}$ shifts the sliding offsets.
+
+# %% [markdown]
 # ## Section IV — the example with the paper's values
 #
-# One batched run holds four attack amplitudes on bank 1 ($\pi/3$ of the paper, $\pi$, 10 and 0)
-# with the default ("near $-1$") gains; further runs vary $\gamma$, the poles, the correction
-# ((6), (11), baseline). Attack $a_1(t)=$ amplitude for $t\ge10$ s.
+# One batched run holds four attack amplitudes on bank `attack_bank` ($\pi/3$ of the paper, the
+# sizes of `amplitude_sweep`, and 0) at this run's reading; further runs vary $\gamma$, $\kappa$,
+# the reading, and the correction ((6), (11), baseline). The attack is $a(t)=$ amplitude for
+# $t\ge$ `attack_start`. Steady-state values are means over the last `final_window` seconds.
+#
+# **Chattering tolerance (fixed before any run).** On a sliding surface the sign correction of (6)
+# moves $\hat x_i$ by $\kappa v_l\,dt$ per step, so a finite-step steady state can differ from
+# the Filippov one by a few such steps. Every comparison of a steady-state value with its exact
+# prediction below allows ten steps: $10\kappa\,dt$ in the coordinates $w_l^\top(\cdot)$,
+# $10\kappa\,dt\max_l|\mathbf 1_\theta^\top v_l|$ on the θ-sum ($\mathbf 1_\theta=[1,0,1,0,1,0]$)
+# and $10\kappa\,dt\max_l\|v_l\|_\infty$ in the ∞-norm. The tolerance scales with $\kappa\,dt$ and
+# the basis, not with $\gamma$.
 
 # %%
+CHATTER_STEPS = 10
+theta_sel = np.array([1.0, 0, 1.0, 0, 1.0, 0])  # theta_1 + theta_2 + theta_3
+
+
+def chatter_tol(v_corr: np.ndarray, gain_kappa: float) -> dict[str, float]:
+    """Ten steps of the sign correction kappa v_l dt of (6) (columns v_l of ``v_corr``; V_bar for
+    (11)): in the coordinates, on the theta-sum, in the inf-norm."""
+    base = CHATTER_STEPS * gain_kappa * dt_ex
+    return {"coord": base, "sum": base * float(np.abs(theta_sel @ v_corr).max()),
+            "inf": base * float(np.abs(v_corr).max())}
+
+
+tol = chatter_tol(V, kappa)
 amp_batch = [attack_amplitude, *amplitude_sweep, 0.0]
 t_ex, X_main = simulate(amp_batch)
 sim = unpack(X_main)
 last = t_ex >= T_ex - final_window - 1e-9
-theta_sel = np.array([1.0, 0, 1.0, 0, 1.0, 0])  # theta_1 + theta_2 + theta_3
 true_sum = sim["x"][:, :, 0] @ theta_sel
-own_1 = sim["z"][0][..., 0] @ V_i[0].T  # agent 1's own estimate V_1 z_1 (o_1 = n)
+own_k = sim["z"][k_att][..., 0] @ V_i[k_att].T  # the attacked agent's own estimate V_k z_k
 err = sim["xh"] - sim["x"][:, None]  # (K, N, n, B)
 sum_err = np.einsum("kinb,n->kib", err, theta_sel)
 max_err = np.abs(err).max(axis=(1, 2))  # (K, B)
-print("final window:", t_ex[last][0], "...", t_ex[-1], "s")
+print(f"final window: {t_ex[last][0]:g} ... {t_ex[-1]:g} s; chattering tolerances "
+      + ", ".join(f"{k} {v:.2e}" for k, v in tol.items()))
 for b, amp in enumerate(amp_batch):
     print(f"amplitude {amp:7.4f}: mean sum offsets {np.round(sum_err[last, :, b].mean(0), 4)}, "
           f"max_i ||x_hat_i - x||_inf = {max_err[last, b].max():.4f}")
@@ -907,256 +1186,348 @@ for b, amp in enumerate(amp_batch):
 # %% [markdown]
 # ## Fig. 1 — $\theta_1+\theta_2+\theta_3$, agent 1's own estimate and the resilient estimates
 #
-# The caption's "estimate obtained by agent 1" (red) is read here as $\mathcal V_1z_1$, the
-# estimate of agent 1's partial observer (5) from its own bank ($o_1=n$); this is our
-# interpretation (Deviations table). The blue curves are the resilient $\hat x_i$ of (6).
+# The caption: "the state trajectory $\theta_1+\theta_2+\theta_3$ (black), its estimate obtained by
+# agent 1 (red), and its resilient estimate for all agents (blue)". The printed figure is not
+# available (OCR text only), so this is checked against the caption and the text. The red curve is
+# read as $\mathcal V_1z_1$, the estimate of agent 1's partial observer (5) from its own bank
+# ($o_1=n$; our interpretation, Deviations table); the blue curves are the resilient $\hat x_i$ of
+# (6). Agent 1 is the attacked agent of the paper (`attack_bank`; the figure follows it).
+#
+# What the figure's details depend on: the size of the post-attack offsets of the blue curves
+# scales with the basis normalisation (θ-sum of $v_1$: $\sqrt3$ for unit norm, 3 for the paper's
+# unnormalised span), and the transients before the attack depend on the observer poles. The grid
+# shows all four readings; the one this run's claims use is marked.
+
 
 # %%
-base_t, X_base = simulate(amp_batch[:-1], phi=phi_linear)
-base = unpack(X_base)
-base_sum_err = np.einsum("kinb,n->kib", base["xh"] - base["x"][:, None], theta_sel)
+def reading_title(rd: tuple[str, str]) -> str:
+    """Panel title of one reading, marked when it is this run's."""
+    mark = " (this run)" if rd == this_reading else ""
+    return f'poles "{rd[1]}", basis "{rd[0]}"{mark}'
 
-fig, axes = plt.subplots(2, 1, figsize=(plotting.COLUMN_WIDTH * 1.6, 5.0), sharex=True,
-                         gridspec_kw={"height_ratios": [3, 2]})
-ax = axes[0]
-ax.plot(t_ex, own_1 @ theta_sel, color="tab:red", lw=1.2, label="estimate obtained by agent 1")
-ax.plot(t_ex, sim["xh"][:, :, :, 0] @ theta_sel, color="tab:blue", lw=0.9)
-ax.plot([], [], color="tab:blue", label="resilient estimates (all agents)")
-ax.plot(t_ex, true_sum, color="k", lw=1.0, ls="--", label=r"$\theta_1+\theta_2+\theta_3$")
-ax.axvline(attack_start, color="k", lw=0.6, ls=":")
-ax.set_ylim(-4, 12)
-ax.set_ylabel(r"$\theta_1+\theta_2+\theta_3$ [rad]")
-ax.legend(loc="upper left", fontsize=7)
-ax.set_title(f"ring of {N_banks} agents, κ = {kappa:g}, γ = {gamma_ex:g}, "
-             f"a₁ = {attack_amplitude:.3f} rad for t ≥ {attack_start:g} s")
-ax = axes[1]
-for i in range(N_banks):
-    ax.plot(t_ex, sum_err[:, i, 0], lw=1.0, color=f"C{i}", label=f"agent {i + 1}, (6)")
-    ax.plot(base_t, base_sum_err[:, i, 0], lw=0.8, ls="--", color=f"C{i}")
-ax.plot([], [], color="gray", ls="--", label="averaging baseline (ours)")
-ax.axvline(attack_start, color="k", lw=0.6, ls=":")
-ax.set_ylim(-1.0, 2.6)
-ax.set_xlabel("time t [s]")
-ax.set_ylabel("error of the θ-sum [rad]")
-ax.legend(loc="upper left", fontsize=6.5, ncol=3)
-plotting.save_figure(
-    fig, FIG_DIR, "fig1_theta_sum",
-    data={"t_s": t_ex, "true_sum": true_sum, "agent1_own_sum": own_1 @ theta_sel,
-          "resilient_sum": sim["xh"][:, :, :, 0] @ theta_sel,
-          "baseline_sum_error": base_sum_err[:, :, 0]},
-)
-plt.show()
+
+fig_every = next(m for m in range(min(record_every, 10), 0, -1) if record_every % m == 0)
+fig_step = dt_ex if mode == "paper" else dt_ex * fig_every  # figure-only runs: coarser when fast
+grid_runs = {this_reading: (t_ex, unpack(X_main[..., :1]))}
+if figures:
+    for rd in READINGS:
+        if rd not in grid_runs:
+            t_g, X_g = simulate([attack_amplitude], ob=observers[rd], step=fig_step)
+            grid_runs[rd] = (t_g, unpack(X_g))
+    fig, axes = plt.subplots(2, 2, figsize=(plotting.PAGE_WIDTH, 4.8), sharex=True, sharey=True,
+                             layout="constrained")
+    for ax, rd in zip(axes.ravel(), READINGS, strict=True):
+        t_g, sim_g = grid_runs[rd]
+        ob = observers[rd]
+        ax.plot(t_g, sim_g["xh"][:, :, :, 0] @ theta_sel, color="tab:blue", lw=0.8)
+        ax.plot(t_g, sim_g["z"][k_att][..., 0] @ ob.V_i[k_att].T @ theta_sel, color="tab:red",
+                lw=1.1)
+        ax.plot(t_g, sim_g["x"][:, :, 0] @ theta_sel, color="k", lw=1.0, ls="--")
+        ax.axvline(attack_start, color="k", lw=0.6, ls=":")
+        ax.set_title(reading_title(rd), fontsize=8, fontweight="bold" if rd == this_reading else None)
+    for ax in axes[1]:
+        ax.set_xlabel("time t [s]")
+    for ax in axes[:, 0]:
+        ax.set_ylabel(r"$\theta_1+\theta_2+\theta_3$ [rad]")
+    handles = [plt.Line2D([], [], color="k", ls="--", label=r"$\theta_1+\theta_2+\theta_3$ (black)"),
+               plt.Line2D([], [], color="tab:red",
+                          label=f"estimate obtained by agent {attack_bank} (red)"),
+               plt.Line2D([], [], color="tab:blue", label="resilient estimates, all agents (blue)")]
+    fig.legend(handles=handles, loc="outside lower center", ncol=3, fontsize=7.5)
+    fig.suptitle(f"ring {'-'.join(map(str, ring_order))}, κ = {kappa:g}, γ = {gamma_ex:g}, "
+                 f"a = {attack_amplitude:.3f} rad on bank {attack_bank} for t ≥ {attack_start:g} s",
+                 fontsize=8.5)
+    plotting.save_figure(
+        fig, FIG_DIR, "fig1_theta_sum",
+        data={"t_s": t_ex, "true_sum": true_sum,
+              **{f"{key}[{rd[1]},{rd[0]}]": value for rd in READINGS for key, value in (
+                  ("own_sum", grid_runs[rd][1]["z"][k_att][..., 0] @ observers[rd].V_i[k_att].T
+                   @ theta_sel),
+                  ("resilient_sum", grid_runs[rd][1]["xh"][:, :, :, 0] @ theta_sel))}},
+        tolerance={"*near*": NEAR_POLES, "*_sum*": results.SIGN_DRIVEN},
+    )
+
 
 # %% [markdown]
 # ## Why agent 1 alone is fooled (footnote 3)
 #
-# Let $v=[1,0,1,0,1,0]^\top$ (rigid rotation, $=\sqrt3\,v_1$). Then $Av=0$ and $C_1v=1$, so for
-# $t\ge10$: $y_1+a_1=C_1\big(x+a\,v\big)$, and $x'=x+a\,v$ is itself a trajectory of the plant
-# ($\dot x'=Ax'+Bu$). Agent 1's data after the step are those of an unattacked plant in another
-# state: its partial observer (5) converges to $\mathcal W_1x'$ (indeed
-# $-F_1^{-1}L_1a=a\,\mathcal W_1v$ exactly), its innovation returns to zero, and its θ-sum is
-# off by $3a=\pi$ with every angle off by $a=\pi/3$. Strictly, this is an output attack along a
-# marginally stable eigenvector of $A$, not an invariant-zero ("zero-dynamics") attack. Banks 2 and
-# 3 also observe $v_1$ and are clean, so the network out-votes bank 1.
+# Let $v=[1,0,1,0,1,0]^\top$ (rigid rotation, the kernel of $A$; $=\sqrt3\,v_1$ in the unit
+# basis). Then $Av=0$ and $C_1v=1$, so for $t\ge10$: $y_1+a_1=C_1\big(x+a\,v\big)$, and
+# $x'=x+a\,v$ is itself a trajectory of the plant ($\dot x'=Ax'+Bu$). Agent 1's data after the
+# step are those of an unattacked plant in another state: its partial observer (5) converges to
+# $\mathcal W_1x'$ (indeed $-F_1^{-1}L_1a=a\,\mathcal W_1v$ exactly), its innovation returns to zero,
+# and its own estimate $\mathcal V_1z_1$ is off by $a\,v$: θ-sum off by $3a=\pi$, every angle by
+# $a=\pi/3$. Strictly, this is an output attack along a marginally stable eigenvector of $A$, not
+# an invariant-zero ("zero-dynamics") attack. Banks 2 and 3 also observe $v_1$ and are clean, so
+# the network out-votes bank 1.
+#
+# The code follows `attack_bank` $=k$: the argument needs $C_kv\ne0$ (bank $k$ sees the rigid-body
+# rotation: banks 1–3, not the difference sensors 4, 5), and Fig. 1's reading of the red curve as a
+# full-state estimate needs $o_k=n$ (banks 1 and 3). These are the premises of C3 and C11.
 
 # %%
-v_rigid = np.array([1.0, 0, 1.0, 0, 1.0, 0])
-A_v, C1_v = float(np.abs(A @ v_rigid).max()), float((banks[0] @ v_rigid)[0])
-p1_pred = -np.linalg.solve(F_cl[0], L_gain[0][:, 0])  # steady-state z_1 error per unit attack
-p1_identity = float(np.abs(p1_pred - W_i[0] @ v_rigid).max())
-z1_shift = np.abs(sim["z"][0][last, :, 0]
-                  - (sim["x"][last, :, 0] + attack_amplitude * v_rigid) @ W_i[0].T).max()
-innov_1 = (sim["x"][:, :, 0] @ banks[0][0] + np.where(t_ex >= attack_start, attack_amplitude, 0.0)
-           - sim["z"][0][..., 0] @ (banks[0] @ V_i[0])[0])
-own_sum_err = own_1[last] @ theta_sel - true_sum[last]
-own_inf_err = np.abs(own_1[last] - sim["x"][last, :, 0]).max(axis=1)
-print(f"||A v|| = {A_v:.1e}, C_1 v = {C1_v:g}; |-F_1^-1 L_1 - W_1 v| = {p1_identity:.1e}")
-print(f"last {final_window:g} s: |z_1 - W_1(x + a v)| <= {z1_shift:.1e}, "
-      f"|innovation of agent 1| <= {np.abs(innov_1[last]).max():.1e}")
-print(f"agent 1's own estimate: theta-sum error {own_sum_err.mean():.5f} (pi = {np.pi:.5f}), "
-      f"inf-norm error {own_inf_err.mean():.5f} (pi/3 = {np.pi / 3:.5f})")
+v_null = sla.null_space(A)[:, 0]
+C_k_v = float((banks[k_att] @ v_null)[0])
+sees_kernel = abs(C_k_v) > 1e-9 * np.abs(v_null).max()
+v_rigid = v_null / C_k_v if sees_kernel else v_null / np.abs(v_null).max()  # C_k v = 1
+A_v = float(np.abs(A @ v_rigid).max())
+e_unit = -np.linalg.solve(F_cl[k_att], L_gain[k_att][:, 0])  # steady z_k error per unit attack
+gain_identity = float(np.abs(e_unit - W_i[k_att] @ v_rigid).max())
+z_shift = float(np.abs(sim["z"][k_att][last, :, 0]
+                       - (sim["x"][last, :, 0] + attack_amplitude * v_rigid) @ W_i[k_att].T).max())
+innov_k = (sim["x"][:, :, 0] @ banks[k_att][0] + np.where(t_ex >= attack_start, attack_amplitude, 0.0)
+           - sim["z"][k_att][..., 0] @ (banks[k_att] @ V_i[k_att])[0])
+own_pred = attack_amplitude * V_i[k_att] @ e_unit  # steady error of V_k z_k (full state if o_k = n)
+own_sum_err = own_k[last] @ theta_sel - true_sum[last]
+own_inf_err = np.abs(own_k[last] - sim["x"][last, :, 0]).max(axis=1)
+print(f"v = {np.round(v_rigid, 6)}: ||A v|| = {A_v:.1e}, C_{attack_bank} v = "
+      f"{float((banks[k_att] @ v_rigid)[0]):g}; |-F^-1 L - W_k v| = {gain_identity:.1e}")
+print(f"last {final_window:g} s: |z_k - W_k(x + a v)| <= {z_shift:.1e}, "
+      f"|innovation of agent {attack_bank}| <= {np.abs(innov_k[last]).max():.1e}")
+print(f"agent {attack_bank}'s own estimate: theta-sum error {own_sum_err.mean():.5f} (predicted "
+      f"{theta_sel @ own_pred:.5f}), inf-norm error {own_inf_err.mean():.5f} (predicted "
+      f"{np.abs(own_pred).max():.5f})")
 
 # %% [markdown]
 # ## The steady-state offset law (ours)
 #
-# With $\gamma=2$ the resilient estimates do not converge to $x$ after the attack: they keep
+# At the paper's gains the resilient estimates do not converge to $x$ after the attack: they keep
 # constant offsets. Theorem 2 only promises $\limsup\|\hat x_i-x\|_\infty\le\eta$ for large enough
 # $\kappa,\gamma$, so this is consistent with the paper, and the offsets can be predicted exactly.
-# In the error coordinates $\bar x_i=W(\hat x_i-x)$ (7), only coordinate 1 ($v_1$) is pushed:
-# $p_1=\mathcal WV_1z_1-\mathcal Wx\to a\sqrt3\,e_1$, the other agents' $p_i\to0$. Column 1 of $\bar A$
-# is zero ($Av_1=0$), so constant offsets $c_i$ in coordinate 1 are an equilibrium of (7) iff
+# In the error coordinates $\bar x_i=W(\hat x_i-x)$ of (7), the partial observers settle at
+# $p_i=W\mathcal V_iz_i-Wx$: zero for the clean banks and $p_k=-F_k^{-1}L_ka$ (scattered into bank
+# $k$'s coordinates) for the attacked one. Suppose $p$ is nonzero only in coordinates $l$ whose
+# column of $\bar A$ vanishes ("static" coordinates: here only $l=1$, since $Av_1=0$). Then
+# constant offsets $c_i$ supported on those coordinates are an equilibrium of (7) iff, per
+# coordinate,
 #
-# $$0\in s_i^1\,\mathrm{Sgn}(p_i^1-c_i)-\gamma(\mathcal Lc)_i\quad\forall i
-# \iff c\in\arg\min_c\ \sum_i s_i^1|p_i^1-c_i|+\tfrac{\gamma}{2}c^\top\mathcal Lc,$$
+# $$0\in s_i^l\,\mathrm{Sgn}(p_i^l-c_i^l)-\gamma(\mathcal Lc^l)_i\quad\forall i
+# \iff c^l\in\arg\min_c\ \sum_i s_i^l|p_i^l-c_i|+\tfrac{\gamma}{2}c^\top\mathcal Lc,$$
 #
-# the optimality condition of a Laplacian-regularised median (the same holds for the scalar
-# solver (4): its equilibria minimise $\sum_is_i|z_i-x_i|+\frac\gamma2x^\top\mathcal Lx$). $\kappa$
-# drops out. On the ring 1–2–3–4–5–1 with $s^1=(1,1,1,0,0)$: agents 2 and 3 slide on $c=0$ with
+# the optimality condition of a Laplacian-regularised median (the scalar solver (4) with values
+# $p^l$, indicators $s^l$ and gain $\gamma$). **$\kappa$ drops out** — the paper's own remark after
+# Theorem 3, "the steady-state error depends only on the parameter $\gamma$" (C6). On the ring
+# 1–2–3–4–5–1 with $s^1=(1,1,1,0,0)$ and an attack on bank 1: agents 2 and 3 slide on $c=0$ with
 # equivalent signs $-3/4$ and $-1/4$, agent 1 is saturated ($+1$), and the Laplacian rows give
 #
-# $$c=\frac1\gamma\big[\tfrac34,\,0,\,0,\,\tfrac14,\,\tfrac12\big]\quad(\text{valid while } a\sqrt3>\tfrac3{4\gamma}),$$
+# $$c^1=\frac1\gamma\big[\tfrac34,\,0,\,0,\,\tfrac14,\,\tfrac12\big]\quad(\text{valid while } p_1^1>\tfrac3{4\gamma}),$$
 #
-# θ-sum offsets $\sqrt3\,c$ (independent of the attack size $a$), $\max_i\|\hat x_i-x\|_\infty=\sqrt3/(4\gamma)$,
-# and identification residual $\|z_1-\mathcal W_1\hat x_1\|_\infty\to a\sqrt3-\frac3{4\gamma}$. We compute
-# the prediction generally with cvxpy (CLARABEL) and compare it with the hand formula and the
-# simulation. The **averaging baseline** has the quadratic counterpart
-# $(\gamma\mathcal L+D_s)c=D_sp$, $D_s=\operatorname{diag}(s^1)$: offsets proportional to $a$,
-# tending to $a\sqrt3$ for every agent as $\gamma\to\infty$ — the attack is averaged in, not rejected.
-
+# independent of the attack size and of the basis scaling (in coordinates), with θ-sum offsets
+# $(\mathbf 1_\theta^\top v_1)\,c^1$: $\sqrt3\,c^1$ for the unit basis, $3\,c^1$ for the paper's
+# unnormalised $v_1$ (0.65 and 1.125 rad for agent 1 at $\gamma=2$). The identification residual of
+# the attacked agent tends to $p_1^1-c_1^1=a\,w_1^\top v-\frac3{4\gamma}$ ($a\sqrt3-\frac3{4\gamma}$ in
+# the unit basis). We compute the prediction for every reading with cvxpy (CLARABEL) and compare
+# it with the hand formula and the simulation. The **averaging baseline** has the quadratic
+# counterpart $(\gamma\mathcal L+D_s)c^l=D_sp^l$, $D_s=\operatorname{diag}(s^l)$: offsets
+# proportional to $a$, tending to $p$ for every agent as $\gamma\to\infty$ — the attack is averaged
+# in, not rejected. If $p$ reaches a coordinate with a nonzero column of $\bar A$ (an attack on a
+# difference sensor, bank 4 or 5), this closed form does not apply: the premise of C4 and C7.
 
 # %%
-s_v1 = S_ind[:, 0].astype(float)  # banks observing coordinate 1
-_p_par = cp.Parameter(N_banks)
+A_bar = W @ A @ V
+static = np.abs(A_bar).max(axis=0) <= 1e-9 * np.abs(A_bar).max()  # columns of A_bar that vanish
+_p_par, _s_par = cp.Parameter(N_banks), cp.Parameter(N_banks, nonneg=True)
 _g_par = cp.Parameter(nonneg=True)
-_c_var = cp.Variable(N_banks)
-_median_problem = cp.Problem(cp.Minimize(
-    cp.sum(cp.multiply(s_v1, cp.abs(_p_par - _c_var)))
-    + _g_par / 2 * cp.quad_form(_c_var, cp.psd_wrap(lap_ex))
-))  # DPP: compiled once, re-solved for every p and gamma
-assert _median_problem.is_dcp(dpp=True)
+_c_var, _abs_var = cp.Variable(N_banks), cp.Variable(N_banks)  # c and |p - c|
+_median_problem = cp.Problem(
+    cp.Minimize(_s_par @ _abs_var + _g_par / 2 * cp.quad_form(_c_var, cp.psd_wrap(lap_ex))),
+    [_abs_var >= _p_par - _c_var, _abs_var >= _c_var - _p_par],
+)  # DPP: compiled once, re-solved for every p, s and gamma
+if not _median_problem.is_dcp(dpp=True):
+    raise RuntimeError("the median equilibrium problem is not DPP")
 
 
-def median_equilibrium(p: np.ndarray, gain_gamma: float) -> np.ndarray:
-    """argmin_c sum_i s_i^1 |p_i - c_i| + (gamma/2) c^T L c on the example ring (CLARABEL)."""
-    _p_par.value, _g_par.value = p, gain_gamma
+def attack_effect(ob: Observers, amp: float) -> np.ndarray:
+    """p (N, n): steady-state w_l^T(V_i z_i - x) in the coordinates bank i observes, attack amp on k."""
+    p = np.zeros((N_banks, n))
+    p[k_att, masks[k_att]] = amp * -np.linalg.solve(ob.F[k_att], ob.L[k_att][:, 0])
+    return p
+
+
+def law_applies(ob: Observers, amp: float) -> bool:
+    """Premise of the offset law: the attack's effect p lies in static coordinates only."""
+    p = attack_effect(ob, amp)
+    reached = np.abs(p).max(axis=0) > 1e-9 * max(np.abs(p).max(), 1e-300)
+    return bool(np.all(static[reached]))
+
+
+def median_equilibrium(p_col: np.ndarray, s_col: np.ndarray, gain_gamma: float) -> np.ndarray:
+    """argmin_c sum_i s_i |p_i - c_i| + (gamma/2) c^T L c on the example ring (CLARABEL)."""
+    _p_par.value, _s_par.value, _g_par.value = p_col, s_col, gain_gamma
     _median_problem.solve(solver=cp.CLARABEL)
     if _median_problem.status != cp.OPTIMAL:
         raise RuntimeError(f"median equilibrium: solver status {_median_problem.status}")
     return np.asarray(_c_var.value)
 
 
-def baseline_equilibrium(p: np.ndarray, gain_gamma: float) -> np.ndarray:
-    """Equilibrium of the averaging baseline: (gamma L + D_s) c = D_s p."""
-    return np.linalg.solve(gain_gamma * lap_ex + np.diag(s_v1), s_v1 * p)
+def offset_law(ob: Observers, amp: float, gain_gamma: float, *, baseline: bool = False) -> dict:
+    """Predicted steady state under a constant attack amp: offsets c (N, n) in coordinates, and
+    the theta-sum offsets, max_i ||x_hat_i - x||_inf and residuals ||z_i - W_i x_hat_i||_inf.
+
+    Per static coordinate: the regularised median (6) or, with ``baseline``, the linear
+    equilibrium (gamma L + D_s) c = D_s p of the averaging baseline. Zero elsewhere.
+    """
+    p = attack_effect(ob, amp)
+    c = np.zeros((N_banks, n))
+    for ll in np.nonzero(static & (np.abs(p).max(axis=0) > 0))[0]:
+        s_col = S_ind[:, ll].astype(float)
+        c[:, ll] = (np.linalg.solve(gain_gamma * lap_ex + np.diag(s_col), s_col * p[:, ll])
+                    if baseline else median_equilibrium(p[:, ll], s_col, gain_gamma))
+    resid = np.array([np.abs(p[i, masks[i]] - c[i, masks[i]]).max() for i in range(N_banks)])
+    return {"c": c, "sum": c @ ob.V.T @ theta_sel, "inf": float(np.abs(c @ ob.V.T).max()),
+            "resid": resid}
 
 
-sum_v1 = float(theta_sel @ V[:, 0])  # theta-sum of v_1 (= sqrt(3))
+def steady_state(sim_r: dict, ob: Observers, b: int = 0) -> dict:
+    """Measured last-window theta-sum offsets (mean), max ||x_hat_i - x||_inf (max), residuals (mean)."""
+    e = sim_r["xh"][..., b] - sim_r["x"][:, None, :, b]
+    resid = np.stack([np.abs(sim_r["z"][i][..., b] - sim_r["xh"][:, i, :, b] @ ob.W_i[i].T).max(1)
+                      for i in range(N_banks)], axis=1)
+    return {"sum": (e[last] @ theta_sel).mean(axis=0), "inf": float(np.abs(e[last]).max()),
+            "resid": resid[last].mean(axis=0), "resid_t": resid}
 
 
-def p_attack(amp: float) -> np.ndarray:
-    """Steady-state coordinate-1 error p_i^1 of the partial observers for attack size amp."""
-    p = np.zeros(N_banks)
-    p[attack_bank - 1] = amp * (W[0] @ v_rigid)
-    return p
+law_premise = law_applies(obs, attack_amplitude)
+gammas_law = sorted({*map(float, offset_gammas), float(gamma_ex)})
+law_runs = {(basis_normalisation, float(gamma_ex), float(kappa)): steady_state(sim, obs)}
+for g in gammas_law:
+    if g != gamma_ex:
+        law_runs[(basis_normalisation, g, float(kappa))] = steady_state(
+            unpack(simulate([attack_amplitude], gain_gamma=g)[1]), obs)
+law_pred = {g: offset_law(obs, attack_amplitude, g) for g in gammas_law}
+law_dev = {g: float(np.abs(law_runs[(basis_normalisation, g, float(kappa))]["sum"]
+                           - law_pred[g]["sum"]).max()) for g in gammas_law}
+law_inf_dev = {g: abs(law_runs[(basis_normalisation, g, float(kappa))]["inf"] - law_pred[g]["inf"])
+               for g in gammas_law}
+print(f"offset law applies (p in static coordinates {np.nonzero(static)[0] + 1}): {law_premise}")
+for g in gammas_law:
+    meas = law_runs[(basis_normalisation, g, float(kappa))]
+    print(f"gamma = {g:5g}: theta-sum offsets predicted {np.round(law_pred[g]['sum'], 4)}, "
+          f"measured {np.round(meas['sum'], 4)}; max error predicted {law_pred[g]['inf']:.4f}, "
+          f"measured {meas['inf']:.4f}")
+if list(ring_order) == [1, 2, 3, 4, 5] and attack_bank == 1 and law_premise:
+    hand = np.array([0.75, 0.0, 0.0, 0.25, 0.5]) / gamma_ex  # gamma * c for the natural ring
+    print("cvxpy vs the hand formula c = [3/4, 0, 0, 1/4, 1/2]/gamma: "
+          f"{np.abs(law_pred[gamma_ex]['c'][:, 0] - hand).max():.1e}")
 
-
-hand = np.array([0.75, 0.0, 0.0, 0.25, 0.5])  # gamma * c for the natural ring order
-offsets_pred = {}
-offsets_meas = {}
-for g in offset_gammas:
-    offsets_pred[g] = sum_v1 * median_equilibrium(p_attack(attack_amplitude), g)
-    if g == gamma_ex:
-        offsets_meas[g] = sum_err[last, :, 0].mean(axis=0)
-        maxerr_g = max_err[last, 0].max()
-    else:
-        _, X_g = simulate([attack_amplitude], gain_gamma=g)
-        sim_g = unpack(X_g)
-        err_g = sim_g["xh"][..., 0] - sim_g["x"][:, None, :, 0]
-        offsets_meas[g] = (err_g[last] @ theta_sel).mean(axis=0)
-        maxerr_g = np.abs(err_g[last]).max()
-    print(f"gamma = {g:5g}: predicted {np.round(offsets_pred[g], 4)}, measured "
-          f"{np.round(offsets_meas[g], 4)}, max err {maxerr_g:.4f} "
-          f"(sqrt3/(4 gamma) = {np.sqrt(3) / (4 * g):.4f})")
-    offsets_meas[g] = (offsets_meas[g], maxerr_g)
-hand_dev = (float(np.abs(offsets_pred[gamma_ex] - sum_v1 * hand / gamma_ex).max())
-            if list(ring_order) == [1, 2, 3, 4, 5] else float("nan"))
-print(f"cvxpy prediction vs hand formula (natural ring): {hand_dev:.1e}")
-
+base_t, X_base = simulate(amp_batch[:-1], phi=phi_linear)
+base = unpack(X_base)
+base_sum_err = np.einsum("kinb,n->kib", base["xh"] - base["x"][:, None], theta_sel)
 amp_offsets = {amp: sum_err[last, :, b].mean(axis=0) for b, amp in enumerate(amp_batch[:-1])}
+amp_pred = {amp: offset_law(obs, amp, gamma_ex)["sum"] for amp in amp_batch[:-1]}
 base_offsets = {amp: base_sum_err[last, :, b].mean(axis=0) for b, amp in enumerate(amp_batch[:-1])}
-base_pred = {amp: sum_v1 * baseline_equilibrium(p_attack(amp), gamma_ex)
-             for amp in amp_batch[:-1]}
+base_pred = {amp: offset_law(obs, amp, gamma_ex, baseline=True)["sum"] for amp in amp_batch[:-1]}
+amp_dev = max(float(np.abs(amp_offsets[a] - amp_pred[a]).max()) for a in amp_offsets)
 for amp in amp_batch[:-1]:
-    print(f"a = {amp:7.4f}: median offsets {np.round(amp_offsets[amp], 4)}; baseline "
-          f"{np.round(base_offsets[amp], 4)} (predicted {np.round(base_pred[amp], 4)})")
+    print(f"a = {amp:7.4f}: median offsets {np.round(amp_offsets[amp], 4)} (predicted "
+          f"{np.round(amp_pred[amp], 4)}); baseline {np.round(base_offsets[amp], 4)} "
+          f"(predicted {np.round(base_pred[amp], 4)})")
+# %% [markdown]
+# **The errors behind Fig. 1 (ours).** The θ-sum error $\mathbf 1_\theta^\top(\hat x_i-x)$ of every
+# agent from two seconds before the attack on, for the median observer (6) and for the averaging
+# baseline (sgn replaced by its argument), at this run's reading. Dotted: the offsets predicted by
+# the offset law below. Colours are per agent (none is the blue or red of Fig. 1); markers tell
+# apart agents whose curves coincide.
 
 # %%
-fig, axes = plt.subplots(1, 2, figsize=(plotting.PAGE_WIDTH, 2.8))
-ax = axes[0]
-g_fine = np.geomspace(min(offset_gammas) / 1.5, max(offset_gammas) * 1.5, 25)
-pred_line = np.array([sum_v1 * median_equilibrium(p_attack(attack_amplitude), g)
-                      for g in g_fine])
-for i in range(N_banks):
-    if np.abs(pred_line[:, i]).max() > 1e-6:
-        ax.loglog(g_fine, pred_line[:, i], color=f"C{i}", lw=0.8)
-        ax.loglog(offset_gammas, [offsets_meas[g][0][i] for g in offset_gammas], "o",
-                  color=f"C{i}", ms=4, label=f"agent {i + 1}")
-ax.plot([], [], color="gray", lw=0.8, label="prediction (argmin)")
-ax.set_xticks(offset_gammas, [f"{g:g}" for g in offset_gammas])
-ax.xaxis.set_minor_formatter(mticker.NullFormatter())
-ax.set_xlabel("coupling gain γ [–]")
-ax.set_ylabel("θ-sum offset after the attack [rad]")
-ax.set_title("median observer (6): offsets ∝ 1/γ")
-ax.legend(fontsize=7)
-ax = axes[1]
-amps = np.array(amp_batch[:-1])
-amp_fine = np.linspace(0.0, amps.max() * 1.05, 22)
-ax.plot(amps, [amp_offsets[a][0] for a in amps], "o", color="tab:blue", label="median (6), agent 1")
-ax.plot(amps, [base_offsets[a][0] for a in amps], "s", color="tab:red",
-        label="averaging baseline, agent 1")
-ax.plot(amp_fine, [sum_v1 * median_equilibrium(p_attack(a), gamma_ex)[0] for a in amp_fine],
-        color="tab:blue", lw=0.8)
-ax.plot(amp_fine, [sum_v1 * baseline_equilibrium(p_attack(a), gamma_ex)[0]
-                   for a in amp_fine], color="tab:red", lw=0.8)
-ax.set_xlabel("attack size a [rad]")
-ax.set_ylabel("θ-sum offset of agent 1 [rad]")
-ax.set_title(f"γ = {gamma_ex:g}: lines = predictions, marks = simulation")
-ax.legend(fontsize=7)
-plotting.save_figure(
-    fig, FIG_DIR, "extra_offset_law",
-    data={"amplitude": amps, "median_offset_agent1": [amp_offsets[a][0] for a in amps],
-          "baseline_offset_agent1": [base_offsets[a][0] for a in amps],
-          "median_pred_agent1": [sum_v1 * median_equilibrium(p_attack(a), gamma_ex)[0]
-                                 for a in amps],
-          "baseline_pred_agent1": [base_pred[a][0] for a in amps]},
+AGENT_COLORS = ["tab:orange", "tab:green", "tab:purple", "tab:brown", "tab:olive"]
+AGENT_MARKERS = ["o", "s", "^", "D", "v"]
+
+
+def agent_style(i: int, n_points: int) -> dict:
+    """Colour, marker and staggered marker positions of agent i (curves that coincide stay apart)."""
+    spacing = max(1, n_points // 8)
+    return {"color": AGENT_COLORS[i % 5], "marker": AGENT_MARKERS[i % 5], "ms": 4,
+            "markevery": (i * spacing // N_banks, spacing)}
+
+
+
+
+view = t_ex >= max(0.0, attack_start - 2.0)
+fig, axes = plt.subplots(1, 2, figsize=(plotting.PAGE_WIDTH, 3.2), sharey=True, layout="constrained")
+for ax, (title, errs, preds) in zip(axes, [
+    ("median observer (6)", sum_err[view, :, 0], amp_pred[attack_amplitude]),
+    ("averaging baseline (ours)", base_sum_err[view, :, 0], base_pred[attack_amplitude]),
+], strict=True):
+    for i in range(N_banks):
+        ax.plot(t_ex[view], errs[:, i], lw=1.0, label=f"agent {i + 1}",
+                **agent_style(i, int(view.sum())))
+        ax.axhline(preds[i], color=AGENT_COLORS[i % 5], lw=0.8, ls=":")
+    ax.axvline(attack_start, color="k", lw=0.6, ls=":")
+    ax.set_title(f"{title}, γ = {gamma_ex:g}")
+    ax.set_xlabel("time t [s]")
+axes[0].set_ylabel("error of the θ-sum [rad]")
+axes[1].plot([], [], color="0.3", lw=0.8, ls=":", label="offset law (predicted)")
+fig.legend(*axes[1].get_legend_handles_labels(), loc="outside lower center", ncol=6, fontsize=7)
+_ = plotting.save_figure(  # the saved path; shown inline by save_figure
+    fig, FIG_DIR, "extra_fig1_errors",
+    data={"t_s": t_ex[view], "median_sum_error": sum_err[view, :, 0],
+          "baseline_sum_error": base_sum_err[view, :, 0]},
+    tolerance={"*_sum_error*": NEAR_POLES if observer_poles == "near" else results.SIGN_DRIVEN},
 )
-plt.show()
 
 # %% [markdown]
-# ## Attack identification (Conclusion; Fig. S2, ours)
+# ## Attack identification (Section III-C, Conclusion; Fig. S2, ours)
 #
 # After the transients each agent compares its partial estimate with its resilient one,
-# $\|z_i-\mathcal W_i\hat x_i\|_\infty$: for agent 1 it tends to $a\sqrt3-3/(4\gamma)$, for the
-# clean agents to the chattering level.
+# $\|z_i-\mathcal W_i\hat x_i\|_\infty$. By the offset law it tends to $|p_i^l-c_i^l|$: for the
+# attacked agent $a\,w_1^\top v-\frac3{4\gamma}$ ($a\sqrt3-3/(4\gamma)$ in the unit basis), for a
+# clean agent its own offset $|c_i^1|$ (zero on the default ring) plus chattering. The paper gives
+# no decision rule. A threshold an agent can compute without knowing the attack is Theorem 1's
+# bound applied to the coordinate-1 equilibrium (the scalar solver (4) with values $p^1$):
+# $|c_i^1|\le\eta=2\sqrt N/(\gamma\lambda_2)$, so no clean residual exceeds $\eta$ at steady state
+# (ours). Drawn dashed; the predicted level of the attacked agent dotted. The figure shows both
+# pole readings of this run's basis (the poles change the transient, not the level).
 
 # %%
-_, X_sh = simulate([attack_amplitude, 0.0], gains=gain_sets["shifted"][0])
-sim_sh = unpack(X_sh)
-resid = {}
-for label, sim_r in (("near", sim), ("shifted", sim_sh)):
-    resid[label] = np.stack([np.abs(sim_r["z"][i][..., 0] - sim_r["xh"][:, i, :, 0] @ W_i[i].T).max(1)
-                             for i in range(N_banks)], axis=1)
-resid_final = resid[observer_poles][last].mean(axis=0)
-resid_pred = attack_amplitude * np.sqrt(3) - 3 / (4 * gamma_ex)
-print("residual over the last window:", np.round(resid_final, 5),
-      f"(agent 1 predicted {resid_pred:.4f})")
-fig, axes = plt.subplots(1, 2, figsize=(plotting.PAGE_WIDTH, 2.8), sharey=True)
-for ax, (label, r) in zip(axes, resid.items(), strict=True):
-    for i in range(N_banks):
-        ax.semilogy(t_ex, np.maximum(r[:, i], 1e-6), lw=0.9, label=f"agent {i + 1}")
-    ax.axvline(attack_start, color="k", lw=0.6, ls=":")
-    ax.set_title(f'observer poles "{label}"')
-    ax.set_xlabel("time t [s]")
-axes[0].set_ylabel(r"$\|z_i-\mathcal{W}_i\hat x_i\|_\infty$ [rad, rad/s]")
-axes[0].set_ylim(1e-5, 1e4)
-axes[0].legend(fontsize=7, ncol=2)
-plotting.save_figure(fig, FIG_DIR, "extra_identification_residual",
-                     data={"t_s": t_ex, "resid_near": resid["near"], "resid_shifted": resid["shifted"]})
-plt.show()
+eta_id = 2 * np.sqrt(N_banks) / (gamma_ex * lam2_ex)
+resid_meas = law_runs[(basis_normalisation, float(gamma_ex), float(kappa))]["resid"]
+resid_pred = law_pred[gamma_ex]["resid"]
+clean = np.arange(N_banks) != k_att
+print("residual over the last window:", np.round(resid_meas, 5))
+print("predicted by the offset law:  ", np.round(resid_pred, 5))
+print(f"Theorem-1 threshold eta = 2 sqrt(N)/(gamma lambda_2) = {eta_id:.4f}: attacked agent "
+      f"{'above' if resid_meas[k_att] > eta_id else 'below'} it")
+if figures:
+    pole_pair = [(basis_normalisation, p) for p in ("near", "shifted")]
+    fig, axes = plt.subplots(1, 2, figsize=(plotting.PAGE_WIDTH, 3.3), sharey=True,
+                             layout="constrained")
+    resid_curves = {}
+    for ax, rd in zip(axes, pole_pair, strict=True):
+        t_r, sim_r = grid_runs[rd]
+        resid_curves[rd] = steady_state(sim_r, observers[rd])["resid_t"]
+        for i in range(N_banks):
+            ax.semilogy(t_r, resid_curves[rd][:, i], lw=0.9, label=f"agent {i + 1}",
+                        **agent_style(i, t_r.size))
+        ax.axhline(eta_id, color="k", ls="--", lw=0.9,
+                   label=f"threshold η = 2√N/(γλ₂) = {eta_id:.3g} (ours)")
+        ax.axhline(resid_pred[k_att], color="k", ls=":", lw=1.4,
+                   label=f"predicted level of agent {attack_bank}: {resid_pred[k_att]:.3g}")
+        ax.axvline(attack_start, color="k", lw=0.6, ls=":")
+        ax.set_title(reading_title(rd), fontsize=8)
+        ax.set_xlabel("time t [s]")
+    all_res = np.concatenate([r.ravel() for r in resid_curves.values()])
+    axes[0].set_ylim(max(all_res[all_res > 0].min(), 1e-8) / 2, all_res.max() * 2)
+    axes[0].set_ylabel(r"$\|z_i-\mathcal{W}_i\hat x_i\|_\infty$ [–] (coordinates $w_l^\top\cdot$)")
+    fig.legend(*axes[0].get_legend_handles_labels(), loc="outside lower center", ncol=4, fontsize=7)
+    plotting.save_figure(fig, FIG_DIR, "extra_identification_residual",
+                         data={"t_s": t_ex, **{f"resid_{rd[1]}": r for rd, r in resid_curves.items()}},
+                         tolerance={"resid_near*": NEAR_POLES, "resid_shifted*": results.SIGN_DRIVEN})
 
 # %% [markdown]
 # ## No attack (Theorem 2 with $a\equiv0$)
+#
+# With $a\equiv0$ every $p_i\to0$ and the offset law predicts $c=0$: the estimates converge to
+# $x$ up to the chattering tolerance.
 
 # %%
-conv_time = {}
-final_noattack = {}
-for label, me in (("near", max_err[:, -1]),
-                  ("shifted", np.abs(sim_sh["xh"][..., 1] - sim_sh["x"][:, None, :, 1]).max(axis=(1, 2)))):
-    above = np.nonzero(me >= 0.05)[0]
-    conv_time[label] = float(t_ex[above.max() + 1]) if above.size else 0.0
-    final_noattack[label] = float(me[last].max())
-    print(f'poles "{label}": max_i ||x_hat_i - x||_inf < 0.05 from t = {conv_time[label]:.2f} s, '
-          f"final {final_noattack[label]:.1e}")
+err_free = max_err[:, -1]
+above = np.nonzero(err_free >= 0.05)[0]
+conv_time = (0.0 if not above.size else  # None: still above 0.05 at the end of the horizon
+             float(t_ex[above.max() + 1]) if above.max() + 1 < t_ex.size else None)
+final_noattack = float(err_free[last].max())
+print(f"max_i ||x_hat_i - x||_inf < 0.05 from t = {conv_time} s; final {final_noattack:.1e} "
+      f"(tolerance {tol['inf']:.1e})")
 
 # %% [markdown]
 # ## Variant (11) and Theorem 3
@@ -1164,37 +1535,155 @@ for label, me in (("near", max_err[:, -1]),
 # $A$ is Lyapunov stable with distinct eigenvalues; with $T$ the real modal matrix (columns
 # $X_k$), $P=T^{-\top}T^{-1}$ satisfies $PA+A^\top P\le0$, and $\bar P=V^\top PV=(WT)^{-\top}(WT)^{-1}$ is
 # block-diagonal over the indicator groups. Theorem 3 bounds
-# $\limsup\|\hat x_i-x\|\le(Nn^2+\sqrt n)\sqrt N\,\|V\bar P^{-1/2}\|/(\gamma\lambda_2)$.
+# $\limsup\|\hat x_i-x\|\le(Nn^2+\sqrt n)\sqrt N\,\|V\bar P^{-1/2}\|/(\gamma\lambda_2)$. Scaling the
+# basis by factors equal inside each group maps $\bar P\to D\bar PD$ and leaves
+# $\bar V=V\bar P^{-1/2}$, the correction of (11) and the bound unchanged (checked).
+
 
 # %%
-WT_inv = np.linalg.inv(W @ T_modal)
-P_bar = WT_inv.T @ WT_inv  # (WT)^-T (WT)^-1
-P_bar = 0.5 * (P_bar + P_bar.T)
-P_plant = W.T @ P_bar @ W
+def lyapunov_correction(ob: Observers) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """P_bar = (W T)^-T (W T)^-1, P = W' P_bar W, and V_bar = V P_bar^-1/2, W_bar = P_bar^1/2 W."""
+    wt_inv = np.linalg.inv(ob.W @ T_modal)
+    p_bar = wt_inv.T @ wt_inv
+    p_bar = 0.5 * (p_bar + p_bar.T)
+    p_half = np.real(sla.sqrtm(p_bar))
+    return p_bar, ob.W.T @ p_bar @ ob.W, np.linalg.solve(p_half.T, ob.V.T).T, p_half @ ob.W
+
+
+P_bar, P_plant, V_bar, W_bar = lyapunov_correction(obs)
 lyap_max = float(np.linalg.eigvalsh(P_plant @ A + A.T @ P_plant).max())
 group_id = np.unique(S_ind.T, axis=0, return_inverse=True)[1].ravel()
 offgroup = float(np.abs(P_bar[group_id[:, None] != group_id[None, :]]).max())
-P_half = np.real(sla.sqrtm(P_bar))
-V_bar, W_bar = np.linalg.solve(P_half.T, V.T).T, P_half @ W
-_, X_11 = simulate([attack_amplitude], v_corr=V_bar, w_corr=W_bar)
-sim_11 = unpack(X_11)
+vbar_invariance = max(float(np.abs(lyapunov_correction(observers[(nrm, observer_poles)])[2]
+                                   - V_bar).max()) for nrm in ("unit", "integer"))
+sim_11 = unpack(simulate([attack_amplitude], v_corr=V_bar, w_corr=W_bar)[1])
 err_11 = sim_11["xh"][..., 0] - sim_11["x"][:, None, :, 0]
 sums_11 = (err_11[last] @ theta_sel).mean(axis=0)
 maxerr_11 = float(np.abs(err_11[last]).max())
 maxerr2_11 = float(np.linalg.norm(err_11[last], axis=2).max())
 thm3_bound = ((N_banks * n**2 + np.sqrt(n)) * np.sqrt(N_banks) / (gamma_ex * lam2_ex)
               * np.linalg.norm(V_bar, 2))
-print(f"max eig(PA + A^T P) = {lyap_max:.1e}; largest off-group entry of P_bar = {offgroup:.1e}")
+print(f"max eig(PA + A^T P) = {lyap_max:.1e}; largest off-group entry of P_bar = {offgroup:.1e}; "
+      f"V_bar unit vs integer basis: {vbar_invariance:.1e}")
 print(f"(11): theta-sum offsets {np.round(sums_11, 4)}, max ||.||_inf = {maxerr_11:.4f}, "
       f"max ||.||_2 = {maxerr2_11:.4f}, Theorem 3 bound = {thm3_bound:.1f}")
 
 # %% [markdown]
+# ## The steady-state error depends only on γ (Section III-C)
+#
+# After the proof of Theorem 3 the paper states: "the steady-state error depends only on the
+# parameter γ". The sentence follows Theorem 3's bound, which indeed contains $\gamma$ and not
+# $\kappa$; we test its words on the steady-state error itself. The offset law says it holds for
+# (6) whenever the law applies ($\kappa$ cancels in the equilibrium condition). For (11) it has
+# no reason to: the correction $\kappa\bar V\,\mathrm{sgn}(\bar W\cdot)$ mixes the static coordinate
+# $v_1$ with the rate coordinate $v_2$ (any admissible $\bar P$ couples them, since
+# $\bar P\bar A+\bar A^\top\bar P\le0$ forbids a diagonal $\bar P$ on the rigid-body block), and
+# $\bar A$ acts on $v_2$, so $\kappa$ stays in the equilibrium. We rerun the attacked example at
+# `kappa_alt` for (6) and for (11) and compare the steady-state θ-sum offsets with those at
+# `kappa`, within the chattering tolerance of the larger $\kappa$ (for (11) with the columns of
+# $\bar V$). In paper mode the (11) pair is also rerun with a four times smaller step: a difference
+# that is chattering shrinks with $dt$, a real dependence on $\kappa$ does not.
+
+# %%
+kappa_pair = float(kappa), float(kappa_alt)
+tol_k = chatter_tol(V, max(kappa_pair))
+tol_k11 = chatter_tol(V_bar, max(kappa_pair))
+law_runs[(basis_normalisation, float(gamma_ex), float(kappa_alt))] = steady_state(
+    unpack(simulate([attack_amplitude], gain_kappa=kappa_alt)[1]), obs)
+sim_11_alt = unpack(simulate([attack_amplitude], v_corr=V_bar, w_corr=W_bar, gain_kappa=kappa_alt)[1])
+sums_11_alt = ((sim_11_alt["xh"][..., 0] - sim_11_alt["x"][:, None, :, 0])[last] @ theta_sel).mean(0)
+kappa_dev = {
+    "(6)": float(np.abs(law_runs[(basis_normalisation, float(gamma_ex), kappa_pair[1])]["sum"]
+                        - law_runs[(basis_normalisation, float(gamma_ex), kappa_pair[0])]["sum"]).max()),
+    "(11)": float(np.abs(sums_11_alt - sums_11).max()),
+}
+print(f"kappa = {kappa:g} vs {kappa_alt:g}: max |theta-sum offset difference| (6) "
+      f"{kappa_dev['(6)']:.2e} (tolerance {tol_k['sum']:.2e}), (11) {kappa_dev['(11)']:.2e} "
+      f"(tolerance {tol_k11['sum']:.2e})")
+print(f"(11): theta-sum offsets at kappa = {kappa:g}: {np.round(sums_11, 4)}; at {kappa_alt:g}: "
+      f"{np.round(sums_11_alt, 4)}")
+if figures and mode == "paper":  # evidence only (not a claim input): the (11) pair at dt_ex / 4
+    fine = [unpack(simulate([attack_amplitude], v_corr=V_bar, w_corr=W_bar, gain_kappa=kap,
+                            step=dt_ex / 4)[1]) for kap in kappa_pair]
+    fine_sums = [((f["xh"][..., 0] - f["x"][:, None, :, 0])[last] @ theta_sel).mean(0) for f in fine]
+    print(f"(11) at dt = {dt_ex / 4:g}: agent 1's theta-sum offset {fine_sums[0][0]:.4f} (kappa = "
+          f"{kappa:g}) vs {fine_sums[1][0]:.4f} (kappa = {kappa_alt:g}); max difference "
+          f"{np.abs(fine_sums[1] - fine_sums[0]).max():.2e}")
+
+# %% [markdown]
+# **The offsets as a map over γ, κ and the basis normalisation.** Lines: the offset law (one per
+# agent with a nonzero offset; the same for every κ); filled marks: simulations at `kappa`, open
+# marks at `kappa_alt`. Left and middle: the two normalisations (the θ-sum offsets scale with
+# $\mathbf 1_\theta^\top v_1$: $\sqrt3$ against 3). Right: the attacked agent's offset against the
+# attack size, median (6) against the averaging baseline.
+
+# %%
+if figures:
+    for nrm in ("unit", "integer"):
+        ob = observers[(nrm, observer_poles)]
+        for g in gammas_law:
+            for kap in kappa_pair:
+                if (nrm, g, kap) not in law_runs:
+                    law_runs[(nrm, g, kap)] = steady_state(unpack(simulate(
+                        [attack_amplitude], ob=ob, gain_gamma=g, gain_kappa=kap, step=fig_step)[1]), ob)
+    g_fine = np.geomspace(min(gammas_law) / 1.5, max(gammas_law) * 1.5, 25)
+    fig, axes = plt.subplots(1, 3, figsize=(plotting.PAGE_WIDTH, 3.3), layout="constrained",
+                             gridspec_kw={"width_ratios": [1, 1, 1.15]})
+    axes[1].sharey(axes[0])
+    map_data = {"gamma": np.asarray(gammas_law)}
+    for ax, nrm in zip(axes[:2], ("unit", "integer"), strict=True):
+        ob = observers[(nrm, observer_poles)]
+        line = np.array([offset_law(ob, attack_amplitude, g)["sum"] for g in g_fine])
+        for i in np.nonzero(np.abs(line).max(axis=0) > 1e-6)[0]:
+            ax.loglog(g_fine, np.abs(line[:, i]), color=AGENT_COLORS[i % 5], lw=0.9)
+            for kap, (fill, size) in zip(kappa_pair, (("full", 4), ("none", 9)), strict=True):
+                meas = np.abs([law_runs[(nrm, g, kap)]["sum"][i] for g in gammas_law])
+                map_data[f"offset_{nrm}_kappa{kap:g}[{i}]"] = meas
+                ax.loglog(gammas_law, meas, AGENT_MARKERS[i % 5], color=AGENT_COLORS[i % 5],
+                          ms=size, fillstyle=fill)
+        ax.set_title(f'basis "{nrm}"' + (" (this run)" if nrm == basis_normalisation else ""),
+                     fontsize=8)
+        ax.set_xlabel("coupling gain γ [–]")
+        ax.set_xticks(gammas_law, [f"{g:g}" for g in gammas_law])
+        ax.xaxis.set_minor_formatter(mticker.NullFormatter())
+    axes[1].tick_params(labelleft=False)
+    axes[0].set_ylabel("|θ-sum offset| after the attack [rad]")
+    handles = [plt.Line2D([], [], color=AGENT_COLORS[i % 5], marker=AGENT_MARKERS[i % 5],
+                          label=f"agent {i + 1}") for i in range(N_banks)
+               if np.abs(offset_law(obs, attack_amplitude, gamma_ex)["sum"][i]) > 1e-6]
+    handles += [plt.Line2D([], [], color="0.3", label="offset law (any κ)"),
+                plt.Line2D([], [], ls="", marker="o", color="0.3", ms=4,
+                           label=f"simulated, κ = {kappa_pair[0]:g}"),
+                plt.Line2D([], [], ls="", marker="o", color="0.3", ms=9, fillstyle="none",
+                           label=f"simulated, κ = {kappa_pair[1]:g}")]
+    fig.legend(handles=handles, loc="outside lower center", ncol=3, fontsize=7)
+    ax = axes[2]
+    amps = np.array(amp_batch[:-1])
+    amp_fine = np.linspace(min(0.0, amps.min()), max(0.0, amps.max()) * 1.05, 22)
+    ax.plot(amps, [amp_offsets[a][k_att] for a in amps], "o", color="tab:blue",
+            label=f"median (6), agent {attack_bank}")
+    ax.plot(amps, [base_offsets[a][k_att] for a in amps], "s", color="tab:red",
+            label=f"averaging baseline, agent {attack_bank}")
+    ax.plot(amp_fine, [offset_law(obs, a, gamma_ex)["sum"][k_att] for a in amp_fine],
+            color="tab:blue", lw=0.8)
+    ax.plot(amp_fine, [offset_law(obs, a, gamma_ex, baseline=True)["sum"][k_att] for a in amp_fine],
+            color="tab:red", lw=0.8)
+    ax.set_xlabel("attack size a [rad]")
+    ax.set_ylabel(f"θ-sum offset of agent {attack_bank} [rad]")
+    ax.set_title(f"γ = {gamma_ex:g}: law (lines), runs (marks)", fontsize=8)
+    ax.legend(fontsize=6.5, loc="upper left")
+    plotting.save_figure(fig, FIG_DIR, "extra_offset_law", data=map_data,
+                         tolerance={k: results.SIGN_DRIVEN for k in map_data if k.startswith("offset_")})
+
+# %% [markdown]
 # ## Final remark of Section IV — no local majority for agent 1
 #
-# Agent 1 and its ring neighbours 2 and 5 observe the rigid-body coordinates $v_1,v_2$ only
-# through banks 1 and 2: two banks, fewer than $2q+1=3$, so agent 1 cannot out-vote a corrupted
-# bank from its neighbourhood alone. This depends on the ring order: with neighbours 2 and 3 it
-# would see three observing banks.
+# Agent 1 and its ring neighbours observe the rigid-body coordinates $v_1,v_2$ only through the
+# banks among 1, 2, 3 in that neighbourhood. On the natural ring (neighbours 2 and 5) these are
+# banks 1 and 2: two, fewer than $2q+1=3$, so agent 1 cannot out-vote a corrupted bank from its
+# neighbourhood alone. The declared ring orders are exactly those for which the paper's remark
+# holds (a ring where agent 1 neighbours both 2 and 3 would give it three observing banks); this
+# check confirms the construction.
 
 # %%
 nbhd_1 = [0, *np.nonzero(adj_ex[0])[0].tolist()]
@@ -1205,220 +1694,365 @@ print(f"agent 1's neighbourhood (1-based): {[i + 1 for i in nbhd_1]}; banks obse
 # %% [markdown]
 # ## Claims
 #
-# | id | paper | what we measure |
+# | id | paper (source) | what we measure, and the rule |
 # |---|---|---|
-# | C1 | Theorem 1: every agent ends within $2\sqrt N/(\gamma\lambda_2)$ of $\mathcal M$ | demo (ring, all-to-all) and the γ sweep on ring-5, ring-7, complete-7: max distance over the last quarter ≤ bound (judged on the bound only) |
-# | C2 | Assumptions 2 and 4, Lemma 1 for the example | enumeration for $q=1$ (holds) and $q=2$ (fails); the constructed basis verified; banks per coordinate ≥ 2q+1 |
-# | C3 | Fig. 1 / footnote 3: agent 1 alone is fooled, the network is not | last-window mean error of agent 1's θ-sum ≈ π and ∞-norm ≈ π/3 (±0.01); resilient θ-sum errors < 1 rad |
-# | C4 | Theorem 2: resilient estimation (for large enough κ, γ) | offsets vs the closed-form prediction (±0.01), ∝ 1/γ, independent of the attack size; max error ≤ 0.25 at γ = 2 and ≤ 0.03 at γ = 20 |
-# | C5 | Theorem 2 without attack | final max error ≤ 0.01 for both pole sets |
-# | C6 | median, not average (ours: the averaging baseline) | baseline offsets grow linearly with the attack size and match $(\gamma\mathcal L+D_s)c=D_sp$ (1 %); median offsets do not grow |
-# | C7 | Conclusion: $\|z_i-\mathcal W_i\hat x_i\|$ identifies the attacked bank | agent 1's residual ≈ $a\sqrt3-3/(4\gamma)$ (±0.01), the others < 0.01, ratio > 100 |
-# | C8 | Theorem 3 for variant (11) | $P$ valid, $\bar P$ block-diagonal, error ≤ bound (vacuous: consistency only; the bound depends on our $P$, whose $\bar P$ and basis $V$ are recorded so the bound can be recomputed) |
+# | C1 | Theorem 1 (Sec. II): every agent ends within $2\sqrt N/(\gamma\lambda_2)$ of $\mathcal M$ | demo (ring, all-to-all) and the γ sweep on ring-5, ring-7, complete-7: max distance over the last quarter ≤ bound (the bound only; the trend in γ is X2, the exact value X3) |
+# | C2 | Sec. IV: "$(C,A)$ is 2-redundant observable and satisfies Assumption 4"; Lemma 1 | enumeration for `q`; the constructed basis verified; banks per coordinate ≥ 2q+1 |
+# | C3 | Fig. 1, footnote 3: agent 1's own estimate is fooled, the network's are not | premise: bank $k$ sees the full state and the kernel of $A$. Last-window own θ-sum and ∞-norm errors = the exact $\mathcal V_k(-F_k^{-1}L_k)a$ (±0.01 rad, ours); resilient θ-sum errors ≤ half the own error (ours: the network rejects most of the attack) |
+# | C4 | Theorem 2: $\limsup\|\hat x_i-x\|_\infty\le\eta$ for large enough κ, γ | premise: Assumptions 2 and 4, and the offset law applies. Last-window θ-sum offsets and max error = the law's prediction (∝ 1/γ, so any η is reached for γ large) within the chattering tolerance, at every γ of `offset_gammas` and `gamma_ex` |
+# | C5 | Theorem 2 with $a\equiv0$ | final $\max_i\|\hat x_i-x\|_\infty$ ≤ the chattering tolerance |
+# | C6 | Sec. III-C: "the steady-state error depends only on the parameter γ" | θ-sum offsets at `kappa` and `kappa_alt` for (6) and (11) agree within the chattering tolerance of the larger κ |
+# | C7 | Sec. III-C, Conclusion: comparing $z_i$ with $\mathcal W_i\hat x_i$ identifies the attacked bank | premise: the offset law applies. The attacked agent has the largest residual and every residual equals the law's prediction within the tolerance; whether it exceeds the agent-computable threshold η is reported |
+# | C8 | Theorem 3 for variant (11) | premise: $PA+A^\top P\le0$ for our $P$. $\bar P$ block-diagonal, error ≤ bound (vacuous: a consistency check; $\bar P$ and $V$ recorded) |
 # | C9 | Remark 2: $\lambda_2$ of rings and all-to-all graphs | networkx against the closed forms, $N=3..12$ |
-# | C10 | Section IV final remark: no local majority for agent 1 | banks observing $v_1$ in agent 1's neighbourhood < 2q+1 |
-# | C11 | footnote 3: agent 1's own data cannot reveal the attack | $Av=0$, $C_1v=1$, $-F_1^{-1}L_1=\mathcal W_1v$; $z_1\to\mathcal W_1(x+av)$ and the innovation → 0 |
-# | X1 | integrator (ours) | exponential Euler beats explicit Euler at equal $dt$, converges with order one; explicit Euler at 2.5e-3 s is unstable (spectral radius of $I+dt\,M$ 1.0004 > 1; its deviation grows ×2.1 over 20 s, reported, not tested) |
-# | X2 | (ours, not a statement of the paper) the final distance of (4) shrinks as γ grows | γ sweep: max distance non-increasing in γ on every graph (tolerance 1e-3 for chattering) |
+# | C10 | Sec. IV final remark: no local majority for agent 1 | banks observing $v_1$ in agent 1's neighbourhood < 2q+1 |
+# | C11 | footnote 3: the attacked agent cannot tell from its own data | premise: $C_kv\ne0$. $Av=0$, $-F_k^{-1}L_k=\mathcal W_kv$; $z_k\to\mathcal W_k(x+av)$ (≤ 0.01) and the innovation → 0 (≤ 1e-3) |
+# | X1 | integrator (ours) | exponential Euler beats explicit Euler at `dt_ex`, converges with order one (halving dt divides the RMS deviation by 1.5–2.5); explicit Euler at three times its stability limit has spectral radius > 1 and its deviation grows |
+# | X2 | (ours, not a statement of the paper) the final distance of (4) shrinks as γ grows | γ sweep: non-increasing in γ on every graph, up to $10\,dt$ |
+# | X3 | (ours) the final state of (4) is a minimiser of $f_\gamma$ | distance of the final-window mean to the minimiser set and the distance to $\mathcal M$ against the minimiser's, both ≤ $10\,dt$ |
+# | X4 | (ours) the median, not an average, rejects the attack | premise: the offset law applies. Baseline offsets = $(\gamma\mathcal L+D_s)^{-1}D_sp$ (1 % + tolerance), growing with $a$; median offsets = the law at every attack size |
+# | X5 | (ours) the attack at $t=10$ s lands on a converged network | every θ-sum error (own and resilient) < 0.05 rad in the 2 s before the attack (ours; split from C3 after the first sweep showed that this part alone varies over the declared space) |
 
 # %%
 claims = {}
-sweep_ok = all(bool(np.all(r["distance"] <= r["bound"])) for r in sweep.values())
-sweep_mono = all(bool(np.all(np.diff(r["distance"]) <= 1e-3)) for r in sweep.values())
+tol_ii = CHATTER_STEPS * dt
+SIGN_II = results.Tolerance(
+    rtol=1e-6, atol=tol_ii, reason="explicit Euler of the sign-driven solver (4): which side of a "
+    "sliding surface an iterate lands on depends on rounding; values can move by the chattering, O(dt)")
+SIGN_IV = results.Tolerance(
+    rtol=1e-6, atol=max(*tol_k.values(), *tol_k11.values()), reason="exponential Euler of the sign-driven observers (6), "
+    "(11): chattering on the sliding surfaces, O(kappa ||v_l|| dt), depends on rounding near sign changes")
+assumptions = bool(red[q].holds and a4_ok)
+all_ratios = [r["final_distance"].max() / r["bound"] for r in runs.values()] + [
+    float((r["distance"] / r["bound"]).max()) for r in sweep.values()]
 claims["C1"] = results.claim(
-    paper="Theorem 1: limsup_t dist(x_i(t), M) <= 2 sqrt(N) / (gamma lambda_2(L)) for every agent",
+    paper="Theorem 1: limsup_t ||x_i(t)||_M <= 2 sqrt(N) / (gamma lambda_2(L)) for every agent, "
+    "every gamma > 0 and every initial condition",
+    source="Sec. II, Theorem 1",
     check="demo per graph: each agent's max distance to the median set over the last "
     f"{settle_fraction:.0%} of the horizon <= the bound; sweep: max over agents for every graph "
-    "and gamma <= the bound (the bound only; the trend in gamma is X2, ours)",
+    "and gamma <= the bound; headline: the largest ratio distance / bound (holds iff <= 1)",
     measured={**{g: r["final_distance"] for g, r in runs.items()},
-              "sweep": {g: r["distance"] for g, r in sweep.items()}},
+              "sweep": {g: r["distance"] for g, r in sweep.items()},
+              "worst_ratio": max(all_ratios)},
     threshold={**{g: r["bound"] for g, r in runs.items()},
-               "sweep": {g: r["bound"] for g, r in sweep.items()}},
-    holds=all(bool(np.all(r["final_distance"] <= r["bound"])) for r in runs.values())
-    and sweep_ok,
+               "sweep": {g: r["bound"] for g, r in sweep.items()}, "worst_ratio": 1.0},
+    holds=max(all_ratios) <= 1.0,
+    key="worst_ratio", tolerance=SIGN_II, section="Theorem 1",
 )
 claims["C2"] = results.claim(
-    paper="Section IV: (C, A) is 2-redundant observable (q = 1) and satisfies Assumption 4; "
+    paper=f"Section IV: (C, A) is 2q-redundant observable (q = {q}) and satisfies Assumption 4; "
     "Lemma 1: every coordinate is observed by >= 2q + 1 banks",
-    check="enumeration of all subsets of N - 2q banks for q = 1 and q = 2; the constructed "
-    "basis verified against the unobservable subspaces; banks per coordinate",
-    measured={"redundant_q1": red[1].holds, "redundant_q2": red[2].holds,
-              "failing_q2": [[i + 1 for i in f] for f in red[2].failing],
+    source="Sec. IV; Assumptions 2 and 4; Lemma 1",
+    check=f"enumeration of all subsets of N - 2q banks for q = {q} (and every q up to (N-1)/2: "
+    "q_max is the largest that holds); the constructed basis verified against the unobservable "
+    "subspaces; banks per coordinate >= 2q + 1",
+    measured={"redundant": red[q].holds, "q_max": q_max,
+              "failing": {str(qq): [[i + 1 for i in f] for f in r.failing] for qq, r in red.items()},
               "assumption4": bool(a4_ok), "banks_per_coordinate": banks_per_coord},
-    threshold={"redundant_q1": True, "redundant_q2": False, "assumption4": True,
-               "min_banks_per_coordinate": 2 * q + 1},
-    holds=red[1].holds and not red[2].holds and bool(a4_ok)
-    and bool(banks_per_coord.min() >= 2 * q + 1),
+    threshold={"redundant": True, "assumption4": True, "min_banks_per_coordinate": 2 * q + 1},
+    holds=assumptions and bool(banks_per_coord.min() >= 2 * q + 1),
+    key="q_max", section="Assumption 4 — a common basis $\\{v_l\\}$",
 )
+pre = (t_ex >= attack_start - 2.0) & (t_ex < attack_start)
+pre_sum_err = (float(max(np.abs(sum_err[pre, :, 0]).max(), np.abs(own_k[pre] @ theta_sel
+                                                                    - true_sum[pre]).max()))
+               if pre.any() else None)
 res_sum_err = float(np.abs(sum_err[last, :, 0]).max())
-pre_attack = (t_ex >= attack_start - 2.0) & (t_ex < attack_start)
-pre_sum_err = float(max(np.abs(sum_err[pre_attack, :, 0]).max(),
-                        np.abs(own_1[pre_attack] @ theta_sel - true_sum[pre_attack]).max()))
+own_sum_pred, own_inf_pred = float(theta_sel @ own_pred), float(np.abs(own_pred).max())
+resilient_ratio = res_sum_err / max(abs(float(own_sum_err.mean())), 1e-300)
 claims["C3"] = results.claim(
     paper="Fig. 1 and footnote 3: after the attack agent 1's own estimate is wrong while the "
     "resilient estimates of all agents follow the true theta-sum",
-    check=f"mean over the last {final_window:g} s of agent 1's own theta-sum error (vs pi) and "
-    "infinity-norm error (vs pi/3), tolerance 0.01; max |resilient theta-sum error| < 1 rad; "
-    "all theta-sum errors (own and resilient) < 0.05 in the 2 s before the attack",
+    source="Sec. IV, Fig. 1 and footnote 3",
+    check=f"mean over the last {final_window:g} s of the attacked agent's own theta-sum and "
+    "inf-norm errors = the exact V_k(-F_k^-1 L_k) a (within 0.01 rad, ours); max |resilient "
+    "theta-sum error| <= half the own theta-sum error (ours: the network rejects most of the "
+    "attack; headline: their ratio). Whether the network has converged before the attack is X5",
     measured={"own_sum_error": float(own_sum_err.mean()), "own_inf_error": float(own_inf_err.mean()),
-              "resilient_sum_error_max": res_sum_err, "pre_attack_sum_error_max": pre_sum_err},
-    threshold={"own_sum_error": 3 * attack_amplitude, "own_inf_error": attack_amplitude,
-               "resilient_sum_error_max": 1.0, "pre_attack_sum_error_max": 0.05},
-    holds=abs(own_sum_err.mean() - 3 * attack_amplitude) <= 0.01
-    and abs(own_inf_err.mean() - attack_amplitude) <= 0.01 and res_sum_err < 1.0
-    and pre_sum_err < 0.05,
+              "resilient_sum_error_max": res_sum_err, "resilient_to_own_ratio": resilient_ratio},
+    threshold={"own_sum_error": own_sum_pred, "own_inf_error": own_inf_pred,
+               "resilient_to_own_ratio": 0.5},
+    holds=abs(own_sum_err.mean() - own_sum_pred) <= 0.01
+    and abs(own_inf_err.mean() - own_inf_pred) <= 0.01 and resilient_ratio <= 0.5,
+    premise=(f"bank {attack_bank} observes the full state (o_k = n) and the kernel of A "
+             "(C_k v != 0): the setting of Fig. 1's red curve and footnote 3",
+             bool(o_i[k_att] == n and sees_kernel)),
+    key="resilient_to_own_ratio", tolerance=SIGN_IV,
+    section="Fig. 1 — $\\theta_1+\\theta_2+\\theta_3$, agent 1's own estimate and the resilient estimates",
 )
-off_dev = max(float(np.abs(offsets_meas[g][0] - offsets_pred[g]).max()) for g in offset_gammas)
-gamma_scaled = [offsets_meas[g][0][0] * g for g in offset_gammas]
-amp_dev = max(float(np.abs(amp_offsets[a] - amp_offsets[attack_amplitude]).max())
-              for a in amp_offsets)
-maxerr_by_gamma = {g: float(offsets_meas[g][1]) for g in offset_gammas}
 claims["C4"] = results.claim(
-    paper="Theorem 2: for large enough kappa, gamma, limsup ||x_hat_i - x||_inf <= eta under attack",
-    check="last-window theta-sum offsets vs the closed-form equilibrium (argmin of "
-    "sum s|p - c| + gamma/2 c'Lc), tolerance 0.01, for every gamma; agent 1's offset * gamma "
-    "constant (spread <= 0.02); offsets independent of the attack size (<= 0.01); "
-    "max error <= 0.25 at gamma = 2 and <= 0.03 at gamma = 20",
-    measured={"max_offset_deviation": off_dev, "agent1_offset_times_gamma": gamma_scaled,
-              "amplitude_dependence": amp_dev, "max_error": maxerr_by_gamma,
-              "offsets": {str(g): offsets_meas[g][0] for g in offset_gammas}},
-    threshold={"max_offset_deviation": 0.01, "predicted_offsets":
-               {str(g): offsets_pred[g] for g in offset_gammas},
-               "amplitude_dependence": 0.01, "max_error": {"2.0": 0.25, "20.0": 0.03}},
-    holds=off_dev <= 0.01 and np.ptp(gamma_scaled) <= 0.02 and amp_dev <= 0.01
-    and maxerr_by_gamma.get(2.0, 0.0) <= 0.25 and maxerr_by_gamma.get(20.0, 0.0) <= 0.03,
+    paper="Theorem 2: for large enough kappa, gamma, limsup ||x_hat_i - x||_inf <= eta under attack "
+    "(resilient estimation with arbitrary precision)",
+    source="Sec. III-B, Theorem 2, (6)",
+    check="last-window theta-sum offsets and max_i ||x_hat_i - x||_inf against the offset law "
+    "(equilibrium of (7): argmin of sum s|p - c| + gamma/2 c'Lc per static coordinate; prop. to "
+    "1/gamma, so every eta is reached for gamma large) at every gamma of offset_gammas and gamma_ex; "
+    f"holds iff every deviation <= the chattering tolerance {CHATTER_STEPS} kappa dt ||v||",
+    measured={"max_offset_deviation": max(law_dev.values()),
+              "max_error_deviation": max(law_inf_dev.values()),
+              "offsets": {f"{g:g}": law_runs[(basis_normalisation, g, float(kappa))]["sum"]
+                          for g in gammas_law},
+              "max_error": {f"{g:g}": law_runs[(basis_normalisation, g, float(kappa))]["inf"]
+                            for g in gammas_law}},
+    threshold={"max_offset_deviation": tol["sum"], "max_error_deviation": tol["inf"],
+               "predicted_offsets": {f"{g:g}": law_pred[g]["sum"] for g in gammas_law},
+               "predicted_max_error": {f"{g:g}": law_pred[g]["inf"] for g in gammas_law}},
+    holds=max(law_dev.values()) <= tol["sum"] and max(law_inf_dev.values()) <= tol["inf"],
+    premise=("Assumptions 2 (q) and 4 hold (C2), and the attack's steady effect p lies in static "
+             "coordinates, where our closed form applies", assumptions and law_premise),
+    key="max_offset_deviation", tolerance=SIGN_IV, section="The steady-state offset law (ours)",
 )
 claims["C5"] = results.claim(
     paper="Theorem 2 without attack: every x_hat_i converges to x (up to eta)",
-    check=f"max_i ||x_hat_i - x||_inf over the last {final_window:g} s <= 0.01 for both pole sets; "
-    "time after which it stays below 0.05",
+    source="Sec. III-B, Theorem 2 (a = 0)",
+    check=f"max_i ||x_hat_i - x||_inf over the last {final_window:g} s <= the chattering tolerance "
+    f"{CHATTER_STEPS} kappa dt max ||v_l||_inf; the time after which it stays below 0.05 is reported",
     measured={"final_error": final_noattack, "time_below_0.05": conv_time},
-    threshold={"final_error": 0.01},
-    holds=all(v <= 0.01 for v in final_noattack.values()),
+    threshold={"final_error": tol["inf"]},
+    holds=final_noattack <= tol["inf"],
+    premise=("Assumptions 2 (q) and 4 hold (C2)", assumptions),
+    key="final_error", tolerance=SIGN_IV, section="No attack (Theorem 2 with $a\\equiv0$)",
 )
-amps_sorted = sorted(base_offsets)
-base_growth = [float(base_offsets[a][0]) for a in amps_sorted]
-base_rel = max(float(np.abs(base_offsets[a] - base_pred[a]).max() / np.abs(base_pred[a]).max())
-               for a in amps_sorted)
 claims["C6"] = results.claim(
-    paper="(ours) the median is what rejects the attack: an averaging correction (sgn(r) "
-    "replaced by r) is corrupted in proportion to the attack",
-    check="agent 1's baseline theta-sum offset strictly increasing with the attack size and "
-    "within 1 % of (gamma L + D_s) c = D_s p; median offsets unchanged (<= 0.01)",
-    measured={"attack_sizes": amps_sorted, "baseline_agent1_offset": base_growth,
-              "baseline_relative_deviation": base_rel,
-              "median_agent1_offset": [float(amp_offsets[a][0]) for a in amps_sorted]},
-    threshold={"baseline_relative_deviation": 0.01, "median_amplitude_dependence": 0.01},
-    holds=bool(np.all(np.diff(base_growth) > 0)) and base_rel <= 0.01 and amp_dev <= 0.01,
+    paper="Section III-C (after the proof of Theorem 3): the steady-state error depends only on "
+    "the parameter gamma",
+    source="Sec. III-C, after Theorem 3",
+    check=f"last-window theta-sum offsets after the attack at kappa = {kappa:g} and kappa_alt = "
+    f"{kappa_alt:g} (gamma = {gamma_ex:g}), for (6) and (11): max difference <= the chattering "
+    "tolerance of the larger kappa (for (11) with the columns of V_bar); headline: the larger "
+    "ratio difference / tolerance (holds iff <= 1). The paper's words are tested; that Theorem 3's "
+    "bound depends only on gamma is true by inspection",
+    measured={"max_excess": max(kappa_dev["(6)"] / tol_k["sum"], kappa_dev["(11)"] / tol_k11["sum"]),
+              **kappa_dev,
+              "offsets_(6)": {f"{kap:g}": law_runs[(basis_normalisation, float(gamma_ex), kap)]["sum"]
+                              for kap in kappa_pair},
+              "offsets_(11)": {f"{kappa:g}": sums_11, f"{kappa_alt:g}": sums_11_alt}},
+    threshold={"(6)": tol_k["sum"], "(11)": tol_k11["sum"], "max_excess": 1.0},
+    holds=kappa_dev["(6)"] <= tol_k["sum"] and kappa_dev["(11)"] <= tol_k11["sum"],
+    key="max_excess", tolerance=SIGN_IV,
+    section="The steady-state error depends only on γ (Section III-C)",
 )
-clean_max = float(np.delete(resid_final, attack_bank - 1).max())
+clean_max = float(resid_meas[clean].max())
 claims["C7"] = results.claim(
-    paper="Conclusion: comparing z_i with W_i x_hat_i identifies the attacked bank",
-    check=f"mean over the last {final_window:g} s of ||z_i - W_i x_hat_i||_inf: agent 1 vs "
-    "a sqrt(3) - 3/(4 gamma) (tolerance 0.01), the other agents < 0.01, ratio > 100",
-    measured={"residual": resid_final, "ratio": float(resid_final[attack_bank - 1] / clean_max)},
-    threshold={"agent1_predicted": resid_pred, "clean_max": 0.01, "ratio": 100.0},
-    holds=abs(resid_final[attack_bank - 1] - resid_pred) <= 0.01 and clean_max < 0.01
-    and resid_final[attack_bank - 1] / clean_max > 100,
+    paper="Section III-C and Conclusion: comparing z_i with W_i x_hat_i identifies the attacked bank",
+    source="Sec. III-C (last paragraph), Sec. V",
+    check=f"mean over the last {final_window:g} s of ||z_i - W_i x_hat_i||_inf: the attacked agent's "
+    "is the largest (headline: its margin over the largest clean one), and every agent's equals "
+    "the offset law's prediction within the chattering tolerance kappa dt x10 (coordinates); "
+    "reported, not decided: whether it exceeds eta = 2 sqrt(N)/(gamma lambda_2) (ours)",
+    measured={"residual": resid_meas, "predicted": resid_pred,
+              "max_deviation": float(np.abs(resid_meas - resid_pred).max()),
+              "margin": float(resid_meas[k_att] - clean_max),
+              "above_theorem1_threshold": bool(resid_meas[k_att] > eta_id)},
+    threshold={"max_deviation": tol["coord"], "margin": 0.0, "theorem1_threshold": eta_id},
+    holds=bool(int(np.argmax(resid_meas)) == k_att)
+    and float(np.abs(resid_meas - resid_pred).max()) <= tol["coord"],
+    premise=("the attack's steady effect p lies in static coordinates (the offset law applies)",
+             law_premise),
+    key="margin", tolerance=SIGN_IV,
+    section="Attack identification (Section III-C, Conclusion; Fig. S2, ours)",
 )
 claims["C8"] = results.claim(
     paper="Theorem 3: for Lyapunov-stable plants, (5) + (11) gives limsup ||x_hat_i - x|| <= "
     "(N n^2 + sqrt(n)) sqrt(N) ||V P_bar^(-1/2)|| / (gamma lambda_2)",
-    check="max eig(PA + A'P) <= 1e-9, P_bar block-diagonal over indicator groups (<= 1e-9), "
-    "last-window max ||x_hat_i - x||_2 <= the bound (vacuous here: a consistency check; the bound "
-    "depends on our P of (11): P_bar = V'PV and the basis V are recorded to recompute it)",
-    measured={"lyapunov_max_eig": lyap_max, "offgroup": offgroup, "max_error_2norm": maxerr2_11,
+    source="Sec. III-C, Theorem 3, (11)",
+    check="P_bar block-diagonal over indicator groups (<= 1e-9), last-window max ||x_hat_i - x||_2 "
+    "<= the bound (vacuous here: a consistency check; the bound depends on our P of (11): "
+    "P_bar = V'PV and the basis V are recorded to recompute it)",
+    measured={"max_error_2norm": maxerr2_11, "lyapunov_max_eig": lyap_max, "offgroup": offgroup,
               "theta_sum_offsets": sums_11, "P_bar": P_bar, "basis_V": V},
-    threshold={"bound": float(thm3_bound)},
-    holds=lyap_max <= 1e-9 and offgroup <= 1e-9 and maxerr2_11 <= thm3_bound,
+    threshold={"bound": float(thm3_bound), "offgroup": 1e-9},
+    holds=offgroup <= 1e-9 and maxerr2_11 <= thm3_bound,
+    premise=("the plant is Lyapunov stable: our P = T^-T T^-1 satisfies PA + A'P <= 0 "
+             "(max eigenvalue <= 1e-9)", lyap_max <= 1e-9),
+    key="max_error_2norm", tolerance=SIGN_IV, section="Variant (11) and Theorem 3",
 )
 lam2_formula = {"ring": 2 * (1 - np.cos(2 * np.pi / N)), "all-to-all": float(N)}
 claims["C9"] = results.claim(
     paper="Remark 2: lambda_2 = 2(1 - cos(2 pi / N)) on a ring (decreasing in N), = N on the "
     "all-to-all graph",
+    source="Sec. II, Remark 2",
     check="networkx algebraic_connectivity vs the closed forms for N = 3..12 (<= 1e-8); the "
     "demo graphs' eigenvalues (<= 1e-12)",
     measured={"max_deviation": remark2_dev, **{g: r["lambda2"] for g, r in runs.items()}},
     threshold={"max_deviation": 1e-8, **lam2_formula},
     holds=remark2_dev <= 1e-8 and bool(np.all(np.diff(lam2_ring_seq) < 0))
     and all(abs(runs[g]["lambda2"] - v) <= 1e-12 for g, v in lam2_formula.items()),
+    key="max_deviation", section="Section II-B — Theorem 1 across graphs and gains",
 )
 claims["C10"] = results.claim(
     paper="Section IV: on the ring agent 1 cannot obtain resilient estimates of span{v1, v2} "
     "from its neighbours' measurements alone",
-    check="number of banks observing v1 among agent 1 and its neighbours < 2q + 1",
+    source="Sec. IV, final remark",
+    check="number of banks observing v1 among agent 1 and its neighbours < 2q + 1 (the declared "
+    "ring orders are those the remark allows, so this checks the construction)",
     measured={"neighbourhood": [i + 1 for i in nbhd_1], "observing_banks": local_voters},
     threshold={"2q+1": 2 * q + 1},
     holds=local_voters < 2 * q + 1,
+    key="observing_banks",
+    section="Final remark of Section IV — no local majority for agent 1",
 )
-innov_max = float(np.abs(innov_1[last]).max())
+innov_max = float(np.abs(innov_k[last]).max())
 claims["C11"] = results.claim(
     paper="Footnote 3: agent 1 cannot tell from its own measurement that it is attacked",
-    check="||Av|| <= 1e-9 and C_1 v = 1 for v = [1,0,1,0,1,0]; |-F_1^-1 L_1 - W_1 v| <= 1e-6; "
-    f"over the last {final_window:g} s |z_1 - W_1(x + a v)| <= 1e-2 (the tail of bank 1's "
-    "transient after the attack step) and |innovation of (5)| <= 1e-3",
-    measured={"Av": A_v, "C1v": C1_v, "gain_identity": p1_identity, "z1_shift": float(z1_shift),
+    source="Sec. IV, footnote 3",
+    check="||Av|| <= 1e-9 for v = [1,0,1,0,1,0] scaled to C_k v = 1; |-F_k^-1 L_k - W_k v| <= 1e-6; "
+    f"over the last {final_window:g} s |z_k - W_k(x + a v)| <= 1e-2 (the tail of bank k's "
+    "transient after the attack step) and |innovation of (5)| <= 1e-3 (headline)",
+    measured={"Av": A_v, "gain_identity": gain_identity, "z_shift": z_shift,
               "innovation": innov_max},
-    threshold={"identities": 1e-6, "z1_shift": 1e-2, "innovation": 1e-3},
-    holds=A_v <= 1e-9 and abs(C1_v - 1) <= 1e-12 and p1_identity <= 1e-6 and z1_shift <= 1e-2
-    and innov_max <= 1e-3,
+    threshold={"Av": 1e-9, "gain_identity": 1e-6, "z_shift": 1e-2, "innovation": 1e-3},
+    holds=A_v <= 1e-9 and gain_identity <= 1e-6 and z_shift <= 1e-2 and innov_max <= 1e-3,
+    premise=(f"bank {attack_bank} observes the kernel of A (C_k v != 0), so a constant attack "
+             "looks like a shift of the plant state", bool(sees_kernel)),
+    key="innovation", tolerance=SIGN_IV, section="Why agent 1 alone is fooled (footnote 3)",
 )
-acc_exp, acc_exp2 = acc_table["exponential Euler, dt = 1e-3 (ours)"][0], acc_table[
-    "exponential Euler, dt = 5e-4"][0]
-acc_eul = acc_table["explicit Euler, dt = 1e-3"][0]
-eul_unstable = acc_runs["explicit Euler, dt = 2.5e-3 (unstable)"]
-eul_growth = float(eul_unstable[t_acc >= accuracy_T - 1.0].max() / eul_unstable[t_acc <= 2.0].max())
+acc_ours, acc_half = acc_table[label_ours][0], acc_table[label_half][0]
+acc_eul = acc_table[label_euler][0]
+dev_u = acc_runs[label_unstable]
+quarter = accuracy_T / 4
+euler_growth = float(dev_u[t_acc >= 3 * quarter].max() / dev_u[(t_acc >= quarter)
+                                                              & (t_acc < 2 * quarter)].max())
 claims["X1"] = results.claim(
     paper="(ours) integrator choice for the discontinuous right-hand side",
-    check="RMS deviation from the dt = 1e-4 reference: exponential Euler (1e-3) < explicit Euler "
-    "(1e-3); halving dt divides it by 1.5..2.5 (order one); explicit Euler at dt = 2.5e-3: "
-    "spectral radius of I + dt M > 1 (its deviation growth is reported, not tested: the "
-    "unstable (1,-2,1) mode is barely excited here)",
+    source="ours",
+    check="RMS deviation from the accuracy_ref_dt reference: exponential Euler (dt_ex) < explicit "
+    "Euler (dt_ex); halving dt divides it by 1.5..2.5 (order one; headline: that ratio); explicit "
+    "Euler at three times its stability limit: spectral radius of I + dt M > 1 and its deviation over the "
+    "last quarter of the horizon exceeds that over the second quarter (it grows)",
     measured={"rms_deviation": {k: v[0] for k, v in acc_table.items()},
-              "spectral_radius_euler": {str(k): v for k, v in rho_euler.items()},
-              "euler_unstable_growth": eul_growth},
-    threshold={"order_ratio": [1.5, 2.5], "spectral_radius": 1.0},
-    holds=acc_exp < acc_eul and 1.5 <= acc_exp / acc_exp2 <= 2.5 and rho_euler[2.5e-3] > 1.0
-    and rho_euler[1e-3] <= 1.0 + 1e-12,
+              "order_ratio": acc_ours / acc_half, "euler_stability_limit": euler_dt_max,
+              "spectral_radius_euler": {f"{k:.3g}": v for k, v in rho_euler.items()},
+              "euler_unstable_growth": euler_growth},
+    threshold={"order_ratio": [1.5, 2.5], "spectral_radius": 1.0, "euler_unstable_growth": 1.0},
+    holds=acc_ours < acc_eul and 1.5 <= acc_ours / acc_half <= 2.5
+    and rho_euler[dt_unstable] > 1.0 and euler_growth > 1.0,
+    key="order_ratio",
+    tolerance=results.Tolerance(rtol=0.05, atol=tol["inf"], reason="RMS of sign-driven chattering "
+                                "against a reference; rounding moves it at the chattering level"),
+    section="Integrating the discontinuous dynamics",
 )
 claims["X2"] = results.claim(
     paper="(ours, not a statement of the paper) the final distance of (4) to the median set "
     "shrinks as gamma grows; Theorem 1 only bounds it by a quantity proportional to 1/gamma",
+    source="ours",
     check="sweep: max over agents of the distance over the last "
-    f"{settle_fraction:.0%} of the horizon non-increasing in gamma on every graph "
-    "(tolerance 1e-3 for chattering)",
-    measured={g: r["distance"] for g, r in sweep.items()},
-    threshold={"gammas": gam_sweep, "tolerance": 1e-3},
-    holds=sweep_mono,
+    f"{settle_fraction:.0%} of the horizon non-increasing in gamma on every graph, up to "
+    f"{CHATTER_STEPS} dt (chattering); headline: the largest increase",
+    measured={**{g: r["distance"] for g, r in sweep.items()},
+              "largest_increase": max(float(np.diff(r["distance"]).max(initial=0.0))
+                                      for r in sweep.values())},
+    threshold={"gammas": gam_sweep, "largest_increase": tol_ii},
+    holds=all(bool(np.all(np.diff(r["distance"]) <= tol_ii)) for r in sweep.values()),
+    key="largest_increase", tolerance=SIGN_II,
+    section="Section II-B — Theorem 1 across graphs and gains",
 )
-results.write_claims(results_path, claims)
-for cid, c in claims.items():
-    print(cid, "holds" if c["holds"] else "DOES NOT HOLD")
+x3_dev = max(float(np.abs(r["distance"] - r["predicted"]).max()) for r in sweep.values())
+x3_to_min = max(float(r["to_minimiser"].max()) for r in sweep.values())
+claims["X3"] = results.claim(
+    paper="(ours) the final state of (4) is a minimiser of sum_i s_i |z_i - x_i| + gamma/2 x'Lx, so "
+    "the final distances are those of that minimiser (closed forms at the default data: "
+    "0.4/gamma on ring-5; on ring-7, the lower end of a segment of minimisers, 0.6/7 at "
+    "gamma = 5 and 1/(7 gamma) for gamma >= 10)",
+    source="ours (equilibria of (4))",
+    check="for every graph and gamma of the sweep: the final-window mean within "
+    f"{CHATTER_STEPS} dt of the minimiser set (sup norm), and the measured distance to M within "
+    f"{CHATTER_STEPS} dt of the minimiser's (an O(dt) error bound for explicit Euler; headline)",
+    measured={"max_deviation": x3_dev, "to_minimiser": x3_to_min,
+              "predicted": {g: r["predicted"] for g, r in sweep.items()}},
+    threshold={"max_deviation": tol_ii, "to_minimiser": tol_ii},
+    holds=x3_dev <= tol_ii and x3_to_min <= tol_ii,
+    key="max_deviation", tolerance=SIGN_II,
+    section="Section II-B — Theorem 1 across graphs and gains",
+)
+amps_sorted = sorted(base_offsets)
+base_dev = max(float(np.abs(base_offsets[a] - base_pred[a]).max()) for a in amps_sorted)
+base_scale = max(float(np.abs(base_pred[a]).max()) for a in amps_sorted)
+claims["X4"] = results.claim(
+    paper="(ours) the median is what rejects the attack: an averaging correction (sgn(r) "
+    "replaced by r) is corrupted in proportion to the attack",
+    source="ours",
+    check="baseline theta-sum offsets within 1 % (+ the chattering tolerance) of "
+    "(gamma L + D_s)^-1 D_s p, which is linear in the attack size (headline: the largest "
+    "deviation); median offsets equal the offset law at every attack size (tolerance)",
+    measured={"attack_sizes": amps_sorted,
+              "baseline_offset_attacked": [float(base_offsets[a][k_att]) for a in amps_sorted],
+              "median_offset_attacked": [float(amp_offsets[a][k_att]) for a in amps_sorted],
+              "baseline_max_deviation": base_dev, "median_max_deviation": amp_dev},
+    threshold={"baseline_max_deviation": 0.01 * base_scale + tol["sum"],
+               "median_max_deviation": tol["sum"]},
+    holds=base_dev <= 0.01 * base_scale + tol["sum"] and amp_dev <= tol["sum"],
+    premise=("the attack's steady effect p lies in static coordinates (the offset law applies)",
+             law_premise),
+    key="baseline_max_deviation", tolerance=SIGN_IV, section="The steady-state offset law (ours)",
+)
+claims["X5"] = results.claim(
+    paper="(ours, the paper's Fig. 1 is not available) at the paper's attack time the network has "
+    "converged: the attack lands on estimates that follow the true theta-sum",
+    source="ours (Sec. IV: attack from t = 10 s)",
+    check="max |theta-sum error| of the attacked agent's own estimate and of every resilient "
+    "estimate over the 2 s before the attack (headline) < 0.05 rad (ours)",
+    measured={"pre_attack_sum_error_max": pre_sum_err},
+    threshold={"pre_attack_sum_error_max": 0.05},
+    holds=pre_sum_err is not None and pre_sum_err < 0.05,
+    premise=("the attack starts after t = 0 (there is a pre-attack window)", pre_sum_err is not None),
+    key="pre_attack_sum_error_max", tolerance=SIGN_IV,
+    section="Fig. 1 — $\\theta_1+\\theta_2+\\theta_3$, agent 1's own estimate and the resilient estimates",
+)
+results.write_claims(results_path, claims, robustness="figures/lee2020/robustness.json")
+written = json.loads(results.resolve(results_path).read_text())
+for cid in claims:
+    c = written[cid]
+    rob = c.get("robustness")
+    over = (f"{rob['outcomes']['holds']}/{rob['points']} points of the declared space"
+            if rob else "not swept")
+    print(f"{cid:>3}: {c['verdict']:<13} | at this run: {'holds' if c['holds'] else 'does not hold':<13} "
+          f"| {over}")
+
+# %% [markdown]
+# **Verdicts over the declared space** (`make robustness`: 24 points, `figures/lee2020/robustness.csv`;
+# the verdict printed above is the one over the space, "at this run" the outcome at these
+# parameters). Every claim holds at all 24 points except two:
+#
+# * **C6 fails at all 24 points**: the θ-sum offsets of (11) change with $\kappa$ by 1.0–1.9 times
+#   the chattering tolerance (0.055 rad at the default point); at a four times smaller step the
+#   difference stays (printed in the κ section), so it is not chattering. (6) alone satisfies the
+#   sentence.
+# * **X5 is undetermined, holding at 18/24 points**: it fails exactly at the 6 points with
+#   `observer_poles = "near"` and `z0_guess = "off"` (every ring, both normalisations): with the
+#   literal poles and an initial guess off by 0.5–1, the θ-sum estimates are still 0.060–0.063 rad
+#   off in the 2 s before the attack. With the shifted poles, or observers started at zero, the
+#   network has converged when the attack comes.
 
 # %% [markdown]
 # ## Deviations from the paper
 #
 # | item | paper | here | why |
 # |---|---|---|---|
-# | Section II example | none given | the values of the parameter table; γ sweep on three graphs | Theorem 1 holds for any data; these make the median set an interval ($S$ even) and include one outlier |
-# | Section II integrator | continuous time, Filippov solutions | explicit Euler, $dt=10^{-3}$ s | below the stability step; chattering on the sliding surface is $O(dt)$ |
+# | Section II example | none given | the values of the parameter table; γ sweep on three graphs (ours) | Theorem 1 holds for any data; these make the median set an interval ($S$ even) and include one outlier |
+# | Section II integrator | continuous time, Filippov solutions | explicit Euler, $dt=10^{-3}$ s; error bound $10\,dt$ where a value is compared with an exact one (X3) | below the stability step; chattering on the sliding surface is $O(dt)$ |
 # | limsup | $t\to\infty$ | max (Section II) or mean (Section IV) over a final window of a finite horizon | a finite run can only bound the limsup |
 # | Assumption 2 wording (Section II) | "more than $2q+1$" nonzero $C_i$ | at least $2q+1$ (CORRECTED) | consistent with Lemma 1 |
-# | basis of Assumption 4 | existence only | grouped projected-orthonormal basis, unit norm (MISSING) | the numbers (speed, offsets) depend on the basis scaling |
-# | observer poles | "near −1" | $-1,-1.1,\dots$ (MISSING); "shifted" alternative | the literal reading gives gains up to 1.5e3 and transient peaks of 5e4 (banks 1, 3) |
-# | initial conditions, horizon, ring order | not given | parameters `x0_plant`, `z0_guess`, `xhat0` (observers start at zero), `T_ex`, `ring_order` (MISSING) | see the provenance table |
-# | integrator (Section IV) | not given | exponential Euler, $dt=10^{-3}$ s (MISSING) | justified in the integrator section |
+# | basis of Assumption 4 | existence only; Sec. IV writes the rigid-body span unnormalised | grouped projected-orthonormal basis, scaled by `basis_normalisation` ("unit" default, "integer" = the paper's $[1,0,1,0,1,0]^\top$, $[0,1,0,1,0,1]^\top$ and integer torsion shapes) (MISSING, swept) | the post-attack offsets scale with $\mathbf 1_\theta^\top v_1$ ($\sqrt3$ vs 3: 0.65 vs 1.125 rad for agent 1 at γ = 2) |
+# | observer poles | "near −1" | "near": $-1,-1.1,\dots$; "shifted": real parts to −1 (MISSING, swept) | the literal reading gives gains up to 1.5e3 and transient peaks of 5e4 (banks 1, 3): the estimates converge only after ≈ 22 s, after the attack at 10 s |
+# | ring order | "ring network" | one ring per class the final remark allows: 1-2-3-4-5 (default), 1-2-4-3-5, 1-4-2-3-5 (MISSING, swept) | the final remark excludes rings where agent 1 neighbours banks 2 and 3 |
+# | initial conditions, horizon | not given | `x0_plant`; observers' guess `z0_guess` = `xhat0` zero (default) or off by 0.5–1 (MISSING, swept); `T_ex` = 40 s (ours) | see the provenance table |
+# | integrator (Section IV) | not given | exponential Euler, $dt=10^{-3}$ s (ours); chattering tolerance $10\kappa\,dt\|v_l\|$ | justified in the integrator section |
 # | footnote 3 | "zero-dynamics attack" | an output attack along the marginally stable eigenvector $v$ ($Av=0$) (CORRECTED wording) | it is stealthy for bank 1 alone, not an invariant-zero attack |
 # | variant (11) | any $P>0$ with $PA+A^\top P\le0$ | $\bar P$ block-diagonal over the indicator groups (CORRECTED: unstated condition) | otherwise $\bar P^{1/2}$ mixes unobservable coordinates into the sign arguments |
 # | Theorem 3 proof / plug-and-play gain | $\bar x$ for the disagreement; "$\sqrt N/(4\bar s/(\bar N^2-N))$" | $\tilde x$; $\gamma=\|V\bar P^{-1/2}\|\sqrt{\bar N}(\bar N^2-\bar N)(\bar Nn^2+\sqrt n)/(4\bar s)$ (CORRECTED, not used numerically) | OCR drops tildes; $N$ and $\bar N$ mixed |
-# | Theorem 2 at the paper's gains | "arbitrary precision" for large κ, γ | offsets $O(1/\gamma)$ after the attack (0.65 rad θ-sum for agent 1 at γ = 2), predicted in closed form | the theorem is semi-global and asymptotic in the gains; not a contradiction |
+# | Theorem 2 at the paper's gains | "arbitrary precision" for large κ, γ | offsets $O(1/\gamma)$ after the attack, independent of κ, predicted in closed form (C4, C6) | the theorem is semi-global and asymptotic in the gains; not a contradiction |
+# | remark after Theorem 3 | "the steady-state error depends only on the parameter γ" | holds for (6) and for Theorem 3's bound; fails for the steady state of (11) (C6, 0/24 points) | (11)'s correction mixes the static coordinate with the rate coordinate, on which $\bar A$ acts |
+# | attack time | $t=10$ s; Fig. 1 not available | with the literal "near −1" poles and an off initial guess the network has not converged at 10 s (X5, ours: 18/24 points) | the observers' transient peaks (gains ≈ 1.5e3) and lasts ≈ 22 s |
+# | attack identification | "by comparing $z_i$ with $\mathcal W_i\hat x_i$"; no threshold | the attacked agent has the largest residual, as predicted (C7); with the agent-computable threshold $2\sqrt N/(\gamma\lambda_2)$ (ours) it is not flagged at γ = 2 | the paper gives no decision rule |
 # | Appendix B item 7 | 4×4 real Jordan block missing its first row (OCR) | $[[\alpha,-\beta,1,0],[\beta,\alpha,0,1],[0,0,\alpha,-\beta],[0,0,\beta,\alpha]]$ (CORRECTED, not used numerically) | garbled |
 # | basis construction | — | distinct eigenvalues only (our procedure refuses repeated ones) | the example has six distinct eigenvalues |
-# | Fig. 1 | printed figure | our Fig. 1 (printed figure not available in the OCR text) | compared with the caption and text only |
-# | Fig. 1, red curve | "its estimate obtained by agent 1" | read as $\mathcal V_1z_1$, the θ-sum of agent 1's partial observer (5) ($o_1=n$, so it is a full-state estimate from bank 1 alone) (our interpretation) | the only estimate agent 1 forms without the network; footnote 3's argument (agent 1 cannot detect the attack from its own measurement) is about it. Not $\hat x_1$, which is one of the blue resilient estimates |
-# | extras (ours) | — | Theorem 1 sweep, integrator comparison, offset law, averaging baseline, identification residual (Fig. S2), no-attack and (11) runs | acceptance of the reproduction issue |
+# | Fig. 1 | printed figure | our Fig. 1 for the four readings (printed figure not available in the OCR text) | checked against the caption and text only |
+# | Fig. 1, red curve | "its estimate obtained by agent 1" | read as $\mathcal V_1z_1$, the θ-sum of agent 1's partial observer (5) ($o_1=n$, so it is a full-state estimate from bank 1 alone) (our interpretation) | the only estimate agent 1 forms without the network; footnote 3's argument is about it. Not $\hat x_1$, which is one of the blue resilient estimates |
+# | extras (ours) | — | Theorem 1 sweep and the minimiser of $f_\gamma$ (X2, X3), integrator comparison (X1), offset law, averaging baseline (X4), identification residual (Fig. S2), κ map | acceptance of the reproduction issues |
 
 # %%
 manifest_path = run.finish(solver="exponential Euler (secest.systems.integrate_switched_linear); "
-                           "CLARABEL for the offset prediction")
+                           "CLARABEL for the offset law and the minimisers of f_gamma")
 print("run manifest:", manifest_path.relative_to(results.repo_root()))

@@ -26,30 +26,31 @@
 # Theorem 3 claims exponential mean-square boundedness. The example tracks three 2-D
 # coordinated-turn targets.
 #
-# **Verdict: [Re, partial].** The bound claim is reproduced *after correcting the bound's
-# coefficients*: with the coefficients re-derived from the paper's own proof, $\mathrm{MSE}_i(k)$
-# stays below the bound at every step (Fig. 7) — an empirical result, because our gain depends
-# on the run's data while the derivation assumes a deterministic gain (the ensemble variant gives
-# the same) — whereas the coefficients as printed in (18) / Theorem 2 are not a bound (the
-# trace-minimising weights give a "bound" 140–8000× below the MSE). The RRL-MAP fairness and the
-# attack statistics hold; "ZOH is not better" (Fig. 6) holds, but with the grid weights only
-# target 1 is informative (gains ≈ 0 for targets 2, 3); with an interior weight set ZOH is worse
-# for every target. Theorem 3 is **not** reproduced: its condition $\eta^*\le\phi^*$ cannot be met
-# on the example, and Fig. 8's inequality holds only for an envelope built from the data
-# (1e13–1e17, i.e. vacuous). The tracking claim of Figs 2–4 ("estimates well match the real
-# trajectories") is **not** reproduced, neither with the trace-optimal weights (gains ≈ 0 for
-# targets 2 and 3: open-loop prediction; target 1 biased by the replacement attack) nor with an
-# interior weight set (non-zero gains pull targets 2 and 3 toward the attack signal; relative
-# RMS errors 0.30–0.63). One factor $\check\psi_i$ in the innovation removes target 1's bias (our
-# extra, last section).
+# **Verdict: [Re, partial]** — the corrected bound holds exactly, the printed one, Theorem 3 and the
+# tracking claim do not; "ZOH is not better" is undetermined.
+#
+# * **Reproduced after correction.** With the coefficients re-derived from the paper's own proof, the
+#   bound is certified exactly: the exact error covariance never exceeds it (C1, at all 65 points of
+#   the declared space and for $\check\psi$ from 0.3 to 1). Fig. 7's Monte Carlo comparison holds (C1c), and
+#   so do RRL-MAP fairness and the attack statistics (C4, C5).
+# * **Not reproduced.** The printed coefficients are not a bound (C1b: an exact counterexample from
+#   $k=2$ on, at every point). Theorem 3's conditions fail on the example (C3a), so Fig. 8's comparison
+#   fails its premise (C3b). The tracking claim of Figs. 2–4 fails at every point (C7: relative RMS
+#   error 0.25–0.66 against our 0.1 threshold; 0.34 / 0.32 / 0.21 at the default). The failure is
+#   intrinsic to (8) under the replacement attack (X4): even the per-step optimal gain gives 0.14–0.22,
+#   while an oracle that drops attacked packets stays at or below 0.022.
+# * **Undetermined.** "ZOH is not better" (C2) holds at 63 of 65 points (97 %, Wilson 95 % interval
+#   [0.89, 0.99]). It fails at the two points with $T=147$, the grid weights, the ensemble surrogate
+#   and the sin/cos attack, where ZOH is significantly better for target 1 (ratio 0.98 [0.97, 0.996]).
+#   Under the grid weights target 1 is the only informative target.
 
 # %% tags=["parameters"]
-mode = "paper"  # "paper": full run incl. the Remark-4 grid; "fast": weights from the table below
+mode = "paper"  # "paper": full run incl. the Remark-4 grid check; "fast": the grid is skipped (ours)
 T = 100  # horizon in steps (MISSING)
 F = 100  # Monte Carlo runs (PAPER, Section IV)
 mc_seed = 2025  # seed of the Monte Carlo draws (MISSING)
-grid_seed = 2026  # seed of the pilot runs of the Remark-4 grid (MISSING)
-grid_pilot_runs = 10  # pilot runs averaged by the grid objective (MISSING)
+grid_seed = 2026  # seed of the pilot runs of our Remark-4 grid (ours)
+grid_pilot_runs = 10  # pilot runs averaged by the grid objective (ours)
 epsilon = 0.05  # singular perturbation parameter (PAPER)
 n_y = 4  # sensors per target (PAPER)
 m = 2  # channels per target (PAPER)
@@ -57,96 +58,121 @@ xi_star = 0.3  # attack energy bound (PAPER)
 psi_check = [0.7, 0.5, 0.3]  # probabilities of NO attack per target (PAPER)
 W = 0.03  # process noise variance (PAPER)
 V = 0.03  # measurement noise variance per sensor (PAPER, scalar read as V I)
-coef = "corrected"  # bound coefficients: "corrected" (re-derived) or "paper" (as printed)
-xhat_moment = "run"  # surrogate of E[xhat xhat^T]: "run" or "ensemble" (MISSING)
+coef = "corrected"  # bound coefficients of the main design: "corrected" or "paper" (CORRECTED)
+xhat_moment = "run"  # surrogate of E[xhat xhat^T] in the Monte Carlo runs: "run" or "ensemble" (MISSING)
 coupling_factor = True  # multiply the coupling term of (17) by |K_i| (CORRECTED)
-grid_lambda = [1e-3, 1e-2, 1e-1]  # Remark-4 grid (MISSING)
-grid_alpha1 = [0.3, 1.0, 3.0, 10.0]
-grid_alpha23 = [1e-4, 1e-3, 1e-2, 0.1, 1.0]
-grid_alpha4 = [0.03, 0.1, 0.3]
-# (lambda, alpha1, alpha2, alpha3, alpha4) of targets 1, 2, 3 as found by the grid (used in fast mode)
+attack_signal = "sincos"  # form of xi_i(k), energy xi_star: "sincos" or "constant" (MISSING)
+weight_rule = "grid"  # weights in use: "grid" (Remark-4 minimiser) or "interior" (MISSING)
+grid_lambda = [1e-3, 1e-2, 1e-1]  # levels of our Remark-4 grid (ours)
+grid_alpha1 = [0.3, 1.0, 3.0, 10.0]  # (ours)
+grid_alpha23 = [1e-4, 1e-3, 1e-2, 0.1, 1.0]  # (ours)
+grid_alpha4 = [0.03, 0.1, 0.3]  # (ours)
+# (lambda, alpha1, alpha2, alpha3, alpha4) of targets 1, 2, 3 as found by the grid (MISSING)
 weights_corrected = [[1e-3, 1.0, 1e-2, 0.1, 0.1], [1e-2, 1.0, 1e-4, 1e-4, 0.3], [1e-2, 1.0, 1e-4, 1e-4, 0.1]]
 weights_paper = [[1e-3, 3.0, 1e-2, 1.0, 0.1], [1e-1, 10.0, 1e-4, 1.0, 0.03], [1e-1, 10.0, 1e-4, 1.0, 0.03]]
 # printed coefficients, grid restricted to alpha2 > alpha3 (the condition of Theorem 3)
 weights_paper_thm3 = [[1e-3, 1.0, 1e-3, 1e-4, 0.3], [1e-2, 1.0, 1e-3, 1e-4, 0.3], [1e-2, 1.0, 1e-3, 1e-4, 0.1]]
-# (lambda, alpha1..alpha4) for every target in the sensitivity runs of C2 / C7: an interior
-# point of the grid, away from the alpha2 = alpha3 = 1e-4 edge where the gain is ~0 (ours)
+# (lambda, alpha1..alpha4) of every target under weight_rule "interior" (MISSING)
 weights_interior = [0.01, 1.0, 0.01, 0.1, 0.1]
+c1_psi_scan = [1.0, 0.99, 0.9, 0.5, 0.3]  # psi_check of all targets in C1's exact certificate (ours)
+gain_negligible = 0.01  # C2: mean ||L_i Gamma_i|| below this makes target i uninformative (ours)
+x3_runs = 2000  # Monte Carlo runs of the check of the exact recursion, X3 (ours)
 phi_scan = [-12.0, 12.0, 241]  # log10 range and size of the (phi_*, phi^*) scan of Theorem 3 (ours)
-plot_run = 0  # Monte Carlo run shown in the single-run figures (MISSING)
+plot_run = 0  # Monte Carlo run shown in the single-run figures (ours)
 figures = True  # False: no figure or data file is made (robustness sweep points) (ours)
 fig_dir = "figures/li2025"
 results_path = "figures/li2025/claims.json"
 
 # %%
+import csv
 import itertools
+import json
 from math import lcm
 
 import matplotlib.pyplot as plt
 import numpy as np
+from IPython.display import Markdown, display
+from scipy import stats
 
-from secest import montecarlo, plotting, results, schedules
+from secest import montecarlo, plotting, results, schedules, spaces
+from secest.validation import ValidationError
 
 print(results.environment_summary())
 
-run = results.Run("li2025", globals())
-if mode not in ("paper", "fast"):
-    raise ValueError(f"mode must be 'paper' or 'fast', found {mode!r}")
-if coef not in ("corrected", "paper"):
-    raise ValueError(f"coef must be 'corrected' or 'paper', found {coef!r}")
-if xhat_moment not in ("run", "ensemble"):
-    raise ValueError(f"xhat_moment must be 'run' or 'ensemble', found {xhat_moment!r}")
+run = results.Run("li2025", globals())  # checks every parameter against notebooks/li2025.toml
 FIG_DIR = results.resolve(fig_dir)
 plotting.setup(enabled=figures)
 N, NX = 3, 4  # targets, states per target
+
+
+def require(ok: bool, name: str, what: str, value) -> None:
+    """Raise a one-line ValidationError naming parameter `name` unless `ok`."""
+    if not ok:
+        raise ValidationError(f"parameter {name} must be {what}, found {value!r}")
+
+
+def weight_rows(name: str, table, rows: int) -> list[tuple[float, ...]]:
+    """`rows` tuples (lambda, alpha1..alpha4) of positive weights read from parameter `name`."""
+    try:
+        arr = np.asarray(table, dtype=float)
+    except ValueError:  # ragged lists
+        arr = np.empty(0)
+    arr = arr if arr.ndim == 2 else arr.reshape(1, -1) if arr.ndim == 1 and rows == 1 else arr
+    require(arr.shape == (rows, 5) and bool(np.all(arr > 0)), name,
+            f"{rows} list(s) of 5 positive weights (lambda, alpha1..alpha4)", table)
+    return [tuple(map(float, row)) for row in arr]
+
+
 PSI = np.asarray(psi_check, float)
-if PSI.shape != (N,):
-    raise ValueError(f"psi_check must hold {N} probabilities, found {psi_check!r}")
+require(bool(np.all((PSI >= 0) & (PSI <= 1))), "psi_check", "3 probabilities in [0, 1]", psi_check)
+require(len(c1_psi_scan) > 0 and all(0 <= p <= 1 for p in c1_psi_scan), "c1_psi_scan",
+        "a non-empty list of probabilities in [0, 1]", c1_psi_scan)
+require(plot_run < F, "plot_run", f"an index of a Monte Carlo run, below F = {F}", plot_run)
+for _name, _levels in (("grid_lambda", grid_lambda), ("grid_alpha1", grid_alpha1),
+                       ("grid_alpha23", grid_alpha23), ("grid_alpha4", grid_alpha4)):
+    require(len(_levels) > 0 and min(_levels) > 0, _name, "a non-empty list of positive levels", _levels)
+require(phi_scan[0] < 0 < phi_scan[1] and phi_scan[2] == int(phi_scan[2]) and phi_scan[2] >= 3,
+        "phi_scan", "[log10 min < 0, log10 max > 0, integer size >= 3]", phi_scan)
+WEIGHT_TABLE = {name: weight_rows(f"weights_{name}", table, N) for name, table in
+                (("corrected", weights_corrected), ("paper", weights_paper),
+                 ("paper_thm3", weights_paper_thm3))}
+W_INTERIOR = weight_rows("weights_interior", weights_interior, 1) * N
 run_grid = mode == "paper"
-WEIGHT_TABLE = {
-    name: [tuple(map(float, w)) for w in table]
-    for name, table in (("corrected", weights_corrected), ("paper", weights_paper),
-                        ("paper_thm3", weights_paper_thm3))
-}
-if any(np.shape(t) != (N, 5) for t in WEIGHT_TABLE.values()):
-    raise ValueError("weights_* must hold 5 weights (lambda, alpha1..alpha4) for each of 3 targets")
-if np.shape(weights_interior) != (5,) or min(weights_interior) <= 0:
-    raise ValueError(f"weights_interior must hold 5 positive weights, found {weights_interior!r}")
-W_INTERIOR = [tuple(map(float, weights_interior))] * N
-if len(phi_scan) != 3 or not phi_scan[0] < 0 < phi_scan[1] or int(phi_scan[2]) < 3:
-    raise ValueError(f"phi_scan must be [log10 min < 0, log10 max > 0, size >= 3], found {phi_scan!r}")
 
 # %% [markdown]
 # ## Parameter provenance
 #
+# Every parameter of this notebook with its value, provenance tag, admissible domain and — for the
+# values the paper does not pin down — the declared space that `make robustness` sweeps, with the
+# reason (rendered from `notebooks/li2025.toml`, which was committed before the sweep ran):
+
+# %%
+display(Markdown(spaces.provenance_markdown("li2025")))
+
+# %% [markdown]
+# The model constants of Section IV that are not parameters (they are printed in the paper and
+# fixed here), and the derived choices that have no parameter:
+#
 # | name | value | tag | source / reason |
 # |---|---|---|---|
 # | $N$, $K_1,K_2,K_3$ | 3; $\emptyset$, {1}, {1, 2} | PAPER | Section IV |
-# | $n_y$, $m$, $U$ | 4, 2, 2 | PAPER | Section IV |
+# | $U$ | $\mathrm{lcm}(m,n_y)/m$ = 2 | PAPER | (2) |
 # | $A_i(k)$, $C_i$, $E_i(k)$, $B_{i,j}$ | coordinated-turn model, $T_k=0.8\tanh k$, $r_k=0.1+0.3\tanh k$ | PAPER | Section IV |
-# | $n_s=n_f=2$, $\epsilon$ | 2, 2, 0.05 | PAPER | $H_\epsilon=\mathrm{diag}(1,1,\epsilon,\epsilon)$ scales the *Y* position / velocity |
-# | $x_i(0)=\hat x_i(0\|0)$ | offsets + $\sigma_{ij}\sim U(0,1)$ | PAPER | Section IV; $\sigma$ redrawn in every Monte Carlo run (MISSING: the paper does not say) |
-# | $\mathfrak S_i(0\|0)$ | $I_4$ | PAPER | |
-# | $\xi^*_i$, $\check\psi_i$ | 0.3; 0.7, 0.5, 0.3 | PAPER | $\check\psi_i=\Pr\{\psi_i=1\}$ is the probability of **no** attack |
-# | $\mathcal W_i$, $\mathcal V_i$ | 0.03, $0.03\,I_4$ | PAPER | "positive numbers"; $E_i$ is 4×1 so $\omega_i$ is scalar; $\mathcal V_i$ read as $0.03 I$ |
-# | $F$ | 100 | PAPER | Fig. 7 |
-# | `T` | 100 | MISSING | $\tanh$ saturates by $k\approx3$; 100 steps show transient and drift |
-# | attack $\xi_i(k)$ | $\sqrt{\xi^*/2}\,[\sin k,\cos k,\sin k,\cos k]^T$ | MISSING | deterministic, $\|\xi\|^2=\xi^*$ (the largest admissible energy) |
-# | `mc_seed`, `grid_seed` | 2025, 2026 | MISSING | reproducibility (`SeedSequence(seed).spawn`) |
-# | `coef` | corrected | CORRECTED | (18)/Theorem 2 coefficients are not a bound (derivation below); `"paper"` keeps the printed ones |
-# | `coupling_factor` | $\|K_i\|$ | CORRECTED | (17) writes $(\sum_j BH)\mathfrak S_j(\sum_j H^TB^T)$, undefined for $\|K_i\|\ge2$; the proof omits the $e_j e_l^T$ cross terms |
-# | `xhat_moment` | run | MISSING | $\mathbb E\{\hat x\hat x^T\}$ of (18), (28) has no closed form; the run's own $\hat x\hat x^T$ (causal), or the ensemble mean |
-# | $\lambda,\alpha_1..\alpha_4$ | grid minimiser of the bound's mean trace | MISSING | Remark 4 suggests minimising the bound; a documented grid (below) |
-# | `grid_*`, `grid_pilot_runs` | 3·4·5·5·3 = 900 candidates, 10 pilot runs | MISSING | spans the stable range; larger $\lambda$ or $\alpha_2+\alpha_3$ make the bound explode |
-# | `weights_corrected`, `weights_paper`, `weights_paper_thm3` | the grid's results | MISSING | used in fast mode (grid skipped); paper mode re-runs the grid and prints whether it agrees |
-# | `weights_interior` | (0.01, 1, 0.01, 0.1, 0.1) for every target | MISSING (ours) | sensitivity of C2 / C7 to the weight choice: an interior grid point, so that targets 2, 3 get a non-negligible gain |
-# | `phi_scan` | $10^{-12}..10^{12}$, 241 points per axis | ours | scan for a pair $(\phi_*,\phi^*)$ meeting Theorem 3's conditions |
+# | $n_s=n_f=2$ | $H_\epsilon=\mathrm{diag}(1,1,\epsilon,\epsilon)$ | PAPER | scales the *Y* position / velocity |
+# | $x_i(0)=\hat x_i(0\|0)$ | offsets + $\sigma_{ij}\sim U(0,1)$ | PAPER | Section IV; $\sigma$ redrawn in every Monte Carlo run (the paper does not say); $e_i(0\|0)=0$ |
+# | $\mathfrak S_i(0\|0)$ | $I_4$ | PAPER | Section IV |
+# | $\check\psi_i$ | $\Pr\{\psi_i=1\}$ | PAPER | the probability of **no** attack (Section II-B) |
+# | ZOH variant of Fig. 6 | hold buffer, gain with $\Phi=I$ | MISSING | the paper gives no details; the zero-input gain on held data is the zero-input estimator |
 # | $\alpha_5..\alpha_7$, $\phi_*,\phi^*$, Assumption-1 constants | data-driven (Theorem 3 section) | MISSING | the paper gives none; the literal constants degenerate on the example |
-# | ZOH variant | hold buffer, gain with $\Phi=I$ | MISSING | the paper gives no details of its Fig. 6 |
-# | `plot_run` | 0 | MISSING | the paper shows single trajectories |
 
 # %% [markdown]
 # ## The SPDSS (1)
+#
+# The paper's Fig. 1 is a schematic, not a result (nothing to regenerate): a distributed sequential
+# system of nine subsystems $S_1,\dots,S_9$ drawn as a directed graph whose arcs $\langle S_i,S_j\rangle$
+# only go from a lower to a higher index, so the state of $S_j$ is driven by upstream subsystems
+# only. The example uses $N=3$ with $K_1=\emptyset$, $K_2=\{1\}$, $K_3=\{1,2\}$: a DAG processed in
+# the order 1, 2, 3.
 #
 # For $i=1,2,3$, with $x_i=\mathrm{col}\{X^p_i,X^v_i,Y^p_i,Y^v_i\}$,
 #
@@ -161,6 +187,7 @@ K_SETS = {0: (), 1: (0,), 2: (0, 1)}  # 0-based K_i
 H_EPS = np.diag([1.0, 1.0, epsilon, epsilon])
 C_MAT = np.array([[1, 0, 0, 0], [0, 0, 1, 0], [0, 1, 0, 0], [0, 0, 0, 1]], float)
 CH = C_MAT @ H_EPS
+SENSOR_SEES = ["$X^p$ [m]", "$\\epsilon Y^p$ [m]", "$X^v$ [m/s]", "$\\epsilon Y^v$ [m/s]"]
 B_MAT = {(1, 0): np.diag([0, 0.05, 0, 0.02]), (2, 0): np.diag([0, 0.06, 0, 0.07]),
          (2, 1): np.diag([0, 0.05, 0, 0.09])}
 BH = {key: b @ H_EPS for key, b in B_MAT.items()}
@@ -185,7 +212,7 @@ def turn_model(horizon: int) -> tuple[np.ndarray, np.ndarray]:
 
 A_ALL, E_ALL = turn_model(T)
 AH_ALL = A_ALL @ H_EPS
-print("A(5) =\n", np.round(A_ALL[5], 4), "\ndet A(k) = 1:", np.allclose(np.linalg.det(A_ALL), 1))
+print("A(5) =\n", np.round(A_ALL[min(5, T)], 4), "\ndet A(k) = 1:", np.allclose(np.linalg.det(A_ALL), 1))
 
 # %% [markdown]
 # ## RRL-MAP (2)–(5)
@@ -194,10 +221,11 @@ print("A(5) =\n", np.round(A_ALL[5], 4), "\ndet A(k) = 1:", np.allclose(np.linal
 # $\Phi_{o(k)}=\sum_{r\in\varepsilon(k)}\phi_r$ (4) and the zero-input update
 # $\bar y_i(k)=\Phi_{o(k)}\tilde y_i(k)$ (3), (5). The schedule is the reusable
 # `secest.schedules` (0-based sensor indices = label − 1). Remark 1 (fairness): in every window
-# of $U$ steps each sensor is served $\mathrm{lcm}(m,n_y)/n_y$ times.
+# of $U$ steps each sensor is served $\mathrm{lcm}(m,n_y)/n_y$ times (C4).
 
 # %%
 U = schedules.rrl_map_period(m, n_y)
+require(T >= U, "T", f"at least one RRL-MAP period U = lcm(m, n_y)/m = {U}", T)
 SETS = schedules.rrl_map_sets(np.arange(1, T + 1), m, n_y)  # row k-1 holds eps(k)
 window_counts = schedules.rrl_map_window_counts(SETS, n_y)
 print(f"U = {U}; eps(1..4) (1-based) =", (SETS[:4] + 1).tolist())
@@ -208,19 +236,25 @@ print("sensor counts in every U-window:", np.unique(window_counts, axis=0).tolis
 #
 # $y_i(k)=\psi_i(k)\bar y_i(k)+(1-\psi_i(k))\Phi_{o(k)}\xi_i(k)$ with
 # $\Pr\{\psi_i(k)=1\}=\check\psi_i$: **$\psi_i=1$ means not attacked**, so the attack
-# probabilities are 0.3 / 0.5 / 0.7. An attack *replaces* the scheduled entries. Our attack
-# signal (MISSING in the paper) is $\xi_i(k)=\sqrt{\xi^*/2}\,[\sin k,\cos k,\sin k,\cos k]^T$,
-# $\|\xi_i(k)\|^2=\xi^*$.
+# probabilities are 0.3 / 0.5 / 0.7. An attack *replaces* the scheduled entries (an additive
+# reading, $y_i=\bar y_i+(1-\psi_i)\Phi\xi_i$, is evaluated as a sensitivity row of C7). Remark 3 leaves
+# the form of $\xi_i(k)$ free as long as $\|\xi_i(k)\|^2\le\xi^*_i$; `attack_signal` selects one of two
+# forms at the bound, $\sqrt{\xi^*/2}\,[\sin k,\cos k,\sin k,\cos k]^T$ or the constant
+# $\sqrt{\xi^*/n_y}\,[1,\dots,1]^T$. The replaced values stand for measurements, so they carry the
+# sensors' units: m for sensors 1, 2 and m/s for sensors 3, 4.
 
 
 # %%
-def attack_signal(horizon: int) -> np.ndarray:
-    """xi(k) for k = 0..horizon, shape (T+1, n_y); the same for every target."""
-    k = np.arange(horizon + 1)
-    return np.sqrt(xi_star / 2) * np.stack([np.sin(k), np.cos(k), np.sin(k), np.cos(k)], axis=1)
+def attack_values(horizon: int) -> np.ndarray:
+    """xi(k) for k = 0..horizon, shape (T+1, n_y), ||xi(k)||^2 = xi_star; the same for every target."""
+    k = np.arange(horizon + 1)[:, None]
+    if attack_signal == "sincos":
+        wave = np.where(np.arange(n_y) % 2 == 0, np.sin(k), np.cos(k))
+        return np.sqrt(2 * xi_star / n_y) * wave
+    return np.full((horizon + 1, n_y), np.sqrt(xi_star / n_y))
 
 
-XI = attack_signal(T)
+XI = attack_values(T)
 
 
 def draw_randomness(rng: np.random.Generator, runs: int, horizon: int) -> dict[str, np.ndarray]:
@@ -293,18 +327,34 @@ def draw_randomness(rng: np.random.Generator, runs: int, horizon: int) -> dict[s
 # garbled; (28) is nevertheless the stationary point). $\Pi$ has rank $m$ (every term is
 # sandwiched by $\Phi$): we solve on the scheduled rows, $\Gamma_s=(CH_\epsilon)_{\varepsilon(k)}$,
 # $L_s=c_0\mathfrak S^-\Gamma_s^T\Pi_s^{-1}$, which equals $\Psi\Pi^{+}$.
+#
+# **The additive reading of (6).** If the attack *added* $\Phi\xi_i$ to the received data instead of
+# replacing it, (12) would read $e=Me^--L\Phi v-(1-\psi)L\Phi\xi$, and the same steps (Lemma 1 with
+# weight $\alpha_2$ on the $e^-/\xi$ bracket) give $c_0=1+\alpha_2(1-\check\psi)$, $\kappa_x=0$,
+# $\kappa_\xi=(1-\check\psi)(1+\alpha_2^{-1})$ and $1\cdot\Phi\mathcal V\Phi^T$ (noise in every step). We use it
+# only as a sensitivity row of C7.
 
 
 # %%
-def bound_coefficients(psi_bar: float, a2, a3, a4, variant: str):
-    """(c0, kappa_x, kappa_xi) of (18)/(28): re-derived ("corrected") or as printed ("paper")."""
+def bound_coefficients(psi_bar, a2, a3, a4, variant: str):
+    """(c0, kappa_x, kappa_xi, kappa_v) of (18) and (28) for one reading of the coefficients.
+
+    Parameters
+    ----------
+    psi_bar : float or array
+        Probability of no attack, psi_check_i.
+    a2, a3, a4 : float or array
+        Lemma-1 weights alpha_2 (e/xi), alpha_3 (e/x), alpha_4 (x/xi).
+    variant : {"corrected", "paper", "additive"}
+        Re-derived from (12) with Lemma 1; as printed in Theorem 2; re-derived for the
+        additive reading of (6).
+    """
+    p = 1 - psi_bar
     if variant == "corrected":
-        c0 = 1 + (a2 + a3) * (1 - psi_bar)
-        kx = (1 - psi_bar) * (1 + 1 / a3 + a4)
-    else:
-        c0 = 1 - (a3 - a2) * (1 - psi_bar)
-        kx = psi_bar + 1 / a3 + a4 - 1
-    return c0, kx, (1 - psi_bar) * (1 + 1 / a2 + 1 / a4)
+        return 1 + (a2 + a3) * p, p * (1 + 1 / a3 + a4), p * (1 + 1 / a2 + 1 / a4), psi_bar
+    if variant == "paper":
+        return 1 - (a3 - a2) * p, psi_bar + 1 / a3 + a4 - 1, p * (1 + 1 / a2 + 1 / a4), psi_bar
+    return 1 + a2 * p, 0 * p, p * (1 + 1 / a2), 1 + 0 * p
 
 
 def sym(a: np.ndarray) -> np.ndarray:
@@ -313,7 +363,11 @@ def sym(a: np.ndarray) -> np.ndarray:
 
 
 def predicted_bound(S_own, S_parents, ah, bh_list, lam, ewe, k_factor):
-    """(17): S(k|k-1), batched over the leading axis; bh_list pairs with S_parents."""
+    """(17): S(k|k-1), batched over the leading axis; bh_list pairs with S_parents.
+
+    k_factor multiplies the coupling term by |K_i| (the corrected (17)); without it the plain
+    sum of the printed terms is used.
+    """
     s = (1 + lam) * (ah @ S_own @ ah.T) + ewe
     factor = len(bh_list) if k_factor else 1
     for bh, S_j in zip(bh_list, S_parents, strict=True):
@@ -321,15 +375,17 @@ def predicted_bound(S_own, S_parents, ah, bh_list, lam, ewe, k_factor):
     return sym(s)
 
 
-def gain_and_bound(S_pred, X_hat, G, c0, kx, kxi, a1, psi_bar):
+def gain_and_bound(S_pred, X_hat, G, coefs, a1):
     """(28) on the scheduled rows and (18): returns L_s (B, 4, rows), S(k|k), R_s.
 
-    G (rows, 4) = scheduled rows of C H_eps; S_pred, X_hat (B, 4, 4); scalars broadcast as (B,1,1).
+    G (rows, 4) = scheduled rows of C H_eps; S_pred, X_hat (B, 4, 4); coefs = (c0, kappa_x,
+    kappa_xi, kappa_v) of `bound_coefficients`, scalars or arrays broadcasting as (B, 1, 1).
     """
+    c0, kx, kxi, kv = coefs
     rows = G.shape[0]
     gsg = G @ S_pred @ G.T
     eye = np.eye(rows)
-    R = kx * (1 + a1) * gsg + kx * (1 + 1 / a1) * (G @ X_hat @ G.T) + (kxi * xi_star + psi_bar * V) * eye
+    R = kx * (1 + a1) * gsg + kx * (1 + 1 / a1) * (G @ X_hat @ G.T) + (kxi * xi_star + kv * V) * eye
     Pi = sym(c0 * gsg + R)
     # divergence guard: a grid candidate whose bound exploded gets NaN instead of a crash
     bad = ~np.all(np.isfinite(Pi), axis=(-1, -2)) | ~(np.max(np.abs(Pi), axis=(-1, -2)) < 1e14)
@@ -347,8 +403,8 @@ def gain_and_bound(S_pred, X_hat, G, c0, kx, kxi, a1, psi_bar):
 # `simulate` runs Algorithm 1 for the three targets over $k=1..T$ with the $F$ runs as the
 # leading array axis (no Python loop over runs: the loop is over time and targets only). All
 # randomness comes in through `draws`, so a run-by-run loop over slices `draws[f:f+1]` gives the
-# same numbers (the benchmark suite times exactly this comparison). Targets are processed in the
-# DAG order 1, 2, 3 (pitfall: $\mathfrak S_3(k|k-1)$ needs $\mathfrak S_1,\mathfrak S_2$ at $k-1$).
+# same numbers (X2; the benchmark suite times exactly this comparison). Targets are processed in the
+# DAG order 1, 2, 3 ($\mathfrak S_3(k|k-1)$ needs $\mathfrak S_1,\mathfrak S_2$ at $k-1$).
 #
 # `estimator` selects the measurement update:
 # - `"zero"`: the paper's zero-input estimator (8);
@@ -356,26 +412,26 @@ def gain_and_bound(S_pred, X_hat, G, c0, kx, kxi, a1, psi_bar):
 #   sensor ($z_i(0)=C_iH_\epsilon\hat x_i(0|0)$), the estimator treats $z_i(k)$ as a full fresh
 #   measurement, and its gain and bound use (17)–(18), (28) with $\Phi_{o(k)}$ replaced by $I$
 #   (feeding $z$ into (8) with the zero-input gain would give back the zero-input estimator, whose
-#   off-schedule columns are zero);
-# - `"debiased"`: ours, the same gain with $y_i-\check\psi_i\Phi C_iH_\epsilon\hat x_i(k|k-1)$ as
-#   innovation (last section);
-# - `"open_loop"`: no measurement update ($L=0$), the reference for "the measurements help".
+#   off-schedule columns are zero).
+#
+# `gains`, if given, replaces (28) by fixed gains (then $\mathfrak S$ is not computed; used to check the
+# exact recursion below, X3).
 
 
 # %%
 def simulate(draws, weights, *, variant="corrected", moment="run", estimator="zero",
-             k_factor=True, psi_bar=None, parents=None, horizon=None):
+             k_factor=True, psi_bar=None, parents=None, gains=None):
     """Algorithm 1 for every target, vectorised over the Monte Carlo runs (leading axis).
 
     Parameters: draws from `draw_randomness`; weights[i] = (lambda, alpha1..alpha4) of target i;
-    variant "corrected"/"paper" (bound coefficients); moment "run"/"ensemble" (E[xhat xhat^T]);
-    estimator "zero"/"zoh"/"debiased"/"open_loop"; psi_bar and parents override PSI and K_SETS (C6 check).
+    variant of `bound_coefficients`; moment "run"/"ensemble" (surrogate of E[xhat xhat^T]);
+    estimator "zero"/"zoh"; psi_bar and parents override PSI and K_SETS (C6 check); gains
+    (T+1, N, 4, n_y) fixed gains instead of (28).
     Returns x, xhat (F, T+1, N, 4), S, S_pred (F, T+1, N, 4, 4), L (F, T+1, N, 4, n_y).
     """
     psi_bar = PSI if psi_bar is None else np.asarray(psi_bar, float)
     parents = K_SETS if parents is None else parents
-    horizon = T if horizon is None else horizon
-    runs = draws["sigma"].shape[0]
+    runs, horizon = draws["sigma"].shape[0], draws["psi"].shape[1]
     x = np.zeros((runs, horizon + 1, N, NX))
     xh = np.zeros_like(x)
     S = np.zeros((runs, horizon + 1, N, NX, NX))
@@ -391,7 +447,6 @@ def simulate(draws, weights, *, variant="corrected", moment="run", estimator="ze
         sched = SETS[k - 1]
         for i in range(N):
             lam, a1, a2, a3, a4 = weights[i]
-            c0, kx, kxi = bound_coefficients(psi_bar[i], a2, a3, a4, variant)
             # plant (1) and measurement, Algorithm 1 lines 3-4
             xn = x[:, k - 1, i] @ ah.T + E_ALL[k - 1] * draws["w"][:, k - 1, i, None]
             xp = xh[:, k - 1, i] @ ah.T  # prediction (7)
@@ -414,13 +469,12 @@ def simulate(draws, weights, *, variant="corrected", moment="run", estimator="ze
                 G, y_use, cols = CH, z[:, i], np.arange(n_y)
             else:
                 G, y_use, cols = CH[sched], y_s, sched
-            L, S_new, _ = gain_and_bound(Sp, X_hat, G, c0, kx, kxi, a1, psi_bar[i])  # (28), (18)
-            pred = xp @ G.T
-            if estimator == "debiased":
-                pred = psi_bar[i] * pred
-            if estimator == "open_loop":
-                L = np.zeros_like(L)
-            xh[:, k, i] = xp + np.einsum("frc,fc->fr", L, y_use - pred)  # update (8)
+            if gains is None:
+                coefs = bound_coefficients(psi_bar[i], a2, a3, a4, variant)
+                L, S_new, _ = gain_and_bound(Sp, X_hat, G, coefs, a1)  # (28), (18)
+            else:  # fixed gains: the bound is not computed
+                L, S_new = np.broadcast_to(gains[k, i][:, cols], (runs, NX, len(cols))), np.nan
+            xh[:, k, i] = xp + np.einsum("frc,fc->fr", L, y_use - xp @ G.T)  # update (8)
             S[:, k, i] = S_new
             L_all[:, k, i][..., cols] = L
     return {"x": x, "xhat": xh, "S": S, "S_pred": S_pred, "L": L_all}
@@ -428,12 +482,225 @@ def simulate(draws, weights, *, variant="corrected", moment="run", estimator="ze
 
 def mse(out):
     """MSE_i(k) of Section IV: (1/F) sum_f ||x_i(k) - x_hat_i(k|k)||^2, shape (T+1, N)."""
-    return np.mean(np.sum((out["x"] - out["xhat"]) ** 2, axis=-1), axis=0)
+    return np.mean(sq_err(out), axis=0)
+
+
+def sq_err(out):
+    """||x_i(k) - x_hat_i(k|k)||^2 per run, shape (F, T+1, N)."""
+    return np.sum((out["x"] - out["xhat"]) ** 2, axis=-1)
 
 
 def mean_trace(out):
     """Monte Carlo mean of tr S_i(k|k), shape (T+1, N)."""
     return np.mean(np.trace(out["S"], axis1=-2, axis2=-1), axis=0)
+
+
+def t_intervals(samples, level: float):
+    """Student-t intervals of the mean over axis 0 (vectorised `montecarlo.mean_interval`)."""
+    n = samples.shape[0]
+    half = stats.t.ppf(0.5 + level / 2, n - 1) * samples.std(axis=0, ddof=1) / np.sqrt(n)
+    centre = samples.mean(axis=0)
+    return centre - half, centre + half
+
+
+# %% [markdown]
+# ## Exact second moments for deterministic gains
+#
+# If the gains $L_i(k)$ do not depend on the data, the joint vector
+# $z=\mathrm{col}(x_1,x_2,x_3,\hat x_1,\hat x_2,\hat x_3)\in\mathbb R^{24}$ evolves affinely once
+# $\psi(k)$ is fixed, and its mean $\mu=\mathbb E z$ and second moment $Q=\mathbb E zz^T$ propagate
+# exactly (no Monte Carlo):
+#
+# * **prediction**, (1) and (7): $z^-=A_z(k-1)z+\mathrm{col}(E_i\omega_i,0)$ with
+#   $A_z=\mathrm{diag}(A_x,A_x)$, $A_x$ the block matrix with $A_iH_\epsilon$ on the diagonal and
+#   $B_{i,j}H_\epsilon$ at $(i,j\in K_i)$: $\mu^-=A_z\mu$, $Q^-=A_zQA_z^T+\mathrm{diag}(E_i\mathcal W E_i^T,0)$;
+# * **update of target $i$**, (6) and (8): $\hat x_i\leftarrow\hat x_i^-+L_i\nu_i$ with
+#   $\nu_i=\psi_i(\Gamma_sx_i+v_s)+(1-\psi_i)\xi_s-c_i\Gamma_s\hat x_i^-$ ($c_i=1$ in (8), $c_i=\check\psi_i$ in the
+#   debiased variant below; additive reading: $\nu_i=\Gamma_sx_i+v_s+(1-\psi_i)\xi_s-c_i\Gamma_s\hat x_i^-$). For
+#   $\psi_i=b$ this is $z'=J_bz+u_b+(\text{noise})$, and since $\psi_i(k)$ is independent of $z^-$ and $v$,
+#   $\mu'=\sum_b p_b(J_b\mu+u_b)$, $Q'=\sum_b p_b\big(J_bQJ_b^T+J_b\mu u_b^T+u_b\mu^TJ_b^T+u_bu_b^T\big)+\check\psi_i\mathcal V L_iL_i^T$
+#   (on the $\hat x_i$ block). Targets update different rows and read only their own, so the three
+#   updates apply one after the other.
+#
+# Then $P_i(k)=\mathbb E\{e_ie_i^T\}=Q_{x_ix_i}-Q_{x_i\hat x_i}-Q_{\hat x_ix_i}+Q_{\hat x_i\hat x_i}$, $\mathbb E\|x_i\|^2=\mathrm{tr}\,Q_{x_ix_i}$,
+# and — what (18) and (28) ask for — $\mathbb E\{\hat x_i(k|k-1)\hat x_i^T(k|k-1)\}$ is the $\hat x_i$ block of $Q^-$.
+# Using it makes the gain (28) deterministic: this is Algorithm 1 **with the theorem's own
+# expectation**, for which the corrected Theorem 1 states $\mathfrak S_i(k|k)\succeq P_i(k)$ at every
+# $k$ (C1 checks it with eigenvalues). $x(0)=$ offset $+\sigma$, $\sigma\sim U(0,1)^4$: $\mathbb E x(0)=$ offset $+\tfrac12$,
+# $\mathrm{Cov}=I/12$, $\hat x(0|0)=x(0)$. (The exact $\mathbb E\{\hat x\hat x^T\}$ involves the attack signal's
+# values, so this design checks the theorem; it is not an estimator a defender could run.)
+#
+# Two other gain rules use the same recursion: the **per-step optimal gain for (8)**, which minimises
+# $\mathrm{tr}\,\mathbb E\{e_i(k|k)e_i^T(k|k)\}$ given the exact moments,
+# $L_i^\star=\mathbb E\{e_i^-\nu_i^T\}\big(\mathbb E\{\nu_i\nu_i^T\}\big)^{+}$ (greedy in time: the best (8) can do step by
+# step, with full knowledge of the moments), and $L=0$ (open-loop prediction).
+
+# %%
+NZ = 2 * N * NX  # joint state z = col(x_1..x_N, xhat_1..xhat_N)
+
+
+def xs(i: int) -> slice:
+    """Rows of x_i in z."""
+    return slice(i * NX, (i + 1) * NX)
+
+
+def hs(i: int) -> slice:
+    """Rows of xhat_i in z."""
+    return slice((N + i) * NX, (N + i + 1) * NX)
+
+
+def joint_transition(k: int) -> np.ndarray:
+    """A_z(k-1): (1) for x and (7) for xhat, without noise, shape (24, 24)."""
+    a = np.zeros((NZ, NZ))
+    for i in range(N):
+        for rows in (xs, hs):
+            a[rows(i), rows(i)] = AH_ALL[k - 1]
+            for j in K_SETS[i]:
+                a[rows(i), rows(j)] = BH[(i, j)]
+    return a
+
+
+AZ = np.stack([np.eye(NZ)] + [joint_transition(k) for k in range(1, T + 1)])
+QW = np.zeros((T + 1, NZ, NZ))
+for _i in range(N):
+    QW[1:, xs(_i), xs(_i)] = W * E_ALL[:T, :, None] * E_ALL[:T, None, :]
+
+
+def initial_moments() -> tuple[np.ndarray, np.ndarray]:
+    """Mean and second moment of z(0): x(0) = offset + U(0,1) noise, xhat(0|0) = x(0)."""
+    m0 = (X0_OFFSET + 0.5).ravel()
+    second = np.eye(N * NX) / 12 + np.outer(m0, m0)
+    return np.concatenate([m0, m0]), np.block([[second, second], [second, second]])
+
+
+def innovation_map(i: int, b: float, G, xi_s, reading: str, c: float):
+    """nu_i = Nz z + n0 + noise for psi_i = b (replacement or additive reading of (6)).
+
+    Returns Nz (rows, 24), n0 (rows,) and the variance of the noise entering nu_i.
+    """
+    nz = np.zeros((G.shape[0], NZ))
+    seen = b if reading == "replace" else 1.0  # weight of the true measurement in y_i
+    nz[:, xs(i)] = seen * G
+    nz[:, hs(i)] = -c * G
+    return nz, (1 - b) * xi_s, seen * V
+
+
+def bernoulli_update(mu, Q, i, L, G, xi_s, psi_i, reading, c):
+    """Exact (mu, Q) after target i's update (8): average over psi_i in {1, 0}."""
+    mu_n, Q_n = np.zeros_like(mu), np.zeros_like(Q)
+    for b, p in ((1.0, psi_i), (0.0, 1.0 - psi_i)):
+        if p == 0.0:
+            continue
+        nz, n0, var = innovation_map(i, b, G, xi_s, reading, c)
+        J = np.eye(NZ)
+        J[hs(i)] += L @ nz
+        u = np.zeros(NZ)
+        u[hs(i)] = L @ n0
+        Jm = J @ mu
+        mu_n += p * (Jm + u)
+        Q_n += p * (J @ Q @ J.T + np.outer(Jm, u) + np.outer(u, Jm) + np.outer(u, u))
+        Q_n[hs(i), hs(i)] += p * var * (L @ L.T)
+    return mu_n, sym(Q_n)
+
+
+def optimal_gain(mu, Q, i, G, xi_s, psi_i, reading, c):
+    """Per-step MSE-optimal gain of (8): E{e^- nu^T} (E{nu nu^T})^+ from the exact moments."""
+    ez = np.zeros((NX, NZ))
+    ez[:, xs(i)], ez[:, hs(i)] = np.eye(NX), -np.eye(NX)
+    rows = G.shape[0]
+    cross, inn = np.zeros((NX, rows)), np.zeros((rows, rows))
+    for b, p in ((1.0, psi_i), (0.0, 1.0 - psi_i)):
+        if p == 0.0:
+            continue
+        nz, n0, var = innovation_map(i, b, G, xi_s, reading, c)
+        a = nz @ mu
+        cross += p * (ez @ Q @ nz.T + np.outer(ez @ mu, n0))
+        inn += p * (nz @ Q @ nz.T + np.outer(a, n0) + np.outer(n0, a) + np.outer(n0, n0)
+                    + var * np.eye(rows))
+    return cross @ np.linalg.pinv(sym(inn))
+
+
+def bound_step(S, Q, i, k, w, psi_i, variant, G):
+    """(17), (28), (18) for target i with the exact E{xhat(k|k-1) xhat^T(k|k-1)} (block of Q^-)."""
+    lam, a1, a2, a3, a4 = w
+    ewe = W * np.outer(E_ALL[k - 1], E_ALL[k - 1])
+    Sp = predicted_bound(S[i][None], [S[j][None] for j in K_SETS[i]], AH_ALL[k - 1],
+                         [BH[(i, j)] for j in K_SETS[i]], lam, ewe, coupling_factor)
+    L, S_i, _ = gain_and_bound(Sp, Q[hs(i), hs(i)][None], G,
+                               bound_coefficients(psi_i, a2, a3, a4, variant), a1)
+    return L[0], S_i[0]
+
+
+def exact_moments(weights, *, gain="bound", variant="corrected", reading="replace",
+                  debias=False, psi_bar=None):
+    """Exact second-moment recursion of the estimator (8) with deterministic gains.
+
+    gain: "bound" ((28) with the exact E{xhat xhat^T}, `variant` coefficients), "optimal"
+    (per-step MSE-optimal gain) or "zero" (open loop); reading "replace"/"additive" of (6);
+    debias uses y - psi_check Phi C H xhat(k|k-1) as innovation; psi_bar overrides PSI.
+    Returns P (T+1, N, 4, 4) = E{e e^T}, S (bound, zeros unless gain "bound"), mean_e
+    (T+1, N, 4), ex2 (T+1, N) = E||x_i||^2 and L (T+1, N, 4, n_y).
+    """
+    psi_bar = PSI if psi_bar is None else np.asarray(psi_bar, float)
+    mu, Q = initial_moments()
+    rec = {"P": np.zeros((T + 1, N, NX, NX)), "S": np.zeros((T + 1, N, NX, NX)),
+           "mean_e": np.zeros((T + 1, N, NX)), "ex2": np.zeros((T + 1, N)),
+           "L": np.zeros((T + 1, N, NX, n_y))}
+    S = np.broadcast_to(np.eye(NX), (N, NX, NX)).copy()  # S_i(0|0) = I
+    for k in range(T + 1):
+        if k > 0:
+            mu, Q = AZ[k] @ mu, AZ[k] @ Q @ AZ[k].T + QW[k]  # prediction (1), (7)
+            sched = SETS[k - 1]
+            G, xi_s = CH[sched], XI[k, sched]
+            S_new, gains = S.copy(), []
+            for i in range(N):
+                c = psi_bar[i] if debias else 1.0
+                if gain == "bound":
+                    L, S_new[i] = bound_step(S, Q, i, k, weights[i], psi_bar[i], variant, G)
+                elif gain == "optimal":
+                    L = optimal_gain(mu, Q, i, G, xi_s, psi_bar[i], reading, c)
+                else:
+                    L = np.zeros((NX, len(sched)))
+                gains.append((L, c))
+                rec["L"][k, i][:, sched] = L
+            for i, (L, c) in enumerate(gains):  # update (8), target by target
+                mu, Q = bernoulli_update(mu, Q, i, L, G, xi_s, psi_bar[i], reading, c)
+            S = S_new
+        for i in range(N):
+            qxx, qxh, qhh = Q[xs(i), xs(i)], Q[xs(i), hs(i)], Q[hs(i), hs(i)]
+            rec["P"][k, i] = sym(qxx - qxh - qxh.T + qhh)
+            rec["mean_e"][k, i] = mu[xs(i)] - mu[hs(i)]
+            rec["ex2"][k, i] = np.trace(qxx)
+        rec["S"][k] = S if gain == "bound" else 0.0
+    return rec
+
+
+def exact_mse(ex):
+    """E||e_i(k|k)||^2 = tr P_i(k), shape (T+1, N)."""
+    return np.trace(ex["P"], axis1=-2, axis2=-1)
+
+
+def oracle_kalman(psi):
+    """Centralised Kalman filter over the N targets that knows psi and drops attacked packets.
+
+    Exact covariance given each run's psi sequence (no state simulation needed): returns
+    tr P_i(k|k), shape (runs, T+1, N). P(0|0) = 0 since xhat(0|0) = x(0).
+    """
+    n = N * NX
+    P = np.zeros((psi.shape[0], n, n))
+    tr = np.zeros((psi.shape[0], T + 1, N))
+    for k in range(1, T + 1):
+        a = AZ[k][:n, :n]
+        P = a @ P @ a.T + QW[k][:n, :n]
+        G = CH[SETS[k - 1]]
+        for i in range(N):
+            h = np.zeros((G.shape[0], n))
+            h[:, xs(i)] = G
+            gain = np.swapaxes(np.linalg.solve(h @ P @ h.T + V * np.eye(G.shape[0]), h @ P), -1, -2)
+            upd = sym(P - gain @ h @ P)
+            P = np.where(psi[:, k - 1, i, None, None] == 1, upd, P)
+        tr[:, k] = np.stack([np.trace(P[:, xs(i), xs(i)], axis1=-2, axis2=-1) for i in range(N)], -1)
+    return tr
 
 
 # %% [markdown]
@@ -443,12 +710,18 @@ def mean_trace(out):
 # $\alpha_1\in\{0.3,1,3,10\}$, $\alpha_2,\alpha_3\in\{10^{-4},\dots,1\}$, $\alpha_4\in\{0.03,0.1,0.3\}$
 # (900 candidates per target); objective $\frac1T\sum_{k=1}^T\mathrm{tr}\,\mathfrak S_i(k|k)$ averaged over
 # 10 pilot runs (own seed); targets optimised in DAG order with upstream weights fixed
-# ($\mathfrak S_i$ depends only on its own weights and on the upstream bounds). Candidates with
+# ($\mathfrak S_i$ depends only on its own weights and on the upstream bounds). The pilot runs use the
+# same (17) reading (`coupling_factor`) and $\mathbb E\{\hat x\hat x^T\}$ surrogate (`xhat_moment`) as the
+# Monte Carlo runs, for the upstream targets and for every candidate. Candidates with
 # $c_0\le0$ or $\kappa_x<0$ (possible with printed coefficients), or whose bound becomes
 # non-finite or exceeds $10^{10}$, are discarded: large $\lambda$ with $\alpha_2+\alpha_3\gtrsim1$
 # makes $\mathfrak S$ (and the estimator) explode. All candidates × pilot runs are one array
-# pass per target (the candidate index is a second batch axis). In fast mode the grid is skipped
-# and the table in the parameters cell (the grid's result) is used.
+# pass per target (the candidate index is a second batch axis). In fast mode (and at the sweep's
+# points) the grid is skipped and the table in the parameters cell — the grid's result at the
+# default point — is used.
+#
+# `weight_rule` selects the weights in use: `"grid"` (this minimiser) or `"interior"`
+# (`weights_interior` for every target, an interior grid point with non-degenerate gains).
 
 
 # %%
@@ -466,11 +739,12 @@ def grid_search(variant: str, seed: int, pilot_runs: int,
     pilots = draw_randomness(montecarlo.spawn_rngs(seed, 1)[0], pilot_runs, T)
     chosen: list[tuple[float, ...]] = []
     for i in range(N):
-        # upstream targets with their chosen weights, on the pilot runs
-        up = simulate(pilots, chosen + [(1e-2, 1.0, 1e-2, 0.1, 0.1)] * (N - i), variant=variant)
+        # upstream targets with their chosen weights (targets i.. do not influence them)
+        up = simulate(pilots, chosen + W_INTERIOR[i:], variant=variant, moment=xhat_moment,
+                      k_factor=coupling_factor)
         idx = np.repeat(np.arange(pilot_runs), n_c)  # batch = pilot-major, candidate-minor
         lam, a1, a2, a3, a4 = (np.tile(cand[:, q], pilot_runs)[:, None, None] for q in range(5))
-        c0, kx, kxi = bound_coefficients(PSI[i], a2, a3, a4, variant)
+        coefs = bound_coefficients(PSI[i], a2, a3, a4, variant)
         S_i = np.broadcast_to(np.eye(NX), (idx.size, NX, NX))
         xh_i = up["xhat"][idx, 0, i]
         total, peak = np.zeros(idx.size), np.zeros(idx.size)
@@ -488,15 +762,18 @@ def grid_search(variant: str, seed: int, pilot_runs: int,
                 y_s = ok * (xn @ CH[sched].T + pilots["v"][idx, k - 1, i][:, sched]) \
                     + (1 - ok) * XI[k, sched]
                 G = CH[sched]
-                L, S_i, _ = gain_and_bound(Sp, xp[:, :, None] * xp[:, None, :], G, c0, kx, kxi,
-                                           a1, PSI[i])
+                X_hat = xp[:, :, None] * xp[:, None, :]
+                if xhat_moment == "ensemble":  # mean over the pilot runs, per candidate
+                    X_hat = np.tile(X_hat.reshape(pilot_runs, n_c, NX, NX).mean(axis=0),
+                                    (pilot_runs, 1, 1))
+                L, S_i, _ = gain_and_bound(Sp, X_hat, G, coefs, a1)
                 xh_i = xp + np.einsum("frc,fc->fr", L, y_s - xp @ G.T)
                 tr_k = np.trace(S_i, axis1=-2, axis2=-1)
                 total += tr_k
                 peak = np.maximum(peak, np.where(np.isfinite(tr_k), tr_k, np.inf))
         obj = (total / T).reshape(pilot_runs, n_c)
         peak = peak.reshape(pilot_runs, n_c)
-        c0v, kxv, _ = bound_coefficients(PSI[i], cand[:, 2], cand[:, 3], cand[:, 4], variant)
+        c0v, kxv, *_ = bound_coefficients(PSI[i], cand[:, 2], cand[:, 3], cand[:, 4], variant)
         valid = np.all(np.isfinite(obj) & (peak <= 1e10), axis=0) & (c0v > 0) & (kxv >= 0)
         score = np.where(valid, np.where(np.isfinite(obj), obj, 0).mean(axis=0), np.inf)
         best = int(np.argmin(score))
@@ -516,78 +793,123 @@ if run_grid:
 else:
     WEIGHTS = WEIGHT_TABLE
 
+
+def weights_in_use(variant: str) -> list[tuple[float, ...]]:
+    """Weights of the design with `variant` coefficients under `weight_rule`."""
+    return WEIGHTS[variant] if weight_rule == "grid" else W_INTERIOR
+
+
+W_MAIN, W_CORR, W_PRINTED = weights_in_use(coef), weights_in_use("corrected"), weights_in_use("paper")
+
 # %% [markdown]
 # The grid optimum for targets 2 and 3 sits at its edge $\alpha_2=\alpha_3\to0$, i.e.
 # $\kappa_x,\kappa_\xi\to\infty$ and $L\to0$: with attack probability ≥ 0.5 and states of
 # magnitude 20–100 (RMS at $k=T$), the replacement attack makes every gain costly in the bound, so the
 # trace-optimal design essentially ignores the measurements. With the printed coefficients the
-# minimiser instead takes $\alpha_3>\alpha_2$, i.e. $c_0<1$, which shrinks the "bound" (next
-# sections). Theorem 3 requires $1+\alpha_5+\alpha_6\le c_0$, which with the printed $c_0$ forces
-# $\alpha_2>\alpha_3$; a third grid restricted to $\alpha_2>\alpha_3$ (`paper_thm3`) is run for
-# comparison. Coefficients at the chosen weights:
+# minimiser instead takes $\alpha_3>\alpha_2$, i.e. $c_0<1$, which shrinks the "bound" (C1b). Theorem 3
+# requires $1+\alpha_5+\alpha_6\le c_0$, which with the printed $c_0$ forces $\alpha_2>\alpha_3$; a third grid
+# restricted to $\alpha_2>\alpha_3$ (`paper_thm3`) is run for comparison. Coefficients at the weights in use:
 
 # %%
-for name, v in (("corrected", "corrected"), ("paper", "paper"), ("paper_thm3", "paper")):
-    for i, (lam_, a1_, a2_, a3_, a4_) in enumerate(WEIGHTS[name]):
-        c0_, kx_, kxi_ = bound_coefficients(PSI[i], a2_, a3_, a4_, v)
-        print(f"{name:>10} target {i + 1}: lambda={lam_:g} a1={a1_:g} a2={a2_:g} a3={a3_:g} "
+for name, v, table in (("main", coef, W_MAIN), ("printed", "paper", W_PRINTED),
+                       ("paper_thm3", "paper", WEIGHTS["paper_thm3"])):
+    for i, (lam_, a1_, a2_, a3_, a4_) in enumerate(table):
+        c0_, kx_, kxi_, _ = bound_coefficients(PSI[i], a2_, a3_, a4_, v)
+        print(f"{name:>10} ({v}) target {i + 1}: lambda={lam_:g} a1={a1_:g} a2={a2_:g} a3={a3_:g} "
               f"a4={a4_:g} -> c0={c0_:.5g}, kappa_x={kx_:.5g}, kappa_xi={kxi_:.5g}")
 
 # %% [markdown]
-# ## The numerical example: Monte Carlo runs
+# ## The numerical example: Monte Carlo runs and exact expectations
 #
-# One draw of all randomness (`mc_seed`), shared by every estimator variant so that differences
-# are due to the estimators only.
+# One draw of all randomness (`mc_seed`), shared by every Monte Carlo estimator so that differences
+# are due to the estimators only; next to it the exact expectations of the same design with the
+# theorem's $\mathbb E\{\hat x\hat x^T\}$. Single-run and single-seed numbers vary: Monte Carlo
+# values below carry 95 % $t$-intervals over the $F$ runs.
 
 # %%
 DRAWS = draw_randomness(montecarlo.spawn_rngs(mc_seed, 1)[0], F, T)
-W_MAIN = WEIGHTS[coef]
 out = simulate(DRAWS, W_MAIN, variant=coef, moment=xhat_moment, k_factor=coupling_factor)
 out_zoh = simulate(DRAWS, W_MAIN, variant=coef, moment=xhat_moment, estimator="zoh",
                    k_factor=coupling_factor)
-out_printed = simulate(DRAWS, WEIGHTS["paper"], variant="paper", moment=xhat_moment,
+out_printed = simulate(DRAWS, W_PRINTED, variant="paper", moment=xhat_moment,
                        k_factor=coupling_factor)
 out_printed_thm3 = simulate(DRAWS, WEIGHTS["paper_thm3"], variant="paper", moment=xhat_moment,
                             k_factor=coupling_factor)
-out_corr = out if coef == "corrected" else simulate(DRAWS, WEIGHTS["corrected"],
-                                                    moment=xhat_moment, k_factor=coupling_factor)
-out_other_moment = simulate(DRAWS, WEIGHTS["corrected"], k_factor=coupling_factor,
-                            moment="ensemble" if xhat_moment == "run" else "run")
-out_debiased = simulate(DRAWS, W_MAIN, variant=coef, moment=xhat_moment, estimator="debiased",
-                        k_factor=coupling_factor)
-open_loop = simulate(DRAWS, W_MAIN, variant=coef, moment=xhat_moment, estimator="open_loop",
-                     k_factor=coupling_factor)
-# sensitivity of C2 / C7 to the weights: one interior weight set for every target
-out_interior = simulate(DRAWS, W_INTERIOR, variant=coef, moment=xhat_moment,
-                        k_factor=coupling_factor)
-out_interior_zoh = simulate(DRAWS, W_INTERIOR, variant=coef, moment=xhat_moment, estimator="zoh",
-                            k_factor=coupling_factor)
+out_corr = out if coef == "corrected" else simulate(DRAWS, W_CORR, moment=xhat_moment,
+                                                    k_factor=coupling_factor)
 MSE, TRS = mse(out), mean_trace(out)
-MSE_C, TRS_C = mse(out_corr), mean_trace(out_corr)
-# the vectorised pass equals a loop over runs (first 5 runs; the benchmark times all 100)
+EX = exact_moments(W_MAIN, variant=coef)  # the main design with the exact E{xhat xhat^T}
+EX2 = EX["ex2"]  # E||x_i(k)||^2, the same for every estimator
+# X2: the vectorised pass equals a loop over runs (first 5 runs; the benchmark times all 100)
 ref = out if xhat_moment == "run" else simulate(DRAWS, W_MAIN, variant=coef,
                                                 k_factor=coupling_factor)
 loop_dev = 0.0
-for f in range(5):
+for f in range(min(5, F)):
     one = simulate({key: val[f:f + 1] for key, val in DRAWS.items()}, W_MAIN, variant=coef,
                    k_factor=coupling_factor)
     for name in ("xhat", "S"):
-        loop_dev = max(loop_dev, float(np.max(np.abs(one[name][0] - ref[name][f]))))
-print(f"max |vectorised - loop over runs| (x_hat, S; 5 runs): {loop_dev:.3g}")
+        scale = max(1.0, float(np.max(np.abs(ref[name][f]))))
+        loop_dev = max(loop_dev, float(np.max(np.abs(one[name][0] - ref[name][f]))) / scale)
+print(f"max relative |vectorised - loop over runs| (x_hat, S; 5 runs): {loop_dev:.3g}")
 kk = np.arange(T + 1)
-for name, o in (("zero-input", out), ("ZOH", out_zoh), ("printed coef.", out_printed),
-                ("printed, a2>a3", out_printed_thm3),
-                ("other E[xx^T]", out_other_moment), ("debiased (ours)", out_debiased),
-                ("open loop", open_loop), ("interior weights", out_interior),
-                ("interior, ZOH", out_interior_zoh)):
-    print(f"{name:>16}: time-averaged MSE = {np.round(mse(o)[1:].mean(axis=0), 2)}, "
-          f"mean tr S = {np.round(mean_trace(o)[1:].mean(axis=0), 2)}")
+
+
+def time_avg_with_interval(o):
+    """Time-averaged MSE per target with its 95 % t-interval over the runs."""
+    per_run = sq_err(o)[:, 1:].mean(axis=1)  # (F, N)
+    lo, hi = t_intervals(per_run, 0.95)
+    return per_run.mean(axis=0), lo, hi
+
+
+for name, o in (("zero-input (8)", out), ("ZOH", out_zoh), ("printed coef.", out_printed),
+                ("printed, a2>a3", out_printed_thm3)):
+    mean_, lo_, hi_ = time_avg_with_interval(o)
+    print(f"{name:>15}: time-averaged MSE " + ", ".join(
+        f"{a:.4g} [{b:.4g}, {c:.4g}]" for a, b, c in zip(mean_, lo_, hi_, strict=True))
+        + f"; mean tr S = {np.round(mean_trace(o)[1:].mean(axis=0), 2)}")
+print(f"{'exact':>15}: time-averaged E||e||^2 = {np.round(exact_mse(EX)[1:].mean(axis=0), 2)} "
+      f"(main design with the exact E{{xhat xhat^T}}), tr S = "
+      f"{np.round(np.trace(EX['S'], axis1=-2, axis2=-1)[1:].mean(axis=0), 2)}")
+
+# %% [markdown]
+# ### The exact recursion agrees with Monte Carlo (X3)
+#
+# An independent check of the recursion: Monte Carlo runs of the *same* deterministic gains (those of
+# the exact design, fed to `simulate`) must reproduce $\mathbb E\|e_i\|^2$. The per-run time average of
+# $\|e_i\|^2$ is strongly skewed (runs with long attacked stretches dominate), so $F=100$ runs
+# under-cover; the check uses its own `x3_runs` runs (independent streams of `mc_seed`, in chunks). Rule:
+# for every target, the exact time-averaged value lies in the 99.9 % (Bonferroni over the three
+# targets) $t$-interval of the Monte Carlo time average.
+
+
+# %%
+def fixed_gain_runs(runs: int, chunk: int = 500) -> np.ndarray:
+    """Per-run time-averaged ||e_i||^2 (runs, N) of the exact design's gains in fresh runs."""
+    rngs = montecarlo.spawn_rngs(mc_seed, 1 + -(-runs // chunk))[1:]
+    per_run = []
+    for c, rng in enumerate(rngs):
+        draws = draw_randomness(rng, min(chunk, runs - c * chunk), T)
+        o = simulate(draws, W_MAIN, variant=coef, k_factor=coupling_factor, gains=EX["L"])
+        per_run.append(sq_err(o)[:, 1:].mean(axis=1))
+    return np.concatenate(per_run)
+
+
+X3_LEVEL = 1 - 0.001 / N
+x3_runs_avg = fixed_gain_runs(x3_runs)
+x3_lo, x3_hi = t_intervals(x3_runs_avg, X3_LEVEL)
+x3_exact = exact_mse(EX)[1:].mean(axis=0)
+x3_inside = (x3_lo <= x3_exact) & (x3_exact <= x3_hi)
+print("exact time-averaged E||e||^2:", np.round(x3_exact, 3))
+print(f"Monte Carlo, same gains, {x3_runs} runs:", np.round(x3_runs_avg.mean(axis=0), 3),
+      "interval", np.round(np.stack([x3_lo, x3_hi], -1), 3).tolist())
 
 # %% [markdown]
 # ## Figs. 2–4 — trajectories of $x_i(k)$ and their estimates (one run)
 #
-# Solid: true state; dashed: $\hat x_i(k|k)$. The *Y* components collapse at $k=1$ (they are
-# multiplied by $\epsilon$ in (1)) and then follow $X^v$ through the coupling of $A_i$.
+# Solid: true state; dashed: $\hat x_i(k|k)$ of the zero-input estimator (8), Monte Carlo run
+# `plot_run`. The *Y* components collapse at $k=1$ (they are multiplied by $\epsilon$ in (1)) and then
+# follow $X^v$ through the coupling of $A_i$. One run is one draw: the tracking claim is judged on
+# exact expectations (C7, last sections).
 
 # %%
 LABELS = ["$X^p$ [m]", "$X^v$ [m/s]", "$Y^p$ [m]", "$Y^v$ [m/s]"]
@@ -604,174 +926,268 @@ for i in range(N):
     plotting.save_figure(fig, FIG_DIR, f"fig{i + 2}_target{i + 1}_trajectories",
                          data={"k": kk, "x": out["x"][plot_run, :, i],
                                "xhat": out["xhat"][plot_run, :, i]})
-    plt.show()
 
 
 # %% [markdown]
 # ## Figs. 5 and 6 — attack signals and estimation errors (one run), zero-input and ZOH
 #
-# Left: the injected signal $\Phi_{o(k)}(1-\psi_i(k))\xi_i(k)$ per channel (markers only at
-# attacked steps and scheduled sensors). Right: the four components of $e_i(k|k)$. Fig. 6 uses the
-# same noise and attack realisation with the ZOH estimator.
+# Left: the values the attacker puts in place of the scheduled measurements,
+# $\Phi_{o(k)}(1-\psi_i(k))\xi_i(k)$, per sensor (markers only at attacked steps and scheduled
+# sensors), in the units of the measurement they replace. Middle: the four components of
+# $e_i(k|k)$. Fig. 6 uses the same noise and attack realisation with the ZOH estimator, the same
+# error axes as Fig. 5, and a third column comparing $\|e_i(k|k)\|$ of both estimators.
 
 # %%
-def attack_and_error_figure(o, title, name):
-    fig, axes = plt.subplots(N, 2, figsize=(plotting.PAGE_WIDTH, 6.0), sharex=True,
-                             layout="constrained")
+def injected_attack(i: int) -> np.ndarray:
+    """Values that replace the scheduled measurements of target i in run plot_run (NaN: none)."""
+    inj = np.full((T, n_y), np.nan)
+    for k in range(1, T + 1):
+        if DRAWS["psi"][plot_run, k - 1, i] == 0:
+            inj[k - 1, SETS[k - 1]] = XI[k, SETS[k - 1]]
+    return inj
+
+
+ERR_RUN = {"zero-input": (out["x"] - out["xhat"])[plot_run, 1:],
+           "ZOH": (out_zoh["x"] - out_zoh["xhat"])[plot_run, 1:]}  # (T, N, 4)
+ERR_LIM = np.max([np.abs(e).max(axis=(0, 2)) for e in ERR_RUN.values()], axis=0) * 1.08
+
+
+def attack_and_error_figure(which: str, title: str, name: str) -> None:
+    compare = which == "ZOH"
+    fig, axes = plt.subplots(N, 3 if compare else 2, figsize=(plotting.PAGE_WIDTH, 6.6),
+                             sharex=True, layout="constrained", squeeze=False)
     data = {"k": kk[1:]}
+    err = ERR_RUN[which]
     for i in range(N):
-        attacked = DRAWS["psi"][plot_run, :, i] == 0
-        injected = np.full((T, n_y), np.nan)
-        for k in range(1, T + 1):
-            if attacked[k - 1]:
-                injected[k - 1, SETS[k - 1]] = XI[k, SETS[k - 1]]
+        injected = injected_attack(i)
         for r in range(n_y):
-            axes[i, 0].plot(kk[1:], injected[:, r], "o", ms=2.2, label=f"sensor {r + 1}")
-        err = o["x"][plot_run, 1:, i] - o["xhat"][plot_run, 1:, i]
+            axes[i, 0].plot(kk[1:], injected[:, r], "o", ms=2.4,
+                            label=f"sensor {r + 1}: {SENSOR_SEES[r]}")
         for c in range(NX):
-            axes[i, 1].plot(kk[1:], err[:, c], lw=0.9, label=LABELS[c].split(" ")[0])
-        axes[i, 0].set_ylabel(f"target {i + 1}\nattack [–]")
+            axes[i, 1].plot(kk[1:], err[:, i, c], lw=0.9, label=LABELS[c])
+        axes[i, 1].set_ylim(-ERR_LIM[i], ERR_LIM[i])
+        axes[i, 0].set_ylabel(f"target {i + 1}\nreplaced value\n[m or m/s]")
         axes[i, 1].set_ylabel(f"$e_{{{i + 1}}}(k|k)$ [m, m/s]")
         data[f"attack_target{i + 1}"] = injected
-        data[f"error_target{i + 1}"] = err
-    axes[0, 0].legend(ncol=4, fontsize=7, loc="lower left", bbox_to_anchor=(0.0, 1.02),
-                      handletextpad=0.1, columnspacing=0.8)
-    axes[0, 1].legend(ncol=4, fontsize=7, loc="lower left", bbox_to_anchor=(0.0, 1.02))
-    axes[-1, 0].set_xlabel("time step k [–]")
-    axes[-1, 1].set_xlabel("time step k [–]")
+        data[f"error_target{i + 1}"] = err[:, i]
+        if compare:
+            for label, style in (("ZOH", "-"), ("zero-input", "--")):
+                axes[i, 2].plot(kk[1:], np.linalg.norm(ERR_RUN[label][:, i], axis=-1), style,
+                                lw=1.0, color="tab:purple" if label == "ZOH" else "k", label=label)
+            axes[i, 2].set_ylabel(f"$\\|e_{{{i + 1}}}(k|k)\\|$ [m, m/s]")
+            data[f"norm_error_zoh_minus_zero_target{i + 1}"] = (
+                np.linalg.norm(ERR_RUN["ZOH"][:, i], axis=-1)
+                - np.linalg.norm(ERR_RUN["zero-input"][:, i], axis=-1))
+    for col, ax in enumerate(axes[-1]):
+        ax.set_xlabel("time step k [–]")
+        handles, labels = axes[0, col].get_legend_handles_labels()
+        ax.legend(handles, labels, fontsize=6.5, loc="upper center", ncol=2 if col == 0 else 4,
+                  bbox_to_anchor=(0.5, -0.32), frameon=False, handletextpad=0.2, columnspacing=0.7)
     fig.suptitle(title)
     plotting.save_figure(fig, FIG_DIR, name, data=data)
-    plt.show()
 
 
-attack_and_error_figure(out, f"Fig. 5: attack signals and errors, zero-input, run {plot_run}",
+attack_and_error_figure("zero-input", f"Fig. 5: attack signals and errors, zero-input, run {plot_run}",
                         "fig5_attack_and_errors")
-attack_and_error_figure(out_zoh, f"Fig. 6: attack signals and errors, ZOH, run {plot_run}",
+attack_and_error_figure("ZOH", f"Fig. 6: attack signals and errors, ZOH, run {plot_run}",
                         "fig6_attack_and_errors_zoh")
 
 # %% [markdown]
-# ## Fig. 7 — $\mathrm{MSE}_i(k)$ over $F=100$ runs and the minimum upper bound
+# ## Fig. 7 — $\mathrm{MSE}_i(k)$ over $F$ runs and the minimum upper bound (C1c)
 #
-# The gain depends on the run (through $\hat x\hat x^T$), so $\mathfrak S_i$ differs across runs and
-# MSE is compared with the Monte Carlo mean of $\mathrm{tr}\,\mathfrak S_i(k|k)$. At $k=1$ the MSE is
-# ~1e−4 or smaller ($E_i(0)=0$); the log axes start at $k=1$ and are clipped at $10^{-2}$. First with the corrected
-# coefficients (our reproduction of Fig. 7, ZOH MSE added dashed), then with the printed ones.
+# As the paper runs it: Algorithm 1 with the data-dependent surrogate of $\mathbb E\{\hat x\hat x^T\}$
+# (`xhat_moment`), so $\mathfrak S_i$ differs across runs and MSE is compared with the Monte Carlo mean of
+# $\mathrm{tr}\,\mathfrak S_i(k|k)$. The derivation of (21) takes $L_i(k)$ out of the expectation, i.e. treats the
+# gain as deterministic; with a data-dependent gain the corrected Theorem 1 does not imply the
+# inequality, so this is a measurement, decided by a rule on confidence intervals: with
+# $d_f(k)=\mathrm{tr}\,\mathfrak S^{(f)}_i(k|k)-\|e^{(f)}_i(k|k)\|^2$, it holds if at every $k$ and target the
+# upper end of the two-sided $t$-interval of $\frac1F\sum_fd_f(k)$ (Bonferroni over the $3T$ cells,
+# family level 95 %) is $\ge0$ — no step where the MSE is significantly above the mean bound. The
+# paper's literal reading (MSE below the bound at every $k$, a fraction equal to 1) is reported; it
+# fails spuriously from Monte Carlo noise where the bound is tight (e.g. $\check\psi=1$).
+#
+# At $k=1$ the MSE is ~1e−4 or smaller ($E_i(0)=0$); the log axes start at $k=1$ and their lower limit
+# follows the data from $k=2$. The ZOH estimator's MSE is drawn on top (purple, dashed).
 
 # %%
+C1C_LEVEL = 1 - 0.05 / (N * T)
+d_runs = np.trace(out_corr["S"], axis1=-2, axis2=-1)[:, 1:] - sq_err(out_corr)[:, 1:]  # (F, T, N)
+d_lo, d_hi = t_intervals(d_runs, C1C_LEVEL)
+TRS_C, MSE_C = mean_trace(out_corr), mse(out_corr)
+c1c_rel_hi = d_hi / TRS_C[1:]
+c1c_worst = np.unravel_index(np.argmin(c1c_rel_hi), c1c_rel_hi.shape)
+K5 = slice(min(5, T), T + 1)  # k >= 5: past the first steps where S(0|0) = I dominates
+print("worst cell (k, target):", (int(c1c_worst[0]) + 1, int(c1c_worst[1]) + 1),
+      f"relative margin {d_runs.mean(axis=0)[c1c_worst] / TRS_C[1:][c1c_worst]:.4g}, "
+      f"interval [{d_lo[c1c_worst] / TRS_C[1:][c1c_worst]:.4g}, {c1c_rel_hi[c1c_worst]:.4g}]")
+print("min over k >= 5 of mean tr S / MSE:", np.round((TRS_C[K5] / MSE_C[K5]).min(axis=0), 3))
+
+
+def log_floor(*curves) -> float:
+    """Lower y-limit of a log plot: a bit below the smallest positive value from k = 2 on."""
+    vals = np.concatenate([np.ravel(c[2:]) for c in curves])
+    vals = vals[np.isfinite(vals) & (vals > 0)]
+    return 0.5 * vals.min() if vals.size else 1e-3
+
+
 def fig7(o, o_zoh, title, name):
-    fig, axes = plt.subplots(1, N, figsize=(plotting.PAGE_WIDTH, 2.9), sharex=True,
+    fig, axes = plt.subplots(1, N, figsize=(plotting.PAGE_WIDTH, 3.1), sharex=True,
                              layout="constrained")
     m_, t_ = mse(o), mean_trace(o)
     data = {"k": kk[1:], "mse": m_[1:], "mean_tr_S": t_[1:]}
     for i, ax in enumerate(axes):
         ax.semilogy(kk[1:], t_[1:, i], color="tab:blue", label="upper bound (mean tr $\\mathfrak{S}$)")
-        ax.semilogy(kk[1:], m_[1:, i], color="tab:red", label="MSE (zero-input)")
+        ax.semilogy(kk[1:], m_[1:, i], color="tab:red", lw=1.6, label="MSE, zero-input (8)")
+        curves = [t_[:, i], m_[:, i]]
         if o_zoh is not None:
-            ax.semilogy(kk[1:], mse(o_zoh)[1:, i], "--", color="tab:gray", lw=0.9, label="MSE (ZOH)")
+            ax.semilogy(kk[1:], mse(o_zoh)[1:, i], "--", color="tab:purple", lw=1.0, zorder=3,
+                        label="MSE, ZOH")
+            curves.append(mse(o_zoh)[:, i])
         ax.set_title(f"target {i + 1}")
         ax.set_xlabel("time step k [–]")
-        ax.set_ylim(bottom=1e-2)  # MSE(1) ~ 1e-4..1e-10 (E_i(0) = 0) lies below the axis
+        ax.set_ylim(bottom=log_floor(*curves))
     if o_zoh is not None:
         data["mse_zoh"] = mse(o_zoh)[1:]
     axes[0].set_ylabel("MSE$_i(k)$, tr bound [m², m²/s²]")
-    axes[0].legend(loc="lower right", fontsize=7)
+    fig.legend(*axes[0].get_legend_handles_labels(), loc="outside lower center", ncols=3, fontsize=7,
+               frameon=False)
     fig.suptitle(title)
     plotting.save_figure(fig, FIG_DIR, name, data=data)
-    plt.show()
 
 
 fig7(out_corr, out_zoh if coef == "corrected" else None,
-     "Fig. 7: MSE and minimum upper bound (corrected coefficients)", "fig7_mse_and_bound")
+     f"Fig. 7: MSE over {F} runs and minimum upper bound (corrected coefficients)",
+     "fig7_mse_and_bound")
 fig7(out_printed, None, "Fig. 7 with the printed coefficients: the 'bound' is below the MSE",
      "extra_fig7_printed_coefficients")
 
 # %% [markdown]
-# ### What C1 shows, and what it does not
+# ## C1 — the corrected bound, certified by the exact second-moment recursion
 #
-# With `xhat_moment="run"` the surrogate of $\mathbb E\{\hat x\hat x^T\}$ in (18), (28) is the run's own
-# $\hat x_i(k|k-1)\hat x_i^T(k|k-1)$, so the gain $L_i(k)$ is a function of that run's measurements.
-# The derivation of (21) takes $L_i(k)$ out of the expectation, i.e. it treats the gain as
-# deterministic; with a data-dependent gain the expectations $\mathbb E\{L e e^TL^T\}$ do not factor
-# that way, and the corrected Theorem 1 no longer implies $\mathrm{MSE}_i(k)\le\mathrm{tr}\,\mathfrak S_i(k|k)$.
-# **C1 is therefore an empirical result of our runs, not a consequence of the corrected theorem.**
-# The ensemble variant (`xhat_moment="ensemble"`: the Monte Carlo mean of $\hat x\hat x^T$, hence the
-# same gain in every run — still data-dependent through the ensemble, deterministic only as
-# $F\to\infty$) is closer to the derivation's assumption; it gives the same verdict (below,
-# and in C1's `measured`).
-#
-# ### ZOH against zero-input (Fig. 6, C2): only target 1 is informative
-#
-# For targets 2 and 3 the grid-chosen gain is ~0 ($\kappa_x\approx5000$–$7000$), so both
-# estimators are essentially the open-loop prediction and their MSE ratio is ≈ 1 whatever the
-# update does; target 3's ratio is even slightly below 1 (ZOH marginally better) and passes only
-# through our 0.95 tolerance. Only target 1 (gain ≈ 0.36) supports "ZOH does not improve". With
-# the interior weight set `weights_interior` every target has a non-negligible gain; the
-# ratios for that run are printed below and recorded in C2.
+# With the theorem's own $\mathbb E\{\hat x\hat x^T\}$ (exact recursion above) the gain is deterministic and
+# $\mathfrak S_i(k|k)\succeq P_i(k)=\mathbb E\{e_i(k|k)e_i^T(k|k)\}$ must hold at **every** $k$ as a matrix
+# inequality. The certificate is scale-free: $\mathfrak S\succeq P$ if and only if the largest generalised
+# eigenvalue $\lambda_{\max}(\mathfrak S^{-1/2}P\,\mathfrak S^{-1/2})$ — the largest share of the bound that the true
+# covariance reaches in any direction — is at most 1; we require
+# $\max_{k,i}\lambda_{\max}(\mathfrak S_i^{-1/2}P_i\mathfrak S_i^{-1/2})\le1+10^{-9}$ ($10^{-9}$ absorbs rounding) and also report
+# $\min_k\lambda_{\min}(\mathfrak S_i-P_i)$. It is evaluated at the paper's $\check\psi$ and at every $\check\psi$ of
+# `c1_psi_scan` (the same for all targets; $\check\psi=1$ is the attack-free case, where the corrected
+# bound is nearly tight), with the weights in use (`weight_rule`) and the (17) reading in use
+# (`coupling_factor`); the sweep covers the other readings.
+
 
 # %%
-def frac_below(o):
-    return np.mean(mse(o)[1:] <= mean_trace(o)[1:], axis=0)
+def share_curve(ex) -> np.ndarray:
+    """lambda_max(S_i^{-1/2} P_i S_i^{-1/2}) for k = 1..T, shape (T, N).
+
+    S_i >= P_i at step k iff it is <= 1; inf where S_i is not positive definite (then
+    S_i >= P_i fails too).
+    """
+    d, u = np.linalg.eigh(ex["S"][1:])
+    pd = np.all(d > 0, axis=-1)
+    root = u * (1 / np.sqrt(np.where(d > 0, d, 1.0)))[..., None, :]  # S^{-1/2} up to a rotation
+    whitened = np.swapaxes(root, -1, -2) @ ex["P"][1:] @ root
+    return np.where(pd, np.linalg.eigvalsh(sym(whitened))[..., -1], np.inf)
 
 
-def time_avg_ratio(o_num, o_den):
-    return mse(o_num)[1:].mean(axis=0) / mse(o_den)[1:].mean(axis=0)
+def min_gap(ex) -> np.ndarray:
+    """min over k >= 1 of lambda_min(S_i - P_i) per target (absolute, m^2 and m^2/s^2)."""
+    return np.linalg.eigvalsh(ex["S"][1:] - ex["P"][1:])[..., 0].min(axis=0)
 
 
-max_gain = {name: np.abs(o["L"]).max(axis=(0, 1, 3, 4)) for name, o in
-            (("grid", out), ("interior", out_interior))}
-print(f"{'target':>6} | C1 frac (run) | C1 frac (ensemble) | min gap (run / ensemble) | "
-      "ZOH/zero (grid w.) | ZOH/zero (interior w.) | max|L| grid / interior")
-run_o, ens_o = ((out_corr, out_other_moment) if xhat_moment == "run"
-                else (out_other_moment, out_corr))
+EX_CORR = EX if coef == "corrected" else exact_moments(W_CORR)
+C1_SCENARIOS = {"paper psi_check": EX_CORR} | {
+    f"psi_check = {p:g}": exact_moments(W_CORR, psi_bar=np.full(N, p)) for p in c1_psi_scan}
+C1_SHARE = {name: share_curve(ex) for name, ex in C1_SCENARIOS.items()}
+C1_MAX = max(float(v.max()) for v in C1_SHARE.values())
+C1_GAP = {name: min_gap(ex) for name, ex in C1_SCENARIOS.items()}
+TRP_C, TRS_EX = exact_mse(EX_CORR), np.trace(EX_CORR["S"], axis1=-2, axis2=-1)
+for name, v in C1_SHARE.items():
+    print(f"{name:>18}: max_k lambda_max(S^-1/2 P S^-1/2) = "
+          f"{np.array2string(v.max(axis=0), precision=4)}, "
+          f"min_k lambda_min(S - P) = {np.array2string(C1_GAP[name], precision=3)}")
+print("exact: min over k >= 5 of tr S / tr P:", np.round((TRS_EX[K5] / TRP_C[K5]).min(axis=0), 3))
+
+fig, axes = plt.subplots(2, N, figsize=(plotting.PAGE_WIDTH, 5.0), sharex=True, layout="constrained")
+share_data = {}
 for i in range(N):
-    gap_r = (mean_trace(run_o) - mse(run_o))[1:, i].min()
-    gap_e = (mean_trace(ens_o) - mse(ens_o))[1:, i].min()
-    print(f"{i + 1:>6} | {frac_below(run_o)[i]:13.3f} | {frac_below(ens_o)[i]:18.3f} | "
-          f"{gap_r:10.4f} / {gap_e:10.4f} | {time_avg_ratio(out_zoh, out)[i]:18.4f} | "
-          f"{time_avg_ratio(out_interior_zoh, out_interior)[i]:22.4f} | "
-          f"{max_gain['grid'][i]:.3g} / {max_gain['interior'][i]:.3g}")
+    ax = axes[0, i]
+    ax.semilogy(kk[1:], TRS_EX[1:, i], color="tab:blue", label="tr $\\mathfrak{S}_i(k|k)$, exact design")
+    ax.semilogy(kk[1:], TRP_C[1:, i], color="k", label="tr $P_i(k)=\\mathbb{E}\\|e_i\\|^2$, exact")
+    ax.semilogy(kk[1:], MSE_C[1:, i], color="tab:red", lw=0.8, alpha=0.8,
+                label=f"MSE, {F} runs ({xhat_moment} surrogate)")
+    ax.set_ylim(bottom=log_floor(TRS_EX[:, i], TRP_C[:, i], MSE_C[:, i]))
+    ax.set_title(f"target {i + 1}")
+    for s_idx, (name, share) in enumerate(C1_SHARE.items()):
+        share_data[f"{name} target{i + 1}"] = share[:, i]
+        style = ({"color": "k", "ls": "--", "lw": 1.3} if s_idx == 0 else
+                 {"color": plt.cm.viridis((s_idx - 1) / max(1, len(C1_SHARE) - 2)), "lw": 0.9})
+        axes[1, i].plot(kk[1:], np.minimum(share[:, i], 2.0), label=name, **style)
+    axes[1, i].axhline(1.0, color="tab:red", lw=0.8)
+    axes[1, i].set_xlabel("time step k [–]")
+axes[0, 0].set_ylabel("[m², m²/s²]")
+axes[1, 0].set_ylabel("$\\lambda_{\\max}(\\mathfrak{S}^{-1/2}P\\,\\mathfrak{S}^{-1/2})$ [–]")
+axes[0, N - 1].legend(fontsize=6.5, loc="lower right")
+fig.legend(*axes[1, 0].get_legend_handles_labels(), loc="outside lower center", ncols=6, fontsize=7,
+           frameon=False)
+fig.suptitle("C1: the corrected bound against the exact error covariance "
+             "(the bound holds where the share is ≤ 1)")
+_ = plotting.save_figure(fig, FIG_DIR, "extra_exact_bound_certificate",
+                         data={"k": kk[1:], "tr_S_exact": TRS_EX[1:], "tr_P_exact": TRP_C[1:],
+                               "mse_monte_carlo": MSE_C[1:]} | share_data)
 
 # %% [markdown]
-# With the grid restricted to $\alpha_2>\alpha_3$ (Theorem 3's condition) the printed recursion
-# stays above the MSE in our runs (C1b, reported), but its minimiser then drives every gain to ~0:
-# target 1's MSE becomes that of the open-loop prediction. Either way the printed coefficients
-# give no useful proven bound (even with $\alpha_2>\alpha_3$ the printed $c_0$ is below the
-# derived one by $2\alpha_3(1-\check\psi)$, so the induction of Theorem 1 does not go through).
+# ### The printed coefficients are not a bound (C1b)
 #
-# ### A one-step counterexample for the printed coefficients
-#
-# The Monte Carlo failure above has a deterministic core. Take one update step with
-# $\mathfrak S^-=P^-$ known, $\hat x^-$ known (so $\mathbb E\{xx^T\}=P^-+\hat x^-\hat x^{-T}$,
-# $\mathbb E\{e^-x^T\}=P^-$), a deterministic $\xi$ and zero-mean $e^-$: the exact covariance after
-# the update is the corrected (21) without any inequality. We evaluate it for target 3 at
-# $k=2$ of run `plot_run` with the weights in use and each variant's own gain, and compare it with
-# each variant's bound.
+# The same certificate for the design with the coefficients as printed in Theorem 2, with the weights
+# the Remark-4 grid picks for them (or the interior weights under `weight_rule="interior"`): a share
+# above 1 is an exact counterexample — the "bound" lies below the true error covariance in that
+# direction. With the grid restricted to $\alpha_2>\alpha_3$ (Theorem 3's condition) the printed recursion
+# stays above the MSE (reported), but its minimiser then drives every gain to ≈ 0; even then the printed
+# $c_0$ is below the derived one by $2\alpha_3(1-\check\psi)$, so the induction of Theorem 1 does not go through.
 
 # %%
-def one_step_check(o, weights, variant, i=2, k=2, f=plot_run):
-    Sp = o["S_pred"][f, k, i]
-    xp = (AH_ALL[k - 1] @ o["xhat"][f, k - 1, i]
-          + sum(BH[(i, j)] @ o["xhat"][f, k - 1, j] for j in K_SETS[i]))
-    lam_, a1_, a2_, a3_, a4_ = weights[i]
-    c0_, kx_, kxi_ = bound_coefficients(PSI[i], a2_, a3_, a4_, variant)
-    G = CH[SETS[k - 1]]
-    Phi_xi = XI[k, SETS[k - 1]]
-    L, S_b, _ = gain_and_bound(Sp[None], np.outer(xp, xp)[None], G, c0_, kx_, kxi_, a1_, PSI[i])
-    L, S_b = L[0], S_b[0]
-    Mm = np.eye(NX) - L @ G
-    p = 1 - PSI[i]
-    Ex = Sp + np.outer(xp, xp)
-    exact = (Mm @ Sp @ Mm.T + p * L @ G @ Ex @ G.T @ L.T + p * L @ np.outer(Phi_xi, Phi_xi) @ L.T
-             + PSI[i] * V * L @ L.T + p * (Mm @ Sp @ G.T @ L.T + L @ G @ Sp @ Mm.T)
-             - p * (L @ G @ np.outer(xp, Phi_xi) @ L.T + L @ np.outer(Phi_xi, xp) @ G.T @ L.T))
-    return np.linalg.eigvalsh(S_b - sym(exact)).min(), np.trace(exact), np.trace(S_b)
+EX_PRINTED = exact_moments(W_PRINTED, variant="paper")
+EX_PRINTED_THM3 = exact_moments(WEIGHTS["paper_thm3"], variant="paper")
+C1B_SHARE, C1B_SHARE_THM3 = share_curve(EX_PRINTED), share_curve(EX_PRINTED_THM3)
+C1B_FIRST_K = [int(np.argmax(C1B_SHARE[:, i] > 1 + 1e-9)) + 1 if np.any(C1B_SHARE[:, i] > 1 + 1e-9)
+               else 0 for i in range(N)]
+print("printed coefficients: max_k share", np.array2string(C1B_SHARE.max(axis=0), precision=4),
+      "first violating k per target (0: none)", C1B_FIRST_K)
+print("printed, alpha2 > alpha3: max_k share", np.array2string(C1B_SHARE_THM3.max(axis=0), precision=4))
+print("time-averaged tr S / E||e||^2 (exact, printed):",
+      np.round(np.trace(EX_PRINTED["S"], axis1=-2, axis2=-1)[1:].mean(axis=0)
+               / exact_mse(EX_PRINTED)[1:].mean(axis=0), 4))
 
+# %% [markdown]
+# ## Fig. 6 against Fig. 5 — ZOH is not better (C2)
+#
+# $r_i$ = time-averaged MSE under ZOH / time-averaged MSE under zero-input, same runs, with a paired
+# bootstrap 95 % interval over the runs. A target can only say something about the two updates if its
+# zero-input gain is not negligible: we call target $i$ **informative** if the mean over runs and $k$ of
+# $\|L_i(k)\Gamma_i(k)\|_2$ (the share of the innovation that reaches the state estimate) is at least
+# `gain_negligible`; otherwise both estimators are the open-loop prediction and $r_i\approx1$ says
+# nothing about the two updates (such a target is *undetermined*, not "holds"). Targets 2 and 3 also
+# predict with target 1's estimate (7), so their ratios move with target 1's estimator even when their
+# own gain is ≈ 0. Rule: C2 fails if for some informative target the whole interval lies below 1 (ZOH
+# significantly better); it holds otherwise, provided at least one target is informative (the
+# premise). Over the declared space it holds at 63 of 65 points, but its margin shrinks with the
+# horizon (decisive ratios 1.08–1.26 at $T=40$, 0.98–1.04 at $T=147$); at $T=147$ with the grid weights,
+# the ensemble surrogate and the sin/cos attack, target 1's ratio is 0.98 [0.97, 0.996]: ZOH is better
+# there (the sweep's figure below and `robustness_C2.png`).
 
-one_step = {}
-for v, o in (("corrected", out_corr), ("paper", out_printed)):
-    one_step[v] = one_step_check(o, WEIGHTS[v], v)
-    print(f"{v:>9}: lambda_min(bound - exact covariance) = {one_step[v][0]:.4g}, "
-          f"tr exact = {one_step[v][1]:.4g}, tr bound = {one_step[v][2]:.4g}")
+# %%
+GAIN_SHARE = np.linalg.norm(out["L"][:, 1:] @ CH, ord=2, axis=(-2, -1)).mean(axis=(0, 1))
+INFORMATIVE = GAIN_SHARE >= gain_negligible
+per_run_zoh, per_run_zero = sq_err(out_zoh)[:, 1:].mean(axis=1), sq_err(out)[:, 1:].mean(axis=1)
+C2_RATIO = per_run_zoh.mean(axis=0) / per_run_zero.mean(axis=0)
+C2_CI = np.array([montecarlo.bootstrap_interval(np.stack([per_run_zoh[:, i], per_run_zero[:, i]], 1),
+                                                seed=mc_seed + i) for i in range(N)])
+C2_STATUS = ["undetermined (negligible gain)" if not INFORMATIVE[i]
+             else "fails (ZOH better)" if C2_CI[i, 1] < 1 else "holds" for i in range(N)]
+for i in range(N):
+    print(f"target {i + 1}: mean ||L Gamma|| = {GAIN_SHARE[i]:.3g}, r = {C2_RATIO[i]:.4f} "
+          f"[{C2_CI[i, 0]:.4f}, {C2_CI[i, 1]:.4f}] -> {C2_STATUS[i]}")
 
 # %% [markdown]
 # ## Fig. 8 — $\|e_i(k|k)\|^2$ and $UB_i(k)$ (Theorem 3, made consistent)
@@ -839,7 +1255,7 @@ def theorem3_conditions(o, weights, variant):
     for i in range(N):
         lam_, a1_, a2_, a3_, a4_ = weights[i]
         ps = PSI[i]
-        c0_, kx_, _ = bound_coefficients(ps, a2_, a3_, a4_, variant)
+        c0_, kx_, *_ = bound_coefficients(ps, a2_, a3_, a4_, variant)
         tail = (1 + 1 / a2_ + 1 / a4_) * (1 - ps)  # printed factor of xi^* (and of Gamma^2)
         bsum = sum((B_MAT[(i, j)] for j in K_SETS[i]), np.zeros((NX, NX)))
         bb = np.linalg.eigvalsh(bsum @ bsum.T)
@@ -881,13 +1297,12 @@ def theorem3_conditions(o, weights, variant):
 
 
 THM3_COND = {
-    "printed, weights in use": theorem3_conditions(out_corr, WEIGHTS["corrected"], "paper"),
-    "corrected, weights in use": theorem3_conditions(out_corr, WEIGHTS["corrected"], "corrected"),
+    "printed, weights in use": theorem3_conditions(out_corr, W_CORR, "paper"),
+    "corrected, weights in use": theorem3_conditions(out_corr, W_CORR, "corrected"),
     "printed, alpha2 > alpha3 weights": theorem3_conditions(out_printed_thm3,
                                                             WEIGHTS["paper_thm3"], "paper"),
 }
-THM3_RANK = max(int(np.linalg.matrix_rank(out_corr["L"][f, k, i] @ CH))
-                for f in range(out_corr["L"].shape[0]) for k in range(1, T + 1) for i in range(N))
+THM3_RANK = int(np.linalg.matrix_rank(out_corr["L"][:, 1:] @ CH).max())
 for name, rows_ in THM3_COND.items():
     for i, r in enumerate(rows_):
         print(f"{name:>32} target {i + 1}: c0 = {r['c0']:.5g} (a) {r['a_alpha56_exist']}; "
@@ -898,23 +1313,27 @@ for name, rows_ in THM3_COND.items():
               f"{r['min_eta_upper_over_phi_upper']:.3g}")
 print(f"max rank of L_i(k) Phi C_i H_eps over runs, k, i: {THM3_RANK} (n_x = {NX})")
 
+
 # %% [markdown]
-# Condition (c) fails everywhere: $\eta^*$ grows like $(\phi^*)^3$ for large $\phi^*$ (through
+# Condition (c) fails at the default point: $\eta^*$ grows like $(\phi^*)^3$ for large $\phi^*$ (through
 # $\varpi^*\Gamma^{*2}$) and carries $(X^*)^2\Gamma^{*2}$ with $(X^*)^2$ in the hundreds to tens of thousands, so no pair
 # $\phi_*\le1\le\phi^*$ on the grid satisfies $\eta^*\le\phi^*$ (the smallest ratio $\eta^*/\phi^*$ is
 # printed above), with the printed or the corrected coefficients, and (a) fails for the weights
 # in use with the printed $c_0\le1$. **Theorem 3's premise is not met on the paper's own example**,
-# so the theorem supplies no envelope there (C3a). The $UB_i(k)$ below is the data-driven one.
+# so the theorem supplies no envelope there (C3a), and Fig. 8's comparison is recorded with its failed
+# premise (C3b). The $UB_i(k)$ below is the data-driven one; where the recipe has no admissible
+# $\alpha_5,\alpha_6>0$ ($c_0\le1$, e.g. at $\check\psi=1$) it is undefined and not drawn.
 
 
 # %%
 def theorem3_envelope(o, weights, variant):
+    """Data-driven UB_i(k) of the consistent Lemma 3 (NaN where the recipe is undefined)."""
     ev = np.linalg.eigvalsh(o["S"])  # (F, T+1, N, 4)
     ev_pred = np.linalg.eigvalsh(o["S_pred"][:, 1:])
-    env, info = np.zeros((T + 1, N)), {}
+    env, info = np.full((T + 1, N), np.nan), {}
     for i in range(N):
         lam_, a1_, a2_, a3_, a4_ = weights[i]
-        c0_, _, _ = bound_coefficients(PSI[i], a2_, a3_, a4_, variant)
+        c0_ = bound_coefficients(PSI[i], a2_, a3_, a4_, variant)[0]
         phi_lo, phi_hi = ev[:, :, i].min(), ev[:, :, i].max()
         rho = lam_ / (1 + lam_)  # chi_1 = 0 on the example
         g_bar = W * np.max(np.sum(E_ALL**2, axis=1))
@@ -927,46 +1346,46 @@ def theorem3_envelope(o, weights, variant):
                                                     + np.linalg.norm(CH, 2) * np.sqrt(ex2)) ** 2
         mu2 = lam_L * t_bar / phi_lo
         a5 = a6 = (c0_ - 1) / 2
-        a7 = np.sqrt(mu2 / mu1)
-        if a5 > 0:
-            mu = (1 + 1 / a5 + a7) * mu1 + (1 + 1 / a6 + 1 / a7) * mu2
-        else:  # c0 <= 1 (printed coefficients): Theorem 3's condition cannot hold
-            mu = np.inf
-        e0 = np.mean(np.sum((o["x"][:, 0, i] - o["xhat"][:, 0, i]) ** 2, axis=-1))
-        geo = np.concatenate([[0.0], np.cumsum((1 - rho) ** np.arange(T))])
-        env[:, i] = phi_hi / phi_lo * e0 * (1 - rho) ** kk + mu * phi_hi * geo
-        info[i] = {"phi_lower": phi_lo, "phi_upper": phi_hi, "rho": rho, "mu": mu}
+        defined = a5 > 0 and phi_lo > 0 and mu1 > 0
+        if defined:
+            a7 = np.sqrt(mu2 / mu1)
+            mu = (1 + 1 / a5 + a7) * mu1 + ((1 + 1 / a6 + 1 / a7) * mu2 if mu2 > 0 else 0.0)
+            e0 = np.mean(np.sum((o["x"][:, 0, i] - o["xhat"][:, 0, i]) ** 2, axis=-1))
+            geo = np.concatenate([[0.0], np.cumsum((1 - rho) ** np.arange(T))])
+            env[:, i] = phi_hi / phi_lo * e0 * (1 - rho) ** kk + mu * phi_hi * geo
+        info[i] = {"phi_lower": phi_lo, "phi_upper": phi_hi, "rho": rho, "defined": defined}
         print(f"target {i + 1}: phi_* = {phi_lo:.3g}, phi^* = {phi_hi:.4g}, rho = {rho:.3g}, "
-              f"mu1 = {mu1:.3g}, mu2 = {mu2:.3g}, mu = {mu:.3g}, UB(T) = {env[-1, i]:.3g}")
+              f"mu1 = {mu1:.3g}, mu2 = {mu2:.3g}, UB(T) = {env[-1, i]:.3g}")
     return env, info
 
 
-UB, UB_INFO = theorem3_envelope(out_corr, WEIGHTS["corrected"], "corrected")
-ERR2 = np.sum((out_corr["x"] - out_corr["xhat"]) ** 2, axis=-1)  # (F, T+1, N)
+UB, UB_INFO = theorem3_envelope(out_corr, W_CORR, "corrected")
+ERR2 = sq_err(out_corr)  # (F, T+1, N)
 
-fig, axes = plt.subplots(1, N, figsize=(plotting.PAGE_WIDTH, 2.9), sharex=True,
+fig, axes = plt.subplots(1, N, figsize=(plotting.PAGE_WIDTH, 3.1), sharex=True,
                          layout="constrained")
 for i, ax in enumerate(axes):
-    ax.semilogy(kk[1:], UB[1:, i], color="tab:blue", label="$UB_i(k)$")
+    ax.semilogy(kk[1:], UB[1:, i], color="tab:blue", label="$UB_i(k)$ (data-driven)")
     ax.semilogy(kk[1:], ERR2[plot_run, 1:, i], color="tab:red", lw=0.9,
                 label=f"$\\|e_i(k|k)\\|^2$ (run {plot_run})")
-    ax.set_ylim(bottom=1e-4)  # ||e(1|1)||^2 can be ~1e-12 (E_i(0) = 0)
-    ax.set_title(f"target {i + 1}")
+    ax.set_ylim(bottom=log_floor(ERR2[plot_run, :, i]))
+    ax.set_title(f"target {i + 1}" + ("" if UB_INFO[i]["defined"] else " (UB undefined)"))
     ax.set_xlabel("time step k [–]")
 axes[0].set_ylabel("squared error [m², m²/s²]")
-axes[0].legend(loc="center right", fontsize=7)
+fig.legend(*axes[0].get_legend_handles_labels(), loc="outside lower center", ncols=2, fontsize=7,
+           frameon=False)
 fig.suptitle("Fig. 8: $\\|e_i(k|k)\\|^2$ and the data-driven envelope $UB_i(k)$ "
              "(Theorem 3's conditions fail)")
 plotting.save_figure(fig, FIG_DIR, "fig8_error_and_envelope",
                      data={"k": kk[1:], "UB": UB[1:], "err2_run": ERR2[plot_run, 1:]})
-plt.show()
-print("UB_i(T) / max_k MSE_i(k):", np.round(UB[-1] / mse(out_corr)[1:].max(axis=0), -6))
+UB_RATIO = UB[-1] / mse(out_corr)[1:].max(axis=0)
+print("UB_i(T) / max_k MSE_i(k):", np.array2string(UB_RATIO, precision=3))
 
 # %% [markdown]
-# Every $\|e_i(k|k)\|^2$ stays below $UB_i(k)$ — but $UB_i(T)$ is $10^{13}$–$10^{17}$, more than
-# $10^{11}$ times the largest MSE (ratio printed above): with constants taken from the data the
-# inequality is vacuous, and since the conditions of Theorem 3 fail (C3a) it is not evidence for the
-# theorem (C3b records it as measured, no more).
+# Where it is defined, every $\|e_i(k|k)\|^2$ stays below $UB_i(k)$ — but at the default point
+# $UB_i(T)$ is $10^{13}$–$10^{17}$, more than $10^{11}$ times the largest MSE (ratio printed above): with
+# constants taken from the data the inequality is vacuous, and since the conditions of Theorem 3 fail
+# (C3a) it is not evidence for the theorem; C3b records the measurement with its failed premise.
 #
 # ## Kalman limit (C6)
 #
@@ -997,259 +1416,544 @@ for i in range(N):
         kal_dev_x = max(kal_dev_x, np.max(np.abs(kal["xhat"][:, k, i] - xk)))
 print(f"max relative deviation of S from the Riccati P: {kal_dev_P:.3g}; "
       f"max deviation of the estimates: {kal_dev_x:.3g}")
-c0_p, kx_p, _ = bound_coefficients(1.0, 1.0, 1.0, 1.0, "paper")
+c0_p, kx_p, *_ = bound_coefficients(1.0, 1.0, 1.0, 1.0, "paper")
 print(f"printed coefficients at psi = 1, alpha = 1: c0 = {c0_p}, kappa_x = {kx_p} (not Kalman)")
 
 # %% [markdown]
-# ## Why the estimates do not track well, and the smallest fix (ours)
+# ## Tracking (Figs. 2–4, C7): the paper's design against its baselines
+#
+# "Each target's estimated positions and velocities well match its real positions and velocities."
+# We measure it by the relative RMS error
+# $\rho_i(T)=\sqrt{\sum_{k=1}^T\mathbb E\|e_i(k|k)\|^2\,/\,\sum_{k=1}^T\mathbb E\|x_i(k)\|^2}$ (our reading of "well
+# match": $\rho_i\le0.1$ for every target; the threshold is ours), computed **exactly** with the
+# second-moment recursion, so no seed enters. Rows, all on the same plant, schedule and attack:
+#
+# * **paper design** — (8) with the gain (28) of the bound (the coefficients in use, exact
+#   $\mathbb E\{\hat x\hat x^T\}$); its Monte Carlo counterpart with the run's surrogate (`xhat_moment`) is
+#   reported with a 95 % interval;
+# * **per-step optimal gain for (8)** — the best gain (8) admits at each step given the exact moments;
+# * **debiased innovation, optimal gain** — $y_i-\check\psi_i\Phi C_iH_\epsilon\hat x_i(k|k-1)$ as innovation (ours);
+# * **oracle Kalman filter** — centralised, knows $\psi_i(k)$ and drops attacked packets (exact covariance
+#   given each run's $\psi$ sequence, averaged over the $F$ draws, 95 % interval);
+# * **no attack** — the paper design with $\check\psi_i=1$;
+# * **additive reading of (6)** — the paper design re-derived for $y_i=\bar y_i+(1-\psi_i)\Phi\xi_i$ (a
+#   sensitivity row: the paper's (6) replaces);
+# * **open-loop prediction** — $L=0$.
+#
+# Since every design is causal, $\rho_i(T')$ for $T'<T$ is the same computation stopped at $T'$: the
+# figure draws it over the horizon, which shows how the MISSING horizon decides the verdict.
+
+# %%
+C7_ROWS = {
+    "paper design": EX,
+    "per-step optimal gain for (8)": exact_moments(W_MAIN, gain="optimal"),
+    "debiased innovation, optimal gain": exact_moments(W_MAIN, gain="optimal", debias=True),
+    "no attack (psi_check = 1)": exact_moments(W_MAIN, variant=coef, psi_bar=np.ones(N)),
+    "additive reading of (6)": exact_moments(W_MAIN, variant="additive", reading="additive"),
+    "open-loop prediction": exact_moments(W_MAIN, gain="zero"),
+}
+CUM_X = np.cumsum(EX2[1:], axis=0)  # sum_{k <= T'} E||x_i||^2
+
+
+def rel_rms_curve(msek: np.ndarray) -> np.ndarray:
+    """rho_i(T') for T' = 1..T from E||e_i(k)||^2, shape (T, N)."""
+    return np.sqrt(np.cumsum(msek[1:], axis=0) / CUM_X)
+
+
+C7_CURVES = {name: rel_rms_curve(exact_mse(ex)) for name, ex in C7_ROWS.items()}
+oracle_tr = oracle_kalman(DRAWS["psi"])  # (F, T+1, N)
+C7_CURVES["oracle Kalman filter"] = rel_rms_curve(oracle_tr.mean(axis=0))
+
+
+def rel_rms_interval(per_run_sum: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """95 % interval of rho_i(T) from per-run sums of squared errors (t-interval, then sqrt)."""
+    lo, hi = t_intervals(per_run_sum, 0.95)
+    return np.sqrt(np.maximum(lo, 0) / CUM_X[-1]), np.sqrt(hi / CUM_X[-1])
+
+
+C7_INTERVALS = {"paper design, Monte Carlo": rel_rms_interval(sq_err(out)[:, 1:].sum(axis=1)),
+                "oracle Kalman filter": rel_rms_interval(oracle_tr[:, 1:].sum(axis=1))}
+C7_MC = np.sqrt(mse(out)[1:].sum(axis=0) / CUM_X[-1])
+C7_TABLE = {name: curve[-1] for name, curve in C7_CURVES.items()}
+rows_md = ["| row | target 1 | target 2 | target 3 |", "|---|---|---|---|"]
+for name, val in C7_TABLE.items():
+    ci = C7_INTERVALS.get(name)
+    cells = [f"{v:.3f}" + (f" [{ci[0][i]:.3f}, {ci[1][i]:.3f}]" if ci else "")
+             for i, v in enumerate(val)]
+    rows_md.append(f"| {name} | " + " | ".join(cells) + " |")
+ci = C7_INTERVALS["paper design, Monte Carlo"]
+rows_md.append(f"| paper design, Monte Carlo ({xhat_moment} surrogate, {F} runs) | "
+               + " | ".join(f"{v:.3f} [{ci[0][i]:.3f}, {ci[1][i]:.3f}]" for i, v in enumerate(C7_MC))
+               + " |")
+display(Markdown(f"Relative RMS error $\\rho_i(T)$, $T={T}$ (exact unless an interval is given):\n\n"
+                 + "\n".join(rows_md)))
+
+fig, axes = plt.subplots(1, N, figsize=(plotting.PAGE_WIDTH, 3.3), sharex=True, sharey=True,
+                         layout="constrained")
+styles = {"paper design": ("tab:red", "-", 1.8),
+          "per-step optimal gain for (8)": ("tab:orange", "-", 1.2),
+          "debiased innovation, optimal gain": ("tab:green", "-", 1.2),
+          "oracle Kalman filter": ("tab:blue", "-", 1.2),
+          "no attack (psi_check = 1)": ("k", "--", 1.0),
+          "additive reading of (6)": ("tab:purple", "-.", 1.0),
+          "open-loop prediction": ("0.5", ":", 1.2)}
+for i, ax in enumerate(axes):
+    for name, curve in C7_CURVES.items():
+        colour, ls, lw = styles[name]
+        ax.semilogy(kk[1:], curve[:, i], ls, color=colour, lw=lw, label=name)
+    ax.axhline(0.1, color="k", lw=0.7, alpha=0.6)
+    ax.set_title(f"target {i + 1}")
+    ax.set_xlabel("horizon $T'$ [steps]")
+T_SHOWN = min(5, T) - 1  # the first steps (rho ~ 1e-5 at T' = 1, E_i(0) = 0) are off the axis
+axes[0].set_ylim(bottom=0.5 * min(float(c[T_SHOWN:].min()) for c in C7_CURVES.values()))
+axes[0].set_ylabel("relative RMS error $\\rho_i(T')$ [–]")
+axes[-1].annotate("0.1 (our threshold)", (kk[-1], 0.1), xytext=(-4, -10), textcoords="offset points",
+                  ha="right", fontsize=7)
+fig.legend(*axes[0].get_legend_handles_labels(), loc="outside lower center", ncols=4, fontsize=7,
+           frameon=False)
+fig.suptitle("C7: relative RMS error up to horizon T' (exact expectations; oracle over "
+             f"{F} attack draws)")
+_ = plotting.save_figure(fig, FIG_DIR, "extra_tracking_baselines",
+                         data={"horizon": kk[1:]}
+                         | {name.replace(" ", "_"): c for name, c in C7_CURVES.items()})
+
+# %% [markdown]
+# No gain inside (8) tracks. At the default point even the per-step optimal gain leaves 0.17 / 0.19 /
+# 0.16 (0.14–0.22 for the worst target over the declared space), and the debiased innovation with optimal
+# gain still leaves 0.11 / 0.13 / 0.12. In an attacked step (8) can only add the attack's bias (the
+# identity under (12)), and minimising the trace of the bound drives $L$ towards 0 for the targets
+# attacked most. The oracle (0.016 / 0.013 / 0.012) and the attack-free design (0.012 / 0.007 / 0.003)
+# track to about 1 %, and so does the paper's design under the additive reading of (6) (0.04 / 0.09 /
+# 0.03; at most 0.0995 over the space). The failure comes from the *replacement* in (6) combined with
+# the structure of (8), not from our choice of weights, horizon or surrogate: the sweep varies all three,
+# and C7 fails at every point (0.25–0.39 with the grid weights, 0.39–0.66 with the interior ones).
+#
+# ### The smallest fix: a debiased innovation (ours, X1)
 #
 # With (8) uncompensated, the expected innovation is
 # $\mathbb E\{y_i\}-\Gamma\hat x^-=\check\psi_i\Gamma x_i+(1-\check\psi_i)\Phi\xi_i-\Gamma\hat x^-$, so the mean error obeys
 # $\mathbb E e(k|k)=(I-L\Gamma)\mathbb E e(k|k-1)+(1-\check\psi_i)L\Gamma\,\mathbb E x_i(k)-(1-\check\psi_i)L\Phi\xi_i$:
-# every attacked step pulls the estimate toward $\xi\approx0$, a bias proportional to the
-# state. The smallest change that removes it is one factor in the innovation,
-# $y_i(k)-\check\psi_i\Phi C_iH_\epsilon\hat x_i(k|k-1)$ (same gain), which gives
-# $\mathbb E e(k|k)=(I-\check\psi_iL\Gamma)\mathbb E e(k|k-1)-(1-\check\psi_i)L\Phi\xi_i$: only the bounded
-# $\xi$ remains. It helps where the gain is not ~0 (target 1); for targets 2 and 3 the
-# trace-optimal gain is ~0 and the estimate is close to the open-loop prediction either way; their
-# remaining mean error is mostly the Monte Carlo mean of the open-loop prediction error (dotted:
-# the prediction error is unbiased, but with $F=100$ runs its sample mean is of the order of
-# $\sqrt{\mathrm{MSE}/F}\approx2$–3 m) plus the small bias that the tiny gains still pick up. This
-# estimator is ours, not the paper's, and its $\mathfrak S$ is not claimed to be a bound.
-#
-# **Is the open-loop behaviour of targets 2, 3 an artefact of the grid edge?** Only partly: with
-# the interior weight set `weights_interior` (gains up to ~1 for targets 2, 3) their estimates get
-# *worse*, not better (time-averaged MSE and relative RMS in the printout of the Monte Carlo
-# section and in C7): with attack probabilities 0.5 and 0.7 a non-zero gain pulls the estimate
-# toward $\xi\approx0$ in most steps. "Tracking does not match" therefore holds for a
-# non-degenerate gain too; target 1 is nearly unchanged.
+# every attacked step pulls the estimate toward $\xi$, a bias proportional to the state. One factor in
+# the innovation, $y_i(k)-\check\psi_i\Phi C_iH_\epsilon\hat x_i(k|k-1)$ (same gain (28)), gives
+# $\mathbb E e(k|k)=(I-\check\psi_iL\Gamma)\mathbb E e(k|k-1)-(1-\check\psi_i)L\Phi\xi_i$: only the bounded $\xi$
+# remains. Exact expectations below (the paper's $\mathfrak S$ is not claimed to bound this estimator).
 
 # %%
-ERR_MEAN = (out["x"] - out["xhat"]).mean(axis=0)  # (T+1, N, 4)
-ERR_MEAN_DB = (out_debiased["x"] - out_debiased["xhat"]).mean(axis=0)
-ERR_MEAN_OL = (open_loop["x"] - open_loop["xhat"]).mean(axis=0)  # Monte Carlo noise level
+EX_DEBIASED = exact_moments(W_MAIN, variant=coef, debias=True)
+EX_OPEN = C7_ROWS["open-loop prediction"]
 fig, axes = plt.subplots(2, N, figsize=(plotting.PAGE_WIDTH, 4.6), sharex=True,
                          layout="constrained")
 for i in range(N):
-    axes[0, i].semilogy(kk[1:], MSE[1:, i], color="tab:red", label="paper (8)")
-    axes[0, i].semilogy(kk[1:], mse(out_debiased)[1:, i], color="tab:green",
-                        label="debiased innovation (ours)")
-    axes[0, i].semilogy(kk[1:], mse(open_loop)[1:, i], ":", color="k", lw=0.9,
-                        label="open-loop prediction")
+    for ex, colour, ls, label in ((EX, "tab:red", "-", "paper (8)"),
+                                  (EX_DEBIASED, "tab:green", "-", "debiased innovation (ours)"),
+                                  (EX_OPEN, "k", ":", "open-loop prediction")):
+        axes[0, i].semilogy(kk[1:], exact_mse(ex)[1:, i], ls, color=colour, label=label)
+        axes[1, i].plot(kk, ex["mean_e"][:, i, 0], ls, color=colour, label=label)
+    axes[0, i].set_ylim(bottom=log_floor(exact_mse(EX)[:, i], exact_mse(EX_DEBIASED)[:, i]))
     axes[0, i].set_title(f"target {i + 1}")
-    axes[0, i].set_ylim(bottom=1e-2)
-    axes[1, i].plot(kk, ERR_MEAN[:, i, 0], color="tab:red", label="paper (8)")
-    axes[1, i].plot(kk, ERR_MEAN_DB[:, i, 0], color="tab:green", label="debiased (ours)")
-    axes[1, i].plot(kk, ERR_MEAN_OL[:, i, 0], ":", color="k", lw=0.9, label="open-loop prediction")
     axes[1, i].axhline(0.0, color="k", lw=0.6)
     axes[1, i].set_xlabel("time step k [–]")
-axes[0, 0].set_ylabel("MSE$_i(k)$ [m², m²/s²]")
+axes[0, 0].set_ylabel("$\\mathbb{E}\\|e_i(k|k)\\|^2$ [m², m²/s²]")
 axes[1, 0].set_ylabel("mean error of $X^p$ [m]")
-axes[0, 0].legend(fontsize=7, loc="lower right")
-fig.suptitle(f"Ours: removing the attack-induced bias ({F} runs)")
+fig.legend(*axes[0, 0].get_legend_handles_labels(), loc="outside lower center", ncols=3, fontsize=7,
+           frameon=False)
+fig.suptitle("Ours: removing the attack-induced bias (exact expectations, gains (28))")
 plotting.save_figure(fig, FIG_DIR, "extra_debiased_estimator",
-                     data={"k": kk, "mse_paper": MSE, "mse_debiased": mse(out_debiased),
-                           "mse_open_loop": mse(open_loop), "mean_err_Xp_paper": ERR_MEAN[:, :, 0],
-                           "mean_err_Xp_debiased": ERR_MEAN_DB[:, :, 0],
-                           "mean_err_Xp_open_loop": ERR_MEAN_OL[:, :, 0]})
-plt.show()
+                     data={"k": kk, "mse_paper": exact_mse(EX), "mse_debiased": exact_mse(EX_DEBIASED),
+                           "mse_open_loop": exact_mse(EX_OPEN),
+                           "mean_err_Xp_paper": EX["mean_e"][:, :, 0],
+                           "mean_err_Xp_debiased": EX_DEBIASED["mean_e"][:, :, 0],
+                           "mean_err_Xp_open_loop": EX_OPEN["mean_e"][:, :, 0]})
+X1_REDUCTION = 1 - exact_mse(EX_DEBIASED)[1:, 0].mean() / exact_mse(EX)[1:, 0].mean()
+print(f"target 1: time-averaged E||e||^2 reduced by {X1_REDUCTION:.3f}; mean X^p error at T: "
+      f"{EX['mean_e'][-1, 0, 0]:.3f} (paper) vs {EX_DEBIASED['mean_e'][-1, 0, 0]:.3f} (debiased)")
+
+# %% [markdown]
+# ## The declared space: where each verdict holds
+#
+# `make robustness` ran this notebook at every point of the declared space (`notebooks/li2025.toml`):
+# the four readings `weight_rule`, `xhat_moment`, `coupling_factor`, `attack_signal` crossed with a
+# Sobol sample of four (`T`, `mc_seed`) pairs, plus the default point (65 points). Left: C7's headline
+# (the largest $\rho_i(T)$ of the paper design) against the horizon; middle: C2's decisive ratio (ZOH /
+# zero-input MSE of the informative target) with its outcome; right: the outcome of every claim at every
+# point. The figure is drawn from the committed `figures/li2025/robustness.csv`.
+#
+# Cost: a point is one kernel start (~3.5 s) plus this notebook with figures off (~3 s at $T=100$);
+# the sweep used 470 s of CPU for 65 points, i.e. about 4 minutes on two idle cores. A denser design
+# costs proportionally: $n=8$ Sobol pairs (129 points) about 8 minutes, a third level of one reading
+# about 6 minutes, the full factorial of the four readings with eight horizons and two seeds (256
+# points) about 16 minutes.
+
+# %%
+ROBUSTNESS_CSV = results.resolve("figures/li2025/robustness.csv")
+OUTCOME_MARKER = {"holds": "o", "fails": "x", "fails-premise": "^"}
+RULE_COLOUR = {"grid": "tab:orange", "interior": "tab:purple"}
+
+
+def sweep_scatter(ax, rows, cid: str, threshold: float, ylabel: str) -> None:
+    """Claim cid's headline value against T at every sweep point: marker = outcome, colour = weights."""
+    for outcome, marker in OUTCOME_MARKER.items():
+        for rule, colour in RULE_COLOUR.items():
+            sel = [r for r in rows if r[f"{cid}.outcome"] == outcome and r["weight_rule"] == rule
+                   and r[f"{cid}.value"] != ""]
+            if sel:
+                ax.scatter([float(r["T"]) for r in sel], [float(r[f"{cid}.value"]) for r in sel],
+                           marker=marker, s=18, color=colour, label=f"{outcome}, {rule} weights")
+    ax.axhline(threshold, color="k", lw=0.7)
+    ax.set_xlabel("horizon T [steps]")
+    ax.set_ylabel(ylabel)
+    ax.legend(fontsize=6.5, loc="best")
+
+
+fig, axes = plt.subplots(1, 3, figsize=(plotting.PAGE_WIDTH, 3.4), layout="constrained",
+                         gridspec_kw={"width_ratios": [1, 1, 1.3]})
+if ROBUSTNESS_CSV.exists():
+    with ROBUSTNESS_CSV.open() as fh:
+        sweep_rows = [r for r in csv.DictReader(fh) if r["status"] == "ok"]
+    sweep_scatter(axes[0], sweep_rows, "C7", 0.1, "C7: max$_i\\,\\rho_i(T)$, paper design [–]")
+    sweep_scatter(axes[1], sweep_rows, "C2", 1.0, "C2: MSE ratio ZOH / zero-input [–]")
+    cids = [c[:-len(".outcome")] for c in sweep_rows[0] if c.endswith(".outcome")]
+    code = {"holds": 2, "fails": 0, "fails-premise": 1}
+    outcome_grid = np.array([[code.get(r[f"{c}.outcome"], np.nan) for r in sweep_rows] for c in cids])
+    order = np.argsort([float(r["T"]) for r in sweep_rows], kind="stable")
+    outcome_colours = plt.matplotlib.colors.ListedColormap(["tab:red", "0.7", "tab:blue"])
+    axes[2].imshow(outcome_grid[:, order], aspect="auto", interpolation="nearest",
+                   cmap=outcome_colours, vmin=0, vmax=2)
+    axes[2].set_yticks(range(len(cids)), cids)
+    axes[2].grid(False)
+    axes[2].set_xlabel("design point, sorted by T [–]")
+    axes[2].set_title("blue: holds, red: fails, grey: premise fails", fontsize=8)
+    robustness_data = {"T": [float(r["T"]) for r in sweep_rows]} | {
+        f"{cid}_value": [float(r[f"{cid}.value"]) if r[f"{cid}.value"] else np.nan for r in sweep_rows]
+        for cid in ("C2", "C7")}
+else:
+    for ax in axes:
+        ax.text(0.5, 0.5, "no sweep yet:\nrun make robustness", ha="center", va="center",
+                transform=ax.transAxes)
+    robustness_data = {"T": [np.nan], "C2_value": [np.nan], "C7_value": [np.nan]}
+fig.suptitle("Robustness sweep over the declared space")
+_ = plotting.save_figure(fig, FIG_DIR, "extra_robustness_map", data=robustness_data)
 
 # %% [markdown]
 # ## Claims
 #
-# | id | paper | what we measure |
-# |---|---|---|
-# | C1 | Fig. 7: MSE$_i(k)$ always below the minimum upper bound | MSE$_i(k)\le$ mean$_f$ tr $\mathfrak S^{(f)}_i(k\|k)$ for all $k=1..T$, corrected coefficients; an empirical result (the gain depends on the run's data), the ensemble variant reported next to it |
-# | C1b | the same with the coefficients as printed (Theorem 2) | fraction of $k$ where it holds, grid-chosen weights; plus the one-step exact counterexample |
-# | C2 | Fig. 6 / Remark 2: ZOH does not improve on zero-input | $r_i$ = time-averaged MSE (ZOH) / time-averaged MSE (zero-input) ≥ 0.95; only target 1 is informative (gain ≈ 0 for 2, 3); ratios with `weights_interior` reported |
-# | C3a | Theorem 3: its conditions (a) $1+\alpha_5+\alpha_6\le c_0$, (b) $\eta_*\ge\phi_*$, (c) $\eta^*\le\phi^*$ | evaluated with the literal Assumption-1 constants at the data-driven $\phi$'s and on a $(\phi_*,\phi^*)$ grid; holds if all three can be met for every target |
-# | C3b | Fig. 8: $\|e_i(k\|k)\|^2$ below $UB_i(k)$ | with the **data-driven** envelope: $\|e_i(k\|k)\|^2\le UB_i(k)$ for every run and $k$, MSE$_i(k)\le UB_i(k)$; the envelope ($10^{13}$–$10^{17}$) makes this vacuous |
-# | C4 | Remark 1: RRL-MAP fairness | every sensor served lcm$(m,n_y)/n_y$ times in every window of $U$ steps, $\|\varepsilon(k)\|=m$ |
-# | C5 | (6): $\Pr\{\psi_i=0\}=1-\check\psi_i$ | empirical attack frequency within 4 binomial standard errors |
-# | C6 | (sanity) corrected (17)–(18)–(28) at $\check\psi=1$, $K_i=\emptyset$, $\lambda=0$ is the Kalman filter | max relative deviation from the textbook Riccati recursion ≤ 1e−10 |
-# | C7 | Figs. 2–4: "estimated positions and velocities well match" the true ones | relative RMS error $\sqrt{\sum_k\mathrm{MSE}_i}/\sqrt{\sum_k\mathbb E\|x_i\|^2}\le0.1$ (our threshold) with the grid weights **or** with `weights_interior`; the open-loop ratio reported |
-# | X1 | ours: the debiased innovation removes the bias | time-averaged MSE of target 1 reduced by ≥ 25 % and $\|$mean error of $X^p_1(T)\|$ reduced |
-# | X2 | ours: vectorised Monte Carlo = loop over runs | max deviation of $\hat x$, $\mathfrak S$ over 5 runs ≤ 1e−9 |
+# Verdicts over the declared space (65 points, `figures/li2025/robustness.json`); the point values
+# are those of the default run.
+#
+# | id | paper (source) | what we measure | verdict |
+# |---|---|---|---|
+# | C1 | the bound $\mathfrak S_i(k\|k)$ holds at every $k$ (Theorems 1–2, Fig. 7) | exact: $\max_{k,i}\lambda_{\max}(\mathfrak S^{-1/2}P\,\mathfrak S^{-1/2})\le1+10^{-9}$, corrected coefficients, deterministic gains with the exact $\mathbb E\{\hat x\hat x^T\}$, paper $\check\psi$ and $\check\psi\in\{1,0.99,0.9,0.5,0.3\}$; default: 1 − 4·10⁻⁹ (tight at $\check\psi=1$), 0.97 / 0.89 / 0.56 at the paper's $\check\psi$ | **holds** (65/65) |
+# | C1c | Fig. 7: MSE always below the bound (Section IV) | Monte Carlo as the paper runs it: at no $k$ is the upper end of the Bonferroni $t$-interval of mean(tr $\mathfrak S$ − $\|e\|^2$) below 0; default: smallest relative margin 0.79 [0.69, 0.90] | **holds** (65/65) |
+# | C1b | the same with the printed coefficients (Theorem 2) | the certificate of C1: largest share 2.9·10³ / 1.8·10⁴ / 3.4·10⁵, first violation at $k=2$ | **fails** (65/65) |
+# | C2 | ZOH does not improve on zero-input (Remark 2, Fig. 6) | MSE ratio ZOH / zero-input with paired bootstrap 95 % intervals, judged on informative targets (mean $\|L\Gamma\|\ge0.01$); default: target 1 only, 1.07 [1.04, 1.11] | **undetermined**: 63/65 (97 %, [0.89, 0.99]); fails at $T=147$, grid weights, ensemble surrogate, sin/cos attack |
+# | C3a | Theorem 3's conditions (a)–(c) | literal Assumption-1 constants, data-driven $\phi$'s and a $(\phi_*,\phi^*)$ grid; (c) $\eta^*\le\phi^*$ never holds (min $\eta^*/\phi^*\ge146$) | **fails** (65/65) |
+# | C3b | Fig. 8: $\|e_i\|^2\le UB_i$ confirms Theorem 3 | data-driven envelope ($10^{13}$–$10^{17}$, vacuous); premise C3a | **fails-premise** (65/65) |
+# | C4 | RRL-MAP fairness (Remark 1) | counts per $U$-window, exact | **holds** |
+# | C5 | $\Pr\{\psi_i=0\}=1-\check\psi_i$ (6) | attack frequency in the 99.99 % Wilson interval | **holds** |
+# | C6 | (sanity, ours) Kalman limit of (17)–(18)–(28) | deviation from the Riccati recursion ≤ 1e−10 | **holds** |
+# | C7 | Figs. 2–4: estimates "well match" | exact relative RMS $\rho_i(T)\le0.1$ (our threshold) for every target; default 0.34 / 0.32 / 0.21 | **fails** (65/65; 0.25–0.66) |
+# | X1 | ours: debiased innovation removes the bias | exact: target-1 $\mathbb E\|e\|^2$ −53 %, mean $X^p$ error 6.5 → 0.02 m | **holds** |
+# | X2 | ours: vectorised = loop over runs | relative deviation ≤ 1e−9 | **holds** |
+# | X3 | ours: the exact recursion is right | Monte Carlo of the same gains (2000 runs) covers the exact value (99.9 % $t$-interval) | **holds** |
+# | X4 | ours: the tracking failure is intrinsic to (8) | per-step optimal gain > 0.1 (0.17 / 0.19 / 0.16), oracle ≤ 0.1 (0.016 / 0.013 / 0.012) | **holds** (65/65) |
 
 # %%
+MC_TOL = results.Tolerance(
+    rtol=1e-7, atol=1e-10,
+    reason="Monte Carlo statistics over the F runs: the random streams are reproducible "
+    "(SeedSequence, PCG64) but sums over runs change their last digits with the BLAS build")
+EIG_TOL = results.Tolerance(
+    rtol=1e-5, atol=1e-12,
+    reason="extreme eigenvalues of nearly singular bound matrices (phi_* is ~1e-8 of phi^*) "
+    "and products of them: the last digits depend on the LAPACK build")
+CERT_TOL = results.Tolerance(
+    rtol=1e-6, atol=1e-9,
+    reason="smallest eigenvalue of the difference of two matrices of norm up to ~1e4 after a "
+    "T-step recursion, relative to the larger: rounding moves it at the 1e-12 level")
 claims = {}
-frac_c1 = np.mean(MSE_C[1:] <= TRS_C[1:], axis=0)
 claims["C1"] = results.claim(
-    paper="Fig. 7: MSE_i(k) is always below its minimum upper bound tr S_i(k|k) (Theorems 1-2)",
-    check="fraction of k = 1..T with MSE_i(k) <= mean_f tr S_i(k|k) (corrected coefficients), "
-    "per target; holds if 1 for every target. Also min_k(tr S - MSE), and the fraction and gap "
-    "with the other E[xhat xhat^T] surrogate (reported, not part of the verdict). EMPIRICAL: with "
-    "xhat_moment = 'run' the gain depends on the run's data, while (21) assumes a deterministic "
-    "gain, so this is a measured result, not a consequence of the corrected Theorem 1.",
-    measured={"fraction": frac_c1, "min_gap": (TRS_C[1:] - MSE_C[1:]).min(axis=0),
-              "xhat_moment": xhat_moment,
-              "fraction_other_xhat_moment": frac_below(out_other_moment),
-              "min_gap_other_xhat_moment": (mean_trace(out_other_moment)
-                                            - mse(out_other_moment))[1:].min(axis=0)},
-    threshold=1.0,
-    holds=bool(np.all(frac_c1 == 1.0)),
+    paper="Theorems 1-2 and Fig. 7: S_i(k|k) is an upper bound of the estimation error covariance "
+    "at every k, so MSE_i(k) stays below its minimum upper bound",
+    source="Theorem 1 (17)-(18), Theorem 2 (28), Fig. 7",
+    check="EXACT, corrected coefficients: gains (28) with the exact E{xhat xhat^T} (deterministic), "
+    "exact P_i(k) = E{e_i e_i^T} by the second-moment recursion; certificate max over k = 1..T and "
+    "targets of lambda_max(S_i^-1/2 P_i S_i^-1/2) <= 1 + 1e-9 (S_i >= P_i as matrices), at the "
+    "paper's psi_check and at every psi_check of c1_psi_scan (all targets), weights in use "
+    "(weight_rule), (17) reading in use (coupling_factor). Reported: per scenario the largest share "
+    "and min_k lambda_min(S_i - P_i); min over k >= 5 of tr S / tr P per target",
+    measured={"max_share": C1_MAX,
+              "max_share_per_scenario": {n: v.max(axis=0) for n, v in C1_SHARE.items()},
+              "min_eig_S_minus_P_per_scenario": C1_GAP,
+              "min_trS_over_trP_k5": (TRS_EX[K5] / TRP_C[K5]).min(axis=0),
+              "weight_rule": weight_rule, "coupling_factor": coupling_factor},
+    threshold=1 + 1e-9, holds=bool(C1_MAX <= 1 + 1e-9), key="max_share", tolerance=CERT_TOL,
+    section="C1 — the corrected bound, certified by the exact second-moment recursion",
 )
-MSE_P, TRS_P = mse(out_printed), mean_trace(out_printed)
-frac_c1b = np.mean(MSE_P[1:] <= TRS_P[1:], axis=0)
+c1c_cell = (d_runs.mean(axis=0) / TRS_C[1:])[c1c_worst]
+claims["C1c"] = results.claim(
+    paper="Fig. 7: MSE_i(k) is always below its minimum upper bound",
+    source="Section IV, Fig. 7",
+    check="MONTE CARLO as the paper runs it (Algorithm 1 with the xhat_moment surrogate, corrected "
+    "coefficients, F runs): d_f(k) = tr S_f(k|k) - ||e_f(k|k)||^2; holds if at every k = 1..T and "
+    "target the upper end of the Bonferroni t-interval of mean_f d_f(k) (family level 95 %, "
+    "1 - 0.05/(3T) per cell) is >= 0. Headline: mean d / mean tr S at the cell with the smallest "
+    "upper end, with its interval. Reported: min over k >= 5 of mean tr S / MSE; the paper's literal "
+    "reading, the fraction of k with MSE <= mean tr S (noise-sensitive where the bound is tight)",
+    measured={"worst_cell_relative_margin": c1c_cell, "worst_cell_k": int(c1c_worst[0]) + 1,
+              "worst_cell_target": int(c1c_worst[1]) + 1,
+              "min_trS_over_mse_k5": (TRS_C[K5] / MSE_C[K5]).min(axis=0),
+              "fraction_k_mse_below": np.mean(MSE_C[1:] <= TRS_C[1:], axis=0),
+              "xhat_moment": xhat_moment},
+    interval=results.interval(d_lo[c1c_worst] / TRS_C[1:][c1c_worst], c1c_rel_hi[c1c_worst],
+                              level=C1C_LEVEL, method="t over runs, Bonferroni over 3T cells"),
+    threshold=0.0, holds=bool(c1c_rel_hi.min() >= 0), key="worst_cell_relative_margin",
+    tolerance=MC_TOL,
+    section="Fig. 7 — $\\mathrm{MSE}_i(k)$ over $F$ runs and the minimum upper bound (C1c)",
+)
+C1B_MAX = C1B_SHARE.max(axis=0)
 claims["C1b"] = results.claim(
     paper="Theorems 1-2 with the coefficients as printed: S_i(k|k) bounds the error covariance",
-    check="fraction of k with MSE_i(k) <= mean_f tr S_i(k|k), printed coefficients, weights from "
-    "the Remark-4 grid; and lambda_min(bound - exact one-step covariance) (target 3, k = 2). "
-    "Reported: the same fraction when the grid keeps only alpha2 > alpha3 (Theorem 3's condition)",
-    measured={"fraction": frac_c1b, "time_avg_mse": MSE_P[1:].mean(axis=0),
-              "time_avg_tr_S": TRS_P[1:].mean(axis=0),
-              "fraction_thm3_restricted": np.mean(
-                  mse(out_printed_thm3)[1:] <= mean_trace(out_printed_thm3)[1:], axis=0),
-              "time_avg_mse_thm3_restricted": mse(out_printed_thm3)[1:].mean(axis=0),
-              "one_step_lambda_min": one_step["paper"][0],
-              "one_step_lambda_min_corrected": one_step["corrected"][0]},
-    threshold=1.0,
-    holds=bool(np.all(frac_c1b == 1.0)) and one_step["paper"][0] >= -1e-9,
+    source="Theorem 2, (18), (28)",
+    check="EXACT, printed coefficients, the weights our Remark-4 grid picks for them (weights_paper; "
+    "weights_interior under weight_rule 'interior'): the certificate of C1, max over k and targets of "
+    "lambda_max(S^-1/2 P S^-1/2) <= 1 + 1e-9; a larger value is an exact counterexample (None: S "
+    "not positive definite). Reported: first violating k per target (0: none), the same for the "
+    "alpha2 > alpha3 weights (Theorem 3's condition), time-averaged tr S / E||e||^2 (exact), the "
+    "Monte Carlo fraction of k with MSE <= mean tr S",
+    measured={"max_share": float(C1B_MAX.max()) if np.all(np.isfinite(C1B_MAX)) else None,
+              "max_share_per_target": [float(v) if np.isfinite(v) else None for v in C1B_MAX],
+              "first_violating_k": C1B_FIRST_K,
+              "max_share_alpha2_gt_alpha3": [float(v) if np.isfinite(v) else None
+                                             for v in C1B_SHARE_THM3.max(axis=0)],
+              "trS_over_mse_exact": np.trace(EX_PRINTED["S"], axis1=-2, axis2=-1)[1:].mean(axis=0)
+              / exact_mse(EX_PRINTED)[1:].mean(axis=0),
+              "fraction_monte_carlo": np.mean(mse(out_printed)[1:] <= mean_trace(out_printed)[1:], 0),
+              "fraction_monte_carlo_alpha2_gt_alpha3": np.mean(
+                  mse(out_printed_thm3)[1:] <= mean_trace(out_printed_thm3)[1:], axis=0)},
+    threshold=1 + 1e-9, holds=bool(C1B_MAX.max() <= 1 + 1e-9), key="max_share", tolerance=CERT_TOL,
+    section="The printed coefficients are not a bound (C1b)",
 )
-ratio = mse(out_zoh)[1:].mean(axis=0) / MSE[1:].mean(axis=0)
+informative = [i for i in range(N) if INFORMATIVE[i]]
+decisive = min(informative, key=lambda i: C2_CI[i, 1]) if informative else None
 claims["C2"] = results.claim(
-    paper="Fig. 6 / Remark 2: ZOH does not improve the estimation performance over zero-input",
-    check="r_i = time-averaged MSE under ZOH / time-averaged MSE under zero-input >= 0.95 "
-    "(grid weights). Only target 1 is informative: targets 2, 3 have gains ~0, so r_2, r_3 ~ 1 "
-    "whatever the update (r_3 < 1 passes through the tolerance). Reported: r_i with "
-    "weights_interior (non-negligible gains for every target).",
-    measured={"ratio": ratio, "ratio_interior_weights": time_avg_ratio(out_interior_zoh,
-                                                                       out_interior),
-              "max_abs_gain": max_gain["grid"],
-              "max_abs_gain_interior_weights": max_gain["interior"]},
-    threshold=0.95, holds=bool(np.all(ratio >= 0.95)),
+    paper="Fig. 6 / Remark 2: the ZOH method did not lead to an improvement of the estimation "
+    "performance over zero-input",
+    source="Remark 2, Section IV, Fig. 6",
+    check=f"r_i = time-averaged MSE (ZOH) / time-averaged MSE (zero-input), same {F} runs, paired "
+    "bootstrap 95 % interval over the runs. Only informative targets count: mean over runs and k of "
+    f"||L_i Gamma_i||_2 >= gain_negligible = {gain_negligible:g} (otherwise both estimators are the "
+    "open-loop prediction and the target is undetermined). Fails if for some informative target the "
+    "whole interval lies below 1 (ZOH significantly better); premise: at least one informative "
+    "target. Headline: r of the informative target with the smallest upper end, with its interval",
+    measured={"decisive_ratio": None if decisive is None else C2_RATIO[decisive],
+              "decisive_target": None if decisive is None else decisive + 1,
+              "ratio": C2_RATIO, "interval_low": C2_CI[:, 0], "interval_high": C2_CI[:, 1],
+              "gain_share": GAIN_SHARE, "informative": INFORMATIVE, "status": C2_STATUS},
+    interval=None if decisive is None else results.interval(
+        *C2_CI[decisive], method="paired bootstrap over runs, ratio of means"),
+    threshold=1.0, holds=bool(informative) and all(C2_CI[i, 1] >= 1 for i in informative),
+    premise=("at least one target is informative (mean ||L_i Gamma_i|| >= gain_negligible)",
+             bool(informative)),
+    key="decisive_ratio", tolerance=MC_TOL, section="Fig. 6 against Fig. 5 — ZOH is not better (C2)",
 )
-frac_ub_err = np.mean(ERR2[:, 1:] <= UB[None, 1:], axis=(0, 1))
-frac_ub_mse = np.mean(mse(out_corr)[1:] <= UB[1:], axis=0)
+
 
 def cond_summary(rows_):
     return {key: [r[key] for r in rows_] for key in rows_[0]}
 
 
 cond_main = THM3_COND["printed, weights in use"]
+C3A_HOLDS = bool(all(r["a_alpha56_exist"] and r["bc_pair_on_grid"] for r in cond_main))
 claims["C3a"] = results.claim(
     paper="Theorem 3: if 1 + alpha5 + alpha6 <= 1 - (alpha3 - alpha2)(1 - psi_check), "
     "eta_* >= phi_*, eta^* <= phi^* (phi_* I <= S(0|0) <= phi^* I) and E[x x^T] <= X*^2 I, the "
     "error is exponentially bounded in mean square",
+    source="Theorem 3, (34)-(38), Assumption 1",
     check="conditions with the literal Assumption-1 constants of the example, X*^2 = max_k "
     "lambda_max(MC E[x x^T]), weights in use, printed coefficients: (a) c0 > 1 (positive "
     "alpha5, alpha6 exist); (b), (c) at the data-driven (phi_*, phi^*) and for some pair "
     "phi_* <= 1 <= phi^* on a log grid (phi_scan). holds if (a) and a grid pair meeting (b) "
     "and (c) exist for every target. Reported: the same with the corrected coefficients and "
-    "with the alpha2 > alpha3 weights; max rank of L Phi C H (36 needs full rank 4)",
+    "with the alpha2 > alpha3 weights; max rank of L Phi C H ((36) needs full rank 4)",
     measured={"printed_weights_in_use": cond_summary(cond_main),
               "corrected_weights_in_use": cond_summary(THM3_COND["corrected, weights in use"]),
               "printed_alpha2_gt_alpha3_weights": cond_summary(
                   THM3_COND["printed, alpha2 > alpha3 weights"]),
               "max_rank_L_Phi_C_H": THM3_RANK},
     threshold={"c0": 1.0, "grid_log10": phi_scan, "rank_needed": NX},
-    holds=bool(all(r["a_alpha56_exist"] and r["bc_pair_on_grid"] for r in cond_main)),
+    holds=C3A_HOLDS, tolerance=EIG_TOL,
+    section="Theorem 3's own conditions on the example (C3a)",
 )
+UB_DEFINED = [bool(UB_INFO[i]["defined"]) for i in range(N)]
+frac_ub_err = [float(np.mean(ERR2[:, 1:, i] <= UB[None, 1:, i])) if UB_DEFINED[i] else None
+               for i in range(N)]
+frac_ub_mse = [float(np.mean(mse(out_corr)[1:, i] <= UB[1:, i])) if UB_DEFINED[i] else None
+               for i in range(N)]
 claims["C3b"] = results.claim(
-    paper="Fig. 8: ||e_i(k|k)||^2 stays below UB_i(k)",
+    paper="Fig. 8: ||e_i(k|k)||^2 stays below UB_i(k), which confirms Theorem 3",
+    source="Section IV, Fig. 8, (56)",
     check="DATA-DRIVEN envelope (consistent Lemma 3; phi_*, phi^*, Lambda, E||x||^2 read off the "
     "same runs, since Theorem 3's conditions fail, C3a): fraction of (run, k) with "
-    "||e_i(k|k)||^2 <= UB_i(k) and of k with MSE_i(k) <= UB_i(k). The envelope reaches "
-    "1e13-1e17 (UB_T / max MSE reported), which makes the inequality vacuous: holds records the "
-    "measurement, it is not evidence for Theorem 3",
-    measured={"fraction_err": frac_ub_err, "fraction_mse": frac_ub_mse, "UB_T": UB[-1],
+    "||e_i(k|k)||^2 <= UB_i(k) and of k with MSE_i(k) <= UB_i(k), per target where the recipe is "
+    "defined (c0 > 1; None otherwise). holds if all are 1. The envelope reaches 1e13-1e17 at the "
+    "default point (UB_T / max MSE reported), so the inequality is vacuous; the premise is C3a",
+    measured={"fraction_err": frac_ub_err, "fraction_mse": frac_ub_mse,
+              "UB_T": [float(UB[-1, i]) if UB_DEFINED[i] else None for i in range(N)],
+              "UB_T_over_max_mse": [float(UB_RATIO[i]) if UB_DEFINED[i] else None for i in range(N)],
               "max_mse": mse(out_corr)[1:].max(axis=0),
-              "UB_T_over_max_mse": UB[-1] / mse(out_corr)[1:].max(axis=0),
               "phi_lower": [UB_INFO[i]["phi_lower"] for i in range(N)],
               "phi_upper": [UB_INFO[i]["phi_upper"] for i in range(N)],
               "rho": [UB_INFO[i]["rho"] for i in range(N)]},
-    threshold=1.0,
-    holds=bool(np.all(frac_ub_err == 1.0) and np.all(frac_ub_mse == 1.0)),
+    threshold=1.0, holds=bool(all(UB_DEFINED) and all(f == 1.0 for f in frac_ub_err + frac_ub_mse)),
+    premise=("Theorem 3's conditions hold on the example (C3a)", C3A_HOLDS), tolerance=EIG_TOL,
+    section="Fig. 8 — $\\|e_i(k|k)\\|^2$ and $UB_i(k)$ (Theorem 3, made consistent)",
 )
 set_sizes = np.array([len(set(row.tolist())) for row in SETS])
 per_window = lcm(m, n_y) // n_y
 claims["C4"] = results.claim(
     paper="Remark 1: every sensor gets equal access within each U steps; |eps(k)| = m, no "
     "channel reused",
+    source="Remark 1, (2)",
     check=f"counts of each sensor in every window of U = {U} steps equal lcm(m, n_y)/n_y = "
-    f"{per_window}; distinct sensors per step = m",
+    f"{per_window}; distinct sensors per step = m (exact)",
     measured={"window_counts_min": window_counts.min(axis=0),
               "window_counts_max": window_counts.max(axis=0), "U": U,
               "distinct_per_step_min": set_sizes.min(), "distinct_per_step_max": set_sizes.max()},
     threshold={"per_window": per_window, "m": m},
     holds=bool(np.all(window_counts == per_window) and np.all(set_sizes == m)),
+    section="RRL-MAP (2)–(5)",
 )
-attack_freq = 1 - DRAWS["psi"].mean(axis=(0, 1))
-tol = 4 * np.sqrt(PSI * (1 - PSI) / (F * T))
+C5_LEVEL = 0.9999
+attacks = (DRAWS["psi"] == 0).sum(axis=(0, 1))
+c5_ci = np.array([montecarlo.wilson_interval(int(a), F * T, level=C5_LEVEL) for a in attacks])
+c5_freq, c5_expected = attacks / (F * T), 1 - PSI
+c5_inside = (c5_ci[:, 0] - 1e-12 <= c5_expected) & (c5_expected <= c5_ci[:, 1] + 1e-12)
+c5_worst = int(np.argmax(np.abs(c5_freq - c5_expected) / np.maximum(c5_ci[:, 1] - c5_ci[:, 0], 1e-12)))
 claims["C5"] = results.claim(
     paper="(6): Pr{psi_i(k) = 0} = 1 - psi_check_i (attack probabilities 0.3 / 0.5 / 0.7)",
-    check="empirical attack frequency over F x T draws within 4 binomial standard errors",
-    measured=attack_freq, threshold={"expected": 1 - PSI, "tolerance": tol},
-    holds=bool(np.all(np.abs(attack_freq - (1 - PSI)) <= tol)),
+    source="Section II-B, (6); Section IV",
+    check=f"empirical attack frequency over F x T = {F * T} draws per target; holds if 1 - psi_check_i "
+    f"lies in the {C5_LEVEL:.2%} Wilson interval for every target (family false-alarm rate "
+    "< 0.03 %). Headline: the target farthest from its expected value, relative to its interval",
+    measured={"worst_frequency": c5_freq[c5_worst], "worst_target": c5_worst + 1,
+              "frequency": c5_freq, "interval_low": c5_ci[:, 0], "interval_high": c5_ci[:, 1]},
+    interval=results.interval(*c5_ci[c5_worst], level=C5_LEVEL, method="wilson"),
+    threshold={"expected": c5_expected}, holds=bool(np.all(c5_inside)), key="worst_frequency",
+    tolerance=MC_TOL, section="Bernoulli replacement attack (6)",
 )
 claims["C6"] = results.claim(
     paper="(sanity) the bound recursion (17)-(18)-(28) reduces to the Kalman filter without "
     "attack and coupling",
+    source="ours (consistency of Theorems 1-2 with the Kalman filter)",
     check="psi = 1, K_i empty, lambda = 0, corrected coefficients: max relative |S - P_Riccati| "
-    "and max |x_hat - x_hat_KF| <= 1e-10",
+    "and max |x_hat - x_hat_KF| <= 1e-10 (exact)",
     measured={"S": kal_dev_P, "xhat": kal_dev_x}, threshold=1e-10,
-    holds=bool(kal_dev_P <= 1e-10 and kal_dev_x <= 1e-10),
+    holds=bool(kal_dev_P <= 1e-10 and kal_dev_x <= 1e-10), section="Kalman limit (C6)",
 )
-sig2 = np.mean(np.sum(out["x"] ** 2, axis=-1), axis=0)
-rel_rms = np.sqrt(MSE[1:].sum(axis=0) / sig2[1:].sum(axis=0))
-rel_rms_ol = np.sqrt(mse(open_loop)[1:].sum(axis=0) / sig2[1:].sum(axis=0))
-rel_rms_int = np.sqrt(mse(out_interior)[1:].sum(axis=0) / sig2[1:].sum(axis=0))
+C7_MAX = float(C7_TABLE["paper design"].max())
 claims["C7"] = results.claim(
-    paper="Figs. 2-4: each target's estimated positions and velocities well match the real ones",
-    check="relative RMS error sqrt(sum_k MSE_i) / sqrt(sum_k E||x_i||^2) <= 0.1 (our threshold "
-    "for 'well match') for every target, with the grid weights (gains ~0 for targets 2, 3) or "
-    "with weights_interior (non-degenerate gains); holds if either weight set tracks. The "
-    "open-loop prediction's value is reported for comparison",
-    measured={"relative_rms": rel_rms, "relative_rms_interior_weights": rel_rms_int,
-              "relative_rms_open_loop": rel_rms_ol,
-              "weights_interior": weights_interior,
-              "time_avg_mse": MSE[1:].mean(axis=0),
-              "time_avg_mse_interior_weights": mse(out_interior)[1:].mean(axis=0),
-              "time_avg_mse_open_loop": mse(open_loop)[1:].mean(axis=0)},
-    threshold=0.1, holds=bool(np.all(rel_rms <= 0.1) or np.all(rel_rms_int <= 0.1)),
+    paper="Figs. 2-4: each target's estimated positions and velocities well match its real "
+    "positions and velocities",
+    source="Section IV, Figs. 2-4",
+    check="EXACT: relative RMS error rho_i(T) = sqrt(sum_k E||e_i(k|k)||^2 / sum_k E||x_i(k)||^2) "
+    "of the paper design ((8), gain (28), coefficients in use, exact E{xhat xhat^T}, weights in "
+    "use) <= 0.1 for every target (0.1 is our reading of 'well match'). Headline: max_i rho_i(T). "
+    "Rows reported: the same design in Monte Carlo with the xhat_moment surrogate (95 % t-interval), "
+    "the per-step optimal gain for (8), the debiased innovation with optimal gain, an oracle Kalman "
+    "filter dropping attacked packets (95 % interval over the psi draws), no attack, the additive "
+    "reading of (6), the open-loop prediction",
+    measured={"max_relative_rms": C7_MAX, "relative_rms": C7_TABLE,
+              "monte_carlo_paper_design": C7_MC,
+              "monte_carlo_paper_design_interval": np.stack(C7_INTERVALS["paper design, Monte Carlo"]),
+              "oracle_interval": np.stack(C7_INTERVALS["oracle Kalman filter"]),
+              "horizon": T, "weight_rule": weight_rule},
+    threshold=0.1, holds=bool(C7_MAX <= 0.1), key="max_relative_rms", tolerance=MC_TOL,
+    section="Tracking (Figs. 2–4, C7): the paper's design against its baselines",
 )
-mse_db = mse(out_debiased)
-gain_db = 1 - mse_db[1:, 0].mean() / MSE[1:, 0].mean()
 claims["X1"] = results.claim(
     paper="(ours) the innovation y - psi_check Phi C H x_hat(k|k-1) removes the attack bias",
-    check="target 1: relative reduction of the time-averaged MSE >= 0.25 and |mean error of "
-    "X^p_1(T)| smaller than with (8)",
-    measured={"mse_reduction_target1": gain_db,
-              "mean_err_Xp_T_paper": ERR_MEAN[-1, :, 0],
-              "mean_err_Xp_T_debiased": ERR_MEAN_DB[-1, :, 0]},
-    threshold=0.25,
-    holds=bool(gain_db >= 0.25 and abs(ERR_MEAN_DB[-1, 0, 0]) < abs(ERR_MEAN[-1, 0, 0])),
+    source="ours",
+    check="EXACT, target 1, gains (28) of the design in use: relative reduction of the "
+    "time-averaged E||e||^2 >= 0.25 and |E e_Xp(T)| smaller than with (8)",
+    measured={"mse_reduction_target1": X1_REDUCTION,
+              "mean_err_Xp_T_paper": EX["mean_e"][-1, :, 0],
+              "mean_err_Xp_T_debiased": EX_DEBIASED["mean_e"][-1, :, 0]},
+    threshold=0.25, key="mse_reduction_target1",
+    holds=bool(X1_REDUCTION >= 0.25
+               and abs(EX_DEBIASED["mean_e"][-1, 0, 0]) < abs(EX["mean_e"][-1, 0, 0])),
+    section="The smallest fix: a debiased innovation (ours, X1)",
 )
 claims["X2"] = results.claim(
     paper="(ours) the vectorised Monte Carlo pass computes the same runs as a loop over runs",
-    check="max |x_hat, S (vectorised) - x_hat, S (simulate called run by run)| over 5 runs, "
-    "xhat_moment run, <= 1e-9",
+    source="ours",
+    check="max |x_hat, S (vectorised) - x_hat, S (simulate called run by run)| / max(1, |x_hat, S|) "
+    "over 5 runs, xhat_moment run, <= 1e-9",
     measured=loop_dev, threshold=1e-9, holds=bool(loop_dev <= 1e-9),
+    tolerance=results.ROUNDING_RESIDUAL,
+    section="The numerical example: Monte Carlo runs and exact expectations",
 )
-results.write_claims(results_path, claims)
-for cid, c in claims.items():
-    print(cid, "holds" if c["holds"] else "DOES NOT HOLD")
+x3_t = (x3_runs_avg.mean(axis=0) - x3_exact) / (x3_runs_avg.std(axis=0, ddof=1) / np.sqrt(x3_runs))
+x3_worst = int(np.argmax(np.abs(x3_t)))
+claims["X3"] = results.claim(
+    paper="(ours) the exact second-moment recursion gives E||e_i||^2 of the estimator it describes",
+    source="ours",
+    check=f"Monte Carlo runs of the exact design's deterministic gains ({x3_runs} fresh runs): for "
+    "every "
+    f"target the exact time-averaged E||e_i||^2 lies in the {X3_LEVEL:.4%} t-interval (Bonferroni "
+    "over targets, family level 99.9 %) of the Monte Carlo time average. Headline: relative "
+    "difference (MC - exact)/exact of the target with the largest |t|, with its interval",
+    measured={"worst_relative_difference": (x3_runs_avg.mean(axis=0)[x3_worst] - x3_exact[x3_worst])
+              / x3_exact[x3_worst], "t_statistic": x3_t, "exact": x3_exact,
+              "monte_carlo": x3_runs_avg.mean(axis=0)},
+    interval=results.interval((x3_lo[x3_worst] - x3_exact[x3_worst]) / x3_exact[x3_worst],
+                              (x3_hi[x3_worst] - x3_exact[x3_worst]) / x3_exact[x3_worst],
+                              level=X3_LEVEL, method="t over runs, relative to the exact value"),
+    threshold=0.0, holds=bool(np.all(x3_inside)), key="worst_relative_difference",
+    tolerance=MC_TOL, section="The exact recursion agrees with Monte Carlo (X3)",
+)
+X4_OPT = C7_TABLE["per-step optimal gain for (8)"]
+X4_ORACLE_HI = C7_INTERVALS["oracle Kalman filter"][1]
+claims["X4"] = results.claim(
+    paper="(ours) the tracking failure of (8) under the replacement attack is intrinsic: no gain "
+    "choice fixes it, knowing which packets were attacked does",
+    source="ours",
+    check="EXACT: the per-step optimal gain for (8) still has max_i rho_i(T) > 0.1, while the "
+    "upper end of the oracle Kalman filter's 95 % interval of rho_i(T) is <= 0.1 for every target",
+    measured={"max_relative_rms_optimal_gain": float(X4_OPT.max()),
+              "relative_rms_optimal_gain": X4_OPT, "oracle_upper": X4_ORACLE_HI,
+              "relative_rms_debiased_optimal": C7_TABLE["debiased innovation, optimal gain"]},
+    threshold=0.1, holds=bool(X4_OPT.max() > 0.1 and X4_ORACLE_HI.max() <= 0.1),
+    key="max_relative_rms_optimal_gain", tolerance=MC_TOL,
+    section="Tracking (Figs. 2–4, C7): the paper's design against its baselines",
+)
+written = results.write_claims(results_path, claims, robustness="figures/li2025/robustness.json")
+for cid, entry in json.loads(written.read_text()).items():
+    here = results.point_verdict(entry)
+    share = entry.get("robustness", {}).get("fraction_holds")
+    print(f"{cid:>4}: {entry['verdict']}" + ("" if share is None else f" over the declared space "
+          f"(holds at {share:.0%} of its points)") + f"; at this run: {here}")
 
 # %% [markdown]
 # ## Deviations from the paper
 #
 # | item | paper | here | why |
 # |---|---|---|---|
-# | coefficients of (18), Theorem 2, Theorem 3 | $c_0=1-(\alpha_3-\alpha_2)(1-\check\psi)$ ((18): $(1-(\alpha_3-\alpha_2))(1-\check\psi)$), $\kappa_x=\check\psi+\alpha_3^{-1}+\alpha_4-1$ | $c_0=1+(\alpha_2+\alpha_3)(1-\check\psi)$, $\kappa_x=(1-\check\psi)(1+\alpha_3^{-1}+\alpha_4)$ (`coef="paper"` keeps the printed ones) | re-derived from (12) with Lemma 1; the printed ones are not a bound (C1b, one-step counterexample) |
+# | coefficients of (18), Theorem 2, Theorem 3 | $c_0=1-(\alpha_3-\alpha_2)(1-\check\psi)$ ((18): $(1-(\alpha_3-\alpha_2))(1-\check\psi)$), $\kappa_x=\check\psi+\alpha_3^{-1}+\alpha_4-1$ | $c_0=1+(\alpha_2+\alpha_3)(1-\check\psi)$, $\kappa_x=(1-\check\psi)(1+\alpha_3^{-1}+\alpha_4)$ (`coef="paper"` keeps the printed ones) | re-derived from (12) with Lemma 1; the printed ones are not a bound (C1b, exact counterexample) |
 # | (21) | $(\check\psi-1)L\Gamma\mathbb E\{xx^T\}\Gamma^TL^T$ | $(1-\check\psi)$ | sign error |
-# | (17), (20) | $(\sum_jBH)\mathfrak S_j(\sum_jH^TB^T)$; $e_je_l^T$ cross terms omitted; stray $H^T$ factors | $\|K_i\|\sum_jB_{i,j}H\mathfrak S_jH^TB_{i,j}^T$ | the printed form is undefined for $\|K_3\|=2$ and not a proven bound |
+# | (17), (20) | $(\sum_jBH)\mathfrak S_j(\sum_jH^TB^T)$; $e_je_l^T$ cross terms omitted; stray $H^T$ factors | $\|K_i\|\sum_jB_{i,j}H\mathfrak S_jH^TB_{i,j}^T$; the plain sum as the other reading (`coupling_factor`, swept) | the printed form is undefined for $\|K_3\|=2$ and not a proven bound |
 # | (29), Lemma 2 | missing minus sign; garbled first identity | (28) used as printed, solved on the scheduled rows | (28) is the stationary point; $\Pi$ has rank $m$ |
-# | $\mathbb E\{\hat x\hat x^T\}$ in (18), (28) | not specified | the run's own $\hat x\hat x^T$ (`xhat_moment="ensemble"` as option; nearly identical numbers) | no closed form; the gain then depends on the run's data while (21) assumes a deterministic gain, so C1 is an empirical result (the ensemble variant is reported next to it) |
+# | $\mathbb E\{\hat x\hat x^T\}$ in (18), (28) | not specified | exact (second-moment recursion) for the certificates and C7; the run's own $\hat x\hat x^T$ or the ensemble mean in the Monte Carlo runs (`xhat_moment`, swept) | the exact one is the theorem's own quantity (deterministic gain); the Monte Carlo surrogates make the gain data-dependent, so Fig. 7 there is a measurement (C1c) |
 # | Lemma 3, (56), Fig. 8 text | rate and additive constant swapped; sum from $l=1$ | consistent form, sum from $l=0$ | re-derived from the iteration |
-# | Theorem 3 conditions | $1+\alpha_5+\alpha_6\le c_0$, $\eta_*\ge\phi_*$, $\eta^*\le\phi^*$ assumed | evaluated (C3a): $\eta^*\le\phi^*$ fails for every $\phi^*\ge1$ on a $10^{0}$–$10^{12}$ grid, printed or corrected coefficients; (a) fails with the printed $c_0$ at the weights in use; (36) needs $L\Phi CH$ of full rank, its rank is $m=2$ | the theorem's premise is not met on the example |
-# | Theorem 3 constants | Assumption-1 constants, $\pi_*$, (47), (48), (50) | data-driven recipe (Fig. 8 section); the envelope is 1e13–1e17 and vacuous (C3b) | literal constants are 0 / undefined on the example; (50) sign; (47), (48) use the wrong-side constants |
+# | Theorem 3 conditions | $1+\alpha_5+\alpha_6\le c_0$, $\eta_*\ge\phi_*$, $\eta^*\le\phi^*$ assumed | evaluated (C3a): $\eta^*\le\phi^*$ fails for every $\phi^*\ge1$ on a $10^{0}$–$10^{12}$ grid; (36) needs $L\Phi CH$ of full rank, its rank is $m=2$ | the theorem's premise is not met on the example; C3b is recorded as fails-premise |
+# | Theorem 3 constants | Assumption-1 constants, $\pi_*$, (47), (48), (50) | data-driven recipe (Fig. 8 section); vacuous envelope $10^{13}$–$10^{17}$ | literal constants are 0 / undefined on the example; (50) sign; (47), (48) use the wrong-side constants |
 # | Assumption 1 | $h_*^2\le H_\epsilon H_\epsilon^T$ | $h_*^2I\le H_\epsilon H_\epsilon^T$, $h_*=\epsilon$ | typo |
-# | weights $\lambda,\alpha_1..\alpha_4$ | "intelligent optimisation" suggested (Remark 4), values not given | documented grid, 10 pilot runs | see the Remark-4 section; the optimum for targets 2, 3 is at the grid edge ($L\to0$) |
-# | attack signal, horizon, seeds, $\sigma$ redraw, $\mathcal V$ as $0.03I$ | not given | parameter table | |
+# | weights $\lambda,\alpha_1..\alpha_4$ | Remark 4: "can be" chosen by minimising the bound; no values | two readings (`weight_rule`, swept): our grid's minimiser (gains ≈ 0 for targets 2, 3) or an interior grid point | see the Remark-4 section |
+# | horizon, seeds, attack signal, $\sigma$ redraw, $\mathcal V$ as $0.03I$ | not given | declared spaces (horizon 30–200, seeds, two attack forms at the energy bound) | provenance table; verdicts over the space |
 # | ZOH variant (Fig. 6) | not specified | hold buffer + gain with $\Phi=I$ | the zero-input gain applied to held data is the zero-input estimator |
-# | Figs. 2–4 tracking | "well match" | not reproduced (C7): with the grid weights the gains for targets 2, 3 are ~0 (open loop) and target 1 is biased by the attack; with `weights_interior` (non-degenerate gains) targets 2, 3 get worse (relative RMS 0.48, 0.63) | the conclusion does not depend on the grid-edge choice; our debiased innovation (X1) removes target 1's bias |
-# | Fig. 6 / C2 | "ZOH does not improve" | holds; with the grid weights only target 1 is informative (ratios ≈ 1 for targets 2, 3, target 3 passes through the 0.95 tolerance); with `weights_interior` all ratios > 1 | gains ≈ 0 for targets 2, 3 at the grid edge |
-# | figures | single trajectories, curves only | first Monte Carlo run; log axes from $k=1$ ($\mathrm{MSE}(1)\approx10^{-4}$ because $E_i(0)=0$) | |
+# | Figs. 2–4 tracking | "well match" | not reproduced (C7) at any point; intrinsic to (8) under the replacement attack (X4); the additive reading of (6) would track (sensitivity row) | exact expectations, no seed |
+# | Fig. 6 / C2 | "ZOH does not improve" | judged only on targets with a non-negligible gain (target 1 with the grid weights); undetermined over the space (63/65) | gains ≈ 0 make a ratio ≈ 1 uninformative |
+# | Fig. 1 | schematic of a 9-subsystem DSS | described, not regenerated | not a result |
+# | figures | single trajectories, curves only | first Monte Carlo run; attack values in the units of the measurements they replace; log axes from $k=1$ ($\mathrm{MSE}(1)\approx10^{-4}$ because $E_i(0)=0$) | |
 
 # %%
 manifest_path = run.finish(extra={"weights": WEIGHTS})

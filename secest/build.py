@@ -1,10 +1,13 @@
 """Notebook build steps used by the Makefile.
 
-``python -m secest.build ipynb KEY``     build ``notebooks/KEY.ipynb`` from ``KEY.py`` (one way)
-``python -m secest.build prepare KEY``   delete KEY's old PNG/CSV figures before a run
-``python -m secest.build strip KEY``     strip timing metadata and cell ids after a run
-``python -m secest.build manifest KEY..`` check that every figure listed in
-                                          ``figures/manifest.toml`` exists
+``python -m secest.build ipynb KEY``
+   build ``notebooks/KEY.ipynb`` from ``KEY.py`` (one way)
+``python -m secest.build prepare KEY``
+   delete KEY's old PNG/CSV figures before a run
+``python -m secest.build strip KEY``
+   strip timing metadata and cell ids after a run
+``python -m secest.build manifest KEY..``
+   check that every figure listed in ``figures/manifest.toml`` exists
 
 The ``.ipynb`` is always rebuilt from the ``.py`` (never synced the other way:
 ``jupytext --sync`` trusts timestamps, which git scrambles). Cell ids are
@@ -52,7 +55,28 @@ def _without_ids(nb: nbformat.NotebookNode) -> nbformat.NotebookNode:
 
 
 def notebook_from_source(key: str, dst: Path) -> Path:
-    """Write the notebook of ``notebooks/<key>.py`` (outputs empty, no cell ids) to ``dst``."""
+    """Write the notebook of ``notebooks/<key>.py`` (outputs empty, no cell ids) to ``dst``.
+
+    The jupytext header is dropped and the notebook written as nbformat 4.4, so the
+    file does not depend on the jupytext version or on cell ids.
+
+    Parameters
+    ----------
+    key : str
+        Paper key naming the source ``notebooks/<key>.py``, e.g. ``"lee2020"``.
+    dst : Path
+        Where to write the ``.ipynb`` (overwritten if it exists; its folder must exist).
+
+    Returns
+    -------
+    Path
+        ``dst``.
+
+    Raises
+    ------
+    ValidationError
+        If ``notebooks/<key>.py`` does not exist.
+    """
     src, _ = _paths(key)
     nb = jupytext.read(src)
     nb.metadata.pop("jupytext", None)
@@ -61,12 +85,52 @@ def notebook_from_source(key: str, dst: Path) -> Path:
 
 
 def build_ipynb(key: str) -> Path:
-    """Write ``notebooks/<key>.ipynb`` from ``notebooks/<key>.py`` (outputs empty)."""
+    """Write ``notebooks/<key>.ipynb`` from ``notebooks/<key>.py`` (outputs empty).
+
+    Parameters
+    ----------
+    key : str
+        Paper key, e.g. ``"lee2020"``.
+
+    Returns
+    -------
+    Path
+        The notebook written, ``notebooks/<key>.ipynb`` (see :func:`notebook_from_source`).
+
+    Raises
+    ------
+    ValidationError
+        If ``notebooks/<key>.py`` does not exist.
+    """
     return notebook_from_source(key, _paths(key)[1])
 
 
 def strip_notebook(key: str) -> Path:
-    """Remove timing metadata and cell ids from the executed ``notebooks/<key>.ipynb``."""
+    """Remove timing metadata and cell ids from the executed ``notebooks/<key>.ipynb``.
+
+    Drops the notebook-level ``papermill`` / ``widgets`` metadata, the per-cell
+    ``papermill``, ``execution``, ``ExecuteTime``, ``collapsed`` and ``scrolled``
+    metadata and every cell id, and merges consecutive stream outputs of the same
+    name (their split depends on flush timing), so that executing twice leaves
+    ``git status`` clean. The notebook is rewritten in place.
+
+    Parameters
+    ----------
+    key : str
+        Paper key, e.g. ``"lee2020"``.
+
+    Returns
+    -------
+    Path
+        The rewritten notebook, ``notebooks/<key>.ipynb``.
+
+    Raises
+    ------
+    ValidationError
+        If ``notebooks/<key>.py`` does not exist.
+    FileNotFoundError
+        If ``notebooks/<key>.ipynb`` has not been built.
+    """
     _, path = _paths(key)
     nb = nbformat.read(path, as_version=4)
     for k in _NB_KEYS_DROPPED:
@@ -107,6 +171,16 @@ def prepare_figures(key: str) -> list[Path]:
     """Delete the PNG and CSV files in ``figures/<key>/`` so stale figures cannot survive a run.
 
     The outputs of ``make robustness`` (``robustness*``) are kept: the notebook reads them.
+
+    Parameters
+    ----------
+    key : str
+        Paper key, e.g. ``"lee2020"``. A missing ``figures/<key>/`` is not an error.
+
+    Returns
+    -------
+    list of Path
+        The files deleted, sorted (empty when there was nothing to delete).
     """
     folder = repo_root() / "figures" / key
     found = [*folder.glob("*.png"), *folder.glob("*.csv")] if folder.exists() else []
@@ -117,7 +191,24 @@ def prepare_figures(key: str) -> list[Path]:
 
 
 def check_manifest(keys: list[str]) -> list[str]:
-    """Return the files listed for ``keys`` in ``figures/manifest.toml`` that are missing."""
+    """Return the files listed for ``keys`` in ``figures/manifest.toml`` that are missing.
+
+    Parameters
+    ----------
+    keys : list of str
+        Paper keys; each must have a ``[<key>]`` table in the manifest.
+
+    Returns
+    -------
+    list of str
+        The missing files, as listed (paths relative to the repository root), in the
+        order of ``keys`` and of the manifest; empty when every listed file exists.
+
+    Raises
+    ------
+    ValidationError
+        If ``figures/manifest.toml`` has no table for one of ``keys``.
+    """
     manifest = _manifest()
     missing = []
     for key in keys:
@@ -131,7 +222,21 @@ def check_manifest(keys: list[str]) -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Command-line entry point (see the module docstring)."""
+    """Command-line entry point (see the module docstring).
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments after the program name: a command (``ipynb``, ``prepare``,
+        ``strip`` or ``manifest``) followed by one or more paper keys. Default:
+        ``sys.argv[1:]``.
+
+    Returns
+    -------
+    int
+        Exit status: 0 on success, 1 when ``manifest`` finds a listed figure missing
+        (each printed to stderr), 2 on a usage error (the module docstring is printed).
+    """
     args = sys.argv[1:] if argv is None else argv
     if len(args) < 2 or args[0] not in {"ipynb", "prepare", "strip", "manifest"}:
         print(__doc__, file=sys.stderr)

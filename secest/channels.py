@@ -15,7 +15,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from secest.validation import ValidationError, check_positive_int, check_probability
+from secest import validation as V
+from secest.validation import ValidationError, check_probability
 
 __all__ = [
     "bernoulli",
@@ -26,7 +27,18 @@ __all__ = [
 
 
 def gilbert_elliott_transition(p: float, q: float) -> NDArray[np.float64]:
-    """Transition matrix over states (0 = bad, 1 = good): ``[[1-q, q], [p, 1-p]]``."""
+    """Transition matrix over states (0 = bad, 1 = good): ``[[1-q, q], [p, 1-p]]``.
+
+    Parameters
+    ----------
+    p, q : float
+        Failure and recovery rates in [0, 1].
+
+    Returns
+    -------
+    (2, 2) ndarray
+        Row-stochastic transition matrix.
+    """
     p = check_probability("p", p)
     q = check_probability("q", q)
     return np.array([[1.0 - q, q], [p, 1.0 - p]])
@@ -34,6 +46,15 @@ def gilbert_elliott_transition(p: float, q: float) -> NDArray[np.float64]:
 
 def gilbert_elliott_stationary(p: float, q: float) -> float:
     """Stationary probability of the good state, ``q / (p + q)``.
+
+    Parameters
+    ----------
+    p, q : float
+        Failure and recovery rates in [0, 1], not both zero.
+
+    Returns
+    -------
+    float
 
     Raises
     ------
@@ -51,7 +72,7 @@ def gilbert_elliott(
     p: float,
     q: float,
     steps: int,
-    rng: np.random.Generator,
+    rng: np.random.Generator | int,
     *,
     initial: int = 1,
     size: int | None = None,
@@ -63,13 +84,14 @@ def gilbert_elliott(
     p, q : float
         Failure and recovery rates in [0, 1].
     steps : int
-        Number of samples, including ``delta_0 = initial``.
-    rng : numpy.random.Generator
-        Source of randomness (seed it for reproducible runs).
+        Number of samples, including ``delta_0 = initial``, at most ``MAX_STEPS``.
+    rng : numpy.random.Generator or int
+        Source of randomness, or a non-negative integer seed (``None`` is refused).
     initial : {0, 1}, default 1
         State at ``k = 0``.
     size : int, optional
-        Number of independent chains; the result then has shape ``(size, steps)``.
+        Number of independent chains; the result then has shape ``(size, steps)``
+        (``size * steps <= MAX_ELEMENTS``).
 
     Returns
     -------
@@ -78,10 +100,11 @@ def gilbert_elliott(
     """
     p = check_probability("p", p)
     q = check_probability("q", q)
-    steps = check_positive_int("steps", steps)
-    if initial not in (0, 1):
-        raise ValidationError(f"initial must be 0 or 1, found {initial!r}")
-    n = 1 if size is None else check_positive_int("size", size)
+    steps = V.check_int("steps", steps, minimum=1, maximum=V.MAX_STEPS)
+    initial = V.check_choice("initial", initial, (0, 1))
+    n = 1 if size is None else V.check_int("size", size, minimum=1)
+    V.check_size("size * steps", n * steps, V.MAX_ELEMENTS, "array entries")
+    rng = V.as_rng("rng", rng)
     u = rng.random((n, steps))
     delta = np.empty((n, steps), dtype=np.int8)
     delta[:, 0] = initial
@@ -91,7 +114,27 @@ def gilbert_elliott(
     return delta[0] if size is None else delta
 
 
-def bernoulli(prob: float, shape: int | tuple[int, ...], rng: np.random.Generator) -> NDArray[np.int8]:
-    """Independent Bernoulli(``prob``) indicators of the given shape (1 with probability ``prob``)."""
+def bernoulli(
+    prob: float, shape: int | tuple[int, ...], rng: np.random.Generator | int
+) -> NDArray[np.int8]:
+    """Independent Bernoulli(``prob``) indicators of the given shape (1 with probability ``prob``).
+
+    Parameters
+    ----------
+    prob : float
+        Probability of a one, in [0, 1].
+    shape : int or tuple of int
+        Shape of the result (non-negative lengths, at most ``MAX_ELEMENTS`` entries).
+    rng : numpy.random.Generator or int
+        Source of randomness, or a non-negative integer seed (``None`` is refused).
+
+    Returns
+    -------
+    ndarray of int8
+        Entries in {0, 1}.
+    """
     prob = check_probability("prob", prob)
-    return (rng.random(shape) < prob).astype(np.int8)
+    dims = (shape,) if not isinstance(shape, tuple | list) else tuple(shape)
+    dims = tuple(V.check_int("shape", d, minimum=0) for d in dims)
+    V.check_size("shape", int(np.prod(dims, dtype=object)), V.MAX_ELEMENTS, "array entries")
+    return (V.as_rng("rng", rng).random(dims) < prob).astype(np.int8)

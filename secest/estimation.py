@@ -5,14 +5,17 @@ unknown input ``u`` enters the output through a feed-through matrix ``H``:
 
 .. math::  x_{k+1} = A_k x_k + G_k u_k + w_k, \\qquad y_k = C_k x_k + H_k u_k + v_k .
 
-``feedthrough_decomposition``  SVD of ``H`` and the decorrelating output transform ``T``
-                               (guo2023, display after (3) and before (5))
-``constrained_gain``           trace-minimising gain under ``K U_1 = 0`` (guo2023, (28))
-``fusion_weights``             matrix weights of consensus-on-information fusion
-                               (guo2023, (19)-(20)); batched form of
-                               :func:`secest.covariance.information_fusion`
-``ltv_observability_matrix``   observability matrix of a linear time-varying pair
-                               ``col(C_k, C_{k+1} A_k, C_{k+2} A_{k+1} A_k, ...)``
+``feedthrough_decomposition``
+   SVD of ``H`` and the decorrelating output transform ``T``
+   (guo2023, display after (3) and before (5))
+``constrained_gain``
+   trace-minimising gain under ``K U_1 = 0`` (guo2023, (28))
+``fusion_weights``
+   matrix weights of consensus-on-information fusion (guo2023, (19)-(20)); batched
+   form of :func:`secest.covariance.information_fusion`
+``ltv_observability_matrix``
+   observability matrix of a linear time-varying pair
+   ``col(C_k, C_{k+1} A_k, C_{k+2} A_{k+1} A_k, ...)``
 """
 
 from __future__ import annotations
@@ -23,6 +26,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from secest import validation as V
 from secest.covariance import check_psd, symmetrize
 from secest.validation import ValidationError, as_matrix
 
@@ -37,35 +41,56 @@ __all__ = [
 
 
 class FeedthroughSVD(NamedTuple):
-    """Output of :func:`feedthrough_decomposition` (guo2023 notation)."""
+    """Output of :func:`feedthrough_decomposition` (guo2023 notation).
+
+    Attributes
+    ----------
+    U1 : (n_y, p) ndarray
+        Left singular vectors of the range of ``H``.
+    U2 : (n_y, n_y - p) ndarray
+        Orthonormal basis of the left null space of ``H``.
+    Sigma : (p, p) ndarray
+        Diagonal matrix of the non-zero singular values.
+    V1 : (n_u, p) ndarray
+        Right singular vectors: ``u_1 = V1^T u`` is seen in the output.
+    V2 : (n_u, n_u - p) ndarray
+        The rest: ``u_2 = V2^T u`` is not seen in the output.
+    T1 : (p, n_y) ndarray
+        First block row of the output transform ``T``; ``T1 R U2 = 0``.
+    rank : int
+        ``p = rank H`` decided with the relative tolerance ``rtol``.
+    """
 
     U1: NDArray[np.float64]
-    """(n_y, p) left singular vectors of the range of ``H``."""
     U2: NDArray[np.float64]
-    """(n_y, n_y - p) orthonormal basis of the left null space of ``H``."""
     Sigma: NDArray[np.float64]
-    """(p, p) diagonal matrix of the non-zero singular values."""
     V1: NDArray[np.float64]
-    """(n_u, p) right singular vectors: ``u_1 = V1^T u`` is seen in the output."""
     V2: NDArray[np.float64]
-    """(n_u, n_u - p) the rest: ``u_2 = V2^T u`` is not seen in the output."""
     T1: NDArray[np.float64]
-    """(p, n_y) first block row of the output transform ``T``; ``T1 R U2 = 0``."""
     rank: int
-    """``p = rank H`` decided with the relative tolerance ``rtol``."""
 
 
 def relative_rank(M: ArrayLike, rtol: float = 1e-10) -> int:
     """Number of singular values of ``M`` larger than ``rtol`` times the largest one.
+
+    Parameters
+    ----------
+    M : (p, q) array_like
+        Finite matrix (may have no entries: rank 0).
+    rtol : float, default 1e-10
+        Relative cut-off, in (0, 1).
+
+    Returns
+    -------
+    int
 
     Raises
     ------
     ValidationError
         If ``M`` is not a finite 2-D array or ``rtol`` is not in (0, 1).
     """
-    M = as_matrix("M", M, (None, None))
-    if not (0.0 < float(rtol) < 1.0):
-        raise ValidationError(f"rtol must lie in (0, 1), found {rtol}")
+    M = as_matrix("M", M, (None, None), empty=True)
+    rtol = _check_rtol(rtol)
     if M.size == 0:
         return 0
     s = np.linalg.svd(M, compute_uv=False)
@@ -90,7 +115,8 @@ def feedthrough_decomposition(H: ArrayLike, R: ArrayLike, *, rtol: float = 1e-10
     Parameters
     ----------
     H : (n_y, n_u) array_like
-        Feed-through matrix of the unknown input (guo2023: ``H_bar = [0 H]``).
+        Feed-through matrix of the unknown input (guo2023: ``H_bar = [0 H]``); ``n_u = 0``
+        (no unknown input reaches these outputs) is allowed and gives ``p = 0``.
     R : (n_y, n_y) array_like
         Measurement-noise covariance, symmetric positive definite.
     rtol : float, default 1e-10
@@ -106,11 +132,12 @@ def feedthrough_decomposition(H: ArrayLike, R: ArrayLike, *, rtol: float = 1e-10
         Non-finite or non-2-D ``H``; ``R`` of the wrong shape or not positive definite;
         ``rtol`` outside (0, 1).
     """
-    H = as_matrix("H", H, (None, None))
+    H = as_matrix("H", H, (None, None), empty=True)  # n_u = 0 columns: no unknown input
     ny, nu = H.shape
-    R = check_psd("R", as_matrix("R", R, (ny, ny)), strict=True)
-    if not (0.0 < float(rtol) < 1.0):
-        raise ValidationError(f"rtol must lie in (0, 1), found {rtol}")
+    if ny == 0:
+        raise ValidationError(f"H must have at least one row (output), found shape (0, {nu})")
+    R = check_psd("R", as_matrix("R", R, (ny, ny), note="to match H"), strict=True)
+    rtol = _check_rtol(rtol)
     U, s, Vt = np.linalg.svd(H)
     p = int(np.sum(s > rtol * s[0])) if s.size and s[0] > 0 else 0
     U1, U2 = U[:, :p], U[:, p:]
@@ -138,7 +165,7 @@ def constrained_gain(S: ArrayLike, Theta: ArrayLike, U1: ArrayLike) -> NDArray[n
     Theta : (n_y, n_y) array_like
         Weighting matrix of (27)-(28).
     U1 : (n_y, p) array_like
-        Directions of the output that the unknown input can excite.
+        Directions of the output that the unknown input can excite (``p = 0`` allowed).
 
     Returns
     -------
@@ -151,8 +178,8 @@ def constrained_gain(S: ArrayLike, Theta: ArrayLike, U1: ArrayLike) -> NDArray[n
     """
     S = as_matrix("S", S, (None, None))
     nx, ny = S.shape
-    Theta = as_matrix("Theta", Theta, (ny, ny))
-    U1 = as_matrix("U1", U1, (ny, None))
+    Theta = as_matrix("Theta", Theta, (ny, ny), note="to match S")
+    U1 = as_matrix("U1", U1, (ny, None), empty=True, note="to match S")
     if U1.shape[1] == 0:
         return S @ Theta
     ThU1 = Theta @ U1
@@ -196,8 +223,8 @@ def fusion_weights(
         Empty input, mismatched shapes, a covariance not symmetric positive definite, or
         weights negative / not summing to one.
     """
-    P = np.asarray(covariances, dtype=float)
-    if P.ndim != 3 or P.shape[0] == 0 or P.shape[1] != P.shape[2]:
+    P = as_matrix("covariances", covariances, empty=True)
+    if P.ndim != 3 or P.shape[0] == 0 or P.shape[1] != P.shape[2] or P.size == 0:
         raise ValidationError(
             f"covariances must be a non-empty stack of square matrices (m, n, n), found shape "
             f"{P.shape}"
@@ -206,7 +233,7 @@ def fusion_weights(
         check_psd(f"covariances[{j}]", P[j], strict=True)
     m = P.shape[0]
     w = as_matrix("weights", weights, (m,))
-    if np.any(w < 0) or abs(w.sum() - 1.0) > 1e-12:
+    if np.any(w < 0) or abs(w.sum() - 1.0) > V.RTOL * max(1.0, float(np.abs(w).sum())):
         raise ValidationError(
             f"weights must be non-negative and sum to 1, found sum {w.sum():.6g}"
         )
@@ -244,8 +271,8 @@ def ltv_observability_matrix(
     ValidationError
         Empty ``C_seq``, too few ``A`` matrices, or incompatible shapes.
     """
-    Cs = list(C_seq)
-    As = list(A_seq)
+    Cs = _sequence("C_seq", C_seq)
+    As = _sequence("A_seq", A_seq)
     if not Cs:
         raise ValidationError("C_seq must contain at least one output matrix")
     if len(As) < len(Cs) - 1:
@@ -254,6 +281,8 @@ def ltv_observability_matrix(
         )
     C0 = np.atleast_2d(as_matrix("C_seq[0]", Cs[0]))
     n = C0.shape[1]
+    rows_total = sum(np.size(Ck) for Ck in Cs)
+    V.check_size("C_seq", rows_total + len(Cs) * n * n, V.MAX_ELEMENTS, "array entries")
     Phi = np.eye(n)
     rows = []
     for k, Ck in enumerate(Cs):
@@ -264,6 +293,18 @@ def ltv_observability_matrix(
             )
         rows.append(Ck @ Phi)
         if k < len(Cs) - 1:
-            Ak = as_matrix(f"A_seq[{k}]", As[k], (n, n))
+            Ak = as_matrix(f"A_seq[{k}]", As[k], (n, n), note="to match the columns of C_seq")
             Phi = Ak @ Phi
     return np.vstack(rows)
+
+
+def _check_rtol(rtol: float) -> float:
+    return V.check_real("rtol", rtol, lower=0.0, upper=1.0, lower_open=True, upper_open=True)
+
+
+def _sequence(name: str, value: object) -> list:
+    text = isinstance(value, str | bytes)
+    flat = isinstance(value, np.ndarray) and value.ndim < 2
+    if text or flat or not hasattr(value, "__iter__"):
+        raise ValidationError(f"{name} must be a sequence of matrices, found {V._show(value)}")
+    return list(value)

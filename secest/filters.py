@@ -24,22 +24,42 @@ Equation numbers refer to the paper. One step ``k -> k+1`` of node ``i``:
 8. innovation ``eta_i = y_i - C_i x_i^-`` and test (25)
    ``theta_i = 1[eta_i^T (C_i Gamma_i^- C_i^T + DD^T)^{-1} eta_i < threshold]``;
 9. update (34) ``x_i^+ = x_i^- + theta_i K_i eta_i``;
-10. upper posterior bound (35) ``Pi_i^+ = Pi_i^- - theta_i K_i C_i Pi_i^-``.
+10. upper posterior bound (35) ``Pi_i^+ = Pi_i^- - theta_i K_i C_i Pi_i^-`` (the paper's
+    subtraction form, the default), or with ``joseph=True`` the Joseph form
+    ``Pi_i^+ = (I - theta_i K_i C_i) Pi_i^- (I - theta_i K_i C_i)^T + theta_i K_i DD^T K_i^T``,
+    equal in exact arithmetic for the gain (32) and PSD by construction.
 
 Every bound is symmetrised after it is formed.
+
+Standing assumptions (ding2020, Section II), checked at entry when ``validate``: the graph
+of ``adj`` is strongly connected without self-loops; ``h_ij > 0`` exactly on its edges and
+every row of ``H`` sums to one; ``BB^T`` is PSD and ``DD^T`` positive definite; every
+``Pi_i^+`` and ``Gamma_i^+`` is symmetric PSD with ``Gamma_i^+ <= Pi_i^+``; ``kappa >= 0``.
+
+Health of the recursion, checked at every step: ``Pi_i^+`` must stay PSD and above
+``Gamma_i^+`` (relative rule of :mod:`secest.validation`; the subtraction form (35) subtracts
+two nearly equal matrices when the prior is large, the Joseph form adds PSD terms), and a node
+whose test (25) rejects every measurement for ``lockout_steps``
+consecutive steps is *locked out*: its estimate runs open loop and diverges (pitfall P5 of
+the reproduction). Both are flagged in :class:`SecureStep` and warned about with
+:class:`FilterHealthWarning`.
 """
 
 from __future__ import annotations
 
+import warnings
 from typing import NamedTuple
 
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import ArrayLike, NDArray
+from scipy.sparse import csgraph
 
+from secest import validation as V
 from secest.validation import ValidationError, as_matrix
 
 __all__ = [
+    "FilterHealthWarning",
     "SecureStep",
     "consensus_prediction",
     "matrix_max",
@@ -52,6 +72,10 @@ __all__ = [
 _INSPECTION = ("Gamma", "Pi")
 
 
+class FilterHealthWarning(UserWarning):
+    """A bound of the secure filter stopped being PSD or ordered, or a node is locked out."""
+
+
 def _operator(name: str, W: ArrayLike, m: int) -> NDArray[np.float64] | sp.csr_array:
     """``W`` as a node-mixing operator: CSR if given sparse, else a dense float array.
 
@@ -59,15 +83,10 @@ def _operator(name: str, W: ArrayLike, m: int) -> NDArray[np.float64] | sp.csr_a
     node-mixing product then costs O(edges) instead of O(m^2), which keeps the
     per-node cost of a step independent of the network size (Remark 4).
     """
-    op = sp.csr_array(W, dtype=float) if sp.issparse(W) else np.asarray(W, dtype=float)
+    op = sp.csr_array(W, dtype=float) if sp.issparse(W) else as_matrix(name, W, finite=False)
     if op.shape != (m, m):
         raise ValidationError(f"Incompatible dimensions of {name}: expected {(m, m)}, found {op.shape}")
     return op
-
-
-def _dense(W: ArrayLike) -> NDArray[np.float64]:
-    """Dense copy of a possibly sparse matrix, for validation only."""
-    return W.toarray() if sp.issparse(W) else np.asarray(W, dtype=float)
 
 
 def _mix(W: NDArray[np.float64] | sp.csr_array, X: NDArray[np.float64], axis: int) -> NDArray:
@@ -94,16 +113,12 @@ def _leq(
 
 
 def _check_pair(X: ArrayLike, Y: ArrayLike, tol: float) -> tuple[NDArray, NDArray]:
-    x = np.asarray(X, dtype=float)
-    y = np.asarray(Y, dtype=float)
-    if x.ndim < 2 or x.shape[-1] != x.shape[-2]:
-        raise ValidationError(f"X must be square in its last two axes, found shape {x.shape}")
+    x = V.check_symmetric("X", X, rtol=V.RTOL)
+    y = as_matrix("Y", Y)
     if y.shape != x.shape:
         raise ValidationError(f"Incompatible dimensions of Y: expected {x.shape}, found {y.shape}")
-    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
-        raise ValidationError("X and Y must be finite")
-    if not tol >= 0:
-        raise ValidationError(f"tol must be non-negative, found {tol!r}")
+    V.check_symmetric("Y", y, rtol=V.RTOL)
+    V.check_real("tol", tol, lower=0.0)
     return x, y
 
 
@@ -158,10 +173,11 @@ def matrix_min(
     Raises
     ------
     ValidationError
-        If the shapes differ, are not square, or entries are not finite.
+        If the shapes differ, are not square, entries are not finite, or a matrix is not
+        symmetric (relative rule of :mod:`secest.validation`).
     """
     x, y = _check_pair(X, Y, tol)
-    return _min_max(x, y, tol, strict, "min")
+    return _min_max(x, y, tol, V.check_bool("strict", strict), "min")
 
 
 def matrix_max(
@@ -172,11 +188,99 @@ def matrix_max(
     ``max{X, Y} = Y`` if ``X <= Y``; ``X`` if ``Y < X``; otherwise
     ``lambda_max I`` with ``lambda_max`` the largest eigenvalue of X and Y.
 
-    Parameters and returns as in :func:`matrix_min`; ``branch`` is 0 where Y was
-    returned, 1 where X was returned and 2 for ``lambda_max I``.
+    Parameters
+    ----------
+    X, Y : (..., n, n) array_like
+        Symmetric matrices (stacks broadcast elementwise over leading axes).
+    tol : float, default 1e-10
+        Relative tolerance, as in :func:`matrix_min`.
+    strict : bool, default False
+        Strict reading of ``Y < X``.
+
+    Returns
+    -------
+    out : (..., n, n) ndarray
+        ``max{X, Y}``.
+    branch : (...) ndarray of int8
+        0 where Y was returned, 1 where X was returned, 2 for ``lambda_max I``.
     """
     x, y = _check_pair(X, Y, tol)
-    return _min_max(x, y, tol, strict, "max")
+    return _min_max(x, y, tol, V.check_bool("strict", strict), "max")
+
+
+def _check_delta(delta: ArrayLike, batch: tuple[int, ...]) -> NDArray[np.float64]:
+    d = as_matrix("delta", delta)
+    if not np.all((d == 0) | (d == 1)):
+        raise ValidationError("delta must contain only 0 and 1")
+    try:
+        ok = np.broadcast_shapes(d.shape, batch) == batch
+    except ValueError:
+        ok = False
+    if not ok:
+        raise ValidationError(
+            f"Incompatible dimensions of delta: expected a scalar or {batch}, found {d.shape}"
+        )
+    return d
+
+
+def _check_states(x_post: ArrayLike) -> NDArray[np.float64]:
+    x = as_matrix("x_post", x_post)
+    if x.ndim < 2:
+        raise ValidationError(f"x_post must have shape (..., m, n), found {x.shape}")
+    return x
+
+
+def _csr(name: str, W: ArrayLike, m: int) -> sp.csr_array:  # m: number of nodes of x_post
+    """``W`` (dense or sparse) as a finite CSR array of shape (m, m) without explicit zeros."""
+    if sp.issparse(W):
+        out = sp.csr_array(W, dtype=float)
+        if not np.all(np.isfinite(out.data)):
+            raise ValidationError(f"{name} contains NaN or infinite entries")
+    else:
+        out = sp.csr_array(as_matrix(name, W, square=True))
+    if out.shape != (m, m):
+        raise ValidationError(
+            f"Incompatible dimensions of {name}: expected {(m, m)} to match x_post, found {out.shape}"
+        )
+    out.eliminate_zeros()
+    return out
+
+
+def _check_adjacency(adj: ArrayLike, m: int) -> sp.csr_array:
+    a = _csr("adj", adj, m)
+    if np.any(a.data != 1) or np.any(a.diagonal() != 0):
+        raise ValidationError("adj must be a 0/1 matrix with zero diagonal")
+    return a
+
+
+def _check_network(adj: ArrayLike, weights: ArrayLike, m: int) -> None:
+    """Standing assumptions on the graph: strongly connected, H on its edges, rows summing to 1."""
+    a = _check_adjacency(adj, m)
+    count = csgraph.connected_components(a, directed=True, connection="strong", return_labels=False)
+    if count > 1:
+        raise ValidationError(f"adj must describe a strongly connected graph, found {count} components")
+    h = _csr("weights", weights, m)
+    if np.any(h.data < 0):
+        raise ValidationError("weights must be non-negative")
+    pattern = (h > 0).astype(float) - a
+    pattern.eliminate_zeros()
+    if pattern.nnz:
+        raise ValidationError(
+            "weights must be positive exactly on the edges of adj (h_ij > 0 iff (i, j) in E)"
+        )
+    sums = np.asarray(h.sum(axis=1)).ravel()
+    bad = np.flatnonzero(np.abs(sums - 1.0) > V.RTOL * np.maximum(1.0, sums))
+    if bad.size:
+        raise ValidationError(f"weights must be row-stochastic, row {bad[0]} sums to {sums[bad[0]]:.6g}")
+
+
+def _received(
+    x: NDArray[np.float64], delta: ArrayLike, adj: NDArray | sp.csr_array
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    d = np.asarray(delta, dtype=float)
+    xr = d[..., None, None] * x
+    heard = _mix(adj, np.linalg.norm(xr, axis=-1), -1)
+    return xr, (heard > 0).astype(float)
 
 
 def received_indicator(
@@ -191,7 +295,7 @@ def received_indicator(
     delta : scalar or (...) array_like of {0, 1}
         Channel state ``delta_k`` (shared by all links), broadcast over batch axes.
     adj : (m, m) array_like or scipy.sparse matrix
-        0/1 adjacency, ``adj[i, j] = 1`` if node ``i`` receives from ``j``.
+        0/1 adjacency with zero diagonal, ``adj[i, j] = 1`` if node ``i`` receives from ``j``.
 
     Returns
     -------
@@ -200,16 +304,10 @@ def received_indicator(
     delta_r : (..., m) ndarray
         ``1`` where ``sum_{j in N_i} ||x_{j,k}^{r+}|| > 0``, else ``0`` (4).
     """
-    x = np.asarray(x_post, dtype=float)
-    d = np.asarray(delta, dtype=float)
-    if x.ndim < 2:
-        raise ValidationError(f"x_post must have shape (..., m, n), found {x.shape}")
-    a = _operator("adj", adj, x.shape[-2])
-    if not np.all((d == 0) | (d == 1)):
-        raise ValidationError("delta must contain only 0 and 1")
-    xr = d[..., None, None] * x
-    heard = _mix(a, np.linalg.norm(xr, axis=-1), -1)
-    return xr, (heard > 0).astype(float)
+    x = _check_states(x_post)
+    _check_delta(delta, x.shape[:-2])
+    _check_adjacency(adj, x.shape[-2])
+    return _received(x, delta, _operator("adj", adj, x.shape[-2]))
 
 
 def consensus_prediction(
@@ -234,13 +332,14 @@ def consensus_prediction(
     delta : scalar or (...) array_like of {0, 1}
         Channel state ``delta_k``.
     adj, weights : (m, m) array_like or scipy.sparse matrices
-        0/1 adjacency (``adj[i, j] = 1`` iff ``j in N_i``) and weights ``h_ij``.
+        0/1 adjacency of a strongly connected graph (``adj[i, j] = 1`` iff ``j in N_i``)
+        and row-stochastic weights ``h_ij``, positive exactly on its edges.
     A : (n, n) array_like
         System matrix.
     kappa : float
-        Coupling strength.
+        Coupling strength, ``kappa >= 0``.
     validate : bool, default True
-        Check shapes and values.
+        Check shapes, values and the standing assumptions on the graph.
 
     Returns
     -------
@@ -249,17 +348,15 @@ def consensus_prediction(
     delta_r : (..., m) ndarray
         Indicators (4).
     """
+    if V.check_bool("validate", validate):
+        V.check_real("kappa", kappa, lower=0.0)
+        x = _check_states(x_post)
+        as_matrix("A", A, (x.shape[-1], x.shape[-1]), note="to match x_post")
+        _check_delta(delta, x.shape[:-2])
+        _check_network(adj, weights, x.shape[-2])
     x = np.asarray(x_post, dtype=float)
-    if validate:
-        if not (np.isfinite(kappa) and kappa >= 0):
-            raise ValidationError(f"kappa must be a non-negative number, found {kappa!r}")
-        x = as_matrix("x_post", x)
-        if x.ndim < 2:
-            raise ValidationError(f"x_post must have shape (..., m, n), found {x.shape}")
-        as_matrix("A", A, (x.shape[-1], x.shape[-1]))
-        as_matrix("weights", _dense(weights), (x.shape[-2], x.shape[-2]))
     H = _operator("weights", weights, x.shape[-2])
-    xr, dr = received_indicator(x, delta, adj)
+    xr, dr = _received(x, delta, _operator("adj", adj, x.shape[-2]))
     row_sums = np.asarray(H.sum(axis=1)).ravel()
     xi = _mix(H, xr, -2) - dr[..., None] * row_sums[:, None] * x
     return (x + kappa * xi) @ np.asarray(A, dtype=float).T, dr
@@ -270,14 +367,32 @@ class SecureStep(NamedTuple):
 
     Attributes
     ----------
-    x_post, Pi_post, Gamma_post : estimates and bounds at ``k+1`` (34), (35), (18).
-    x_prior, Pi_prior, Gamma_prior : predictions and bounds (7), (26), (17).
-    gain : (..., m, n, ny) gains (32).
-    theta : (..., m) detector outcomes (25), 1 = accepted.
-    nis : (..., m) test statistics ``eta^T Gamma_eta^{-1} eta`` (or with ``Pi_eta``).
-    delta_r : (..., m) channel indicators (4) at ``k``.
-    q1_psd : (..., m) bool, where ``Q1 >= 0`` so (17) took its first branch.
-    min_branch : (..., m) int8, branch of ``min{Gamma^-, S1}`` in (18), see :func:`matrix_min`.
+    x_post, Pi_post, Gamma_post : ndarray
+        Estimates and bounds at ``k+1`` (34), (35), (18).
+    x_prior, Pi_prior, Gamma_prior : ndarray
+        Predictions and bounds (7), (26), (17).
+    gain : (..., m, n, ny) ndarray
+        Gains (32).
+    theta : (..., m) ndarray
+        Detector outcomes (25), 1 = accepted.
+    nis : (..., m) ndarray
+        Test statistics ``eta^T Gamma_eta^{-1} eta`` (or with ``Pi_eta``).
+    delta_r : (..., m) ndarray
+        Channel indicators (4) at ``k``.
+    q1_psd : (..., m) ndarray of bool
+        Where ``Q1 >= 0``, so (17) took its first branch.
+    min_branch : (..., m) ndarray of int8
+        Branch of ``min{Gamma^-, S1}`` in (18), see :func:`matrix_min`.
+    joseph : bool
+        Whether (35) was evaluated in Joseph form (``False``: the paper's subtraction form).
+    Pi_psd : (..., m) ndarray of bool
+        Where ``Pi^+`` is PSD (relative tolerance ``tol``); ``False`` is a failed bound.
+    ordered : (..., m) ndarray of bool
+        Where ``Gamma^+ <= Pi^+`` (relative tolerance ``tol``); ``False`` is a failed bound.
+    rejections : (..., m) ndarray of int
+        Consecutive rejected measurements up to ``k+1`` (0 where ``theta = 1``).
+    locked_out : (..., m) ndarray of bool
+        Where ``rejections >= lockout_steps``.
     """
 
     x_post: NDArray[np.float64]
@@ -292,52 +407,78 @@ class SecureStep(NamedTuple):
     delta_r: NDArray[np.float64]
     q1_psd: NDArray[np.bool_]
     min_branch: NDArray[np.int8]
+    joseph: bool
+    Pi_psd: NDArray[np.bool_]
+    ordered: NDArray[np.bool_]
+    rejections: NDArray[np.int64]
+    locked_out: NDArray[np.bool_]
 
 
-def _check_scalars(kappa: float, threshold: float, inspection_cov: str, tol: float) -> None:
-    if not (np.isfinite(kappa) and kappa >= 0):
-        raise ValidationError(f"kappa must be a non-negative number, found {kappa!r}")
-    if not (np.isfinite(threshold) and threshold > 0):
-        raise ValidationError(f"threshold must be positive, found {threshold!r}")
-    if inspection_cov not in _INSPECTION:
-        raise ValidationError(f"inspection_cov must be one of {_INSPECTION}, found {inspection_cov!r}")
-    if not tol >= 0:
-        raise ValidationError(f"tol must be non-negative, found {tol!r}")
+def _check_scalars(
+    kappa: float, threshold: float, inspection_cov: str, tol: float, flags: dict[str, object]
+) -> None:
+    V.check_real("kappa", kappa, lower=0.0)
+    V.check_real("threshold", threshold, lower=0.0, lower_open=True)
+    V.check_choice("inspection_cov", inspection_cov, _INSPECTION)
+    V.check_real("tol", tol, lower=0.0)
+    for name, value in flags.items():
+        V.check_bool(name, value)
 
 
-def _validate_step(x_post, Pi_post, Gamma_post, delta, y, A, BBt, C, DDt, adj, weights):
-    x = as_matrix("x_post", x_post)
-    if x.ndim < 2:
-        raise ValidationError(f"x_post must have shape (..., m, n), found {x.shape}")
+def _validate_step(x_post, Pi_post, Gamma_post, delta, y, A, BBt, C, DDt, adj, weights, tol):
+    """Shapes, finiteness and the standing assumptions of ding2020 (module docstring)."""
+    x = _check_states(x_post)
     m, n = x.shape[-2:]
     batch = x.shape[:-2]
-    A = as_matrix("A", A, (n, n))
-    BBt = as_matrix("BBt", BBt, (n, n))
-    C = as_matrix("C", C, (m, None, n))
+    note = "to match x_post"
+    as_matrix("A", A, (n, n), note=note)
+    V.check_psd("BBt", as_matrix("BBt", BBt, (n, n), note=note), tol=tol)
+    C = as_matrix("C", C, (m, None, n), note=note)
     ny = C.shape[1]
-    DDt = as_matrix("DDt", DDt, (ny, ny))
-    for name, val in (("Pi_post", Pi_post), ("Gamma_post", Gamma_post)):
-        as_matrix(name, val, (*batch, m, n, n))
-    as_matrix("y", y, (*batch, m, ny))
-    d = np.asarray(delta, dtype=float)
-    if not np.all((d == 0) | (d == 1)):
-        raise ValidationError("delta must contain only 0 and 1")
-    try:
-        ok = np.broadcast_shapes(d.shape, batch) == batch
-    except ValueError:
-        ok = False
-    if not ok:
-        raise ValidationError(
-            f"Incompatible dimensions of delta: expected a scalar or {batch}, found {d.shape}"
+    V.check_psd("DDt", as_matrix("DDt", DDt, (ny, ny), note="to match C"), strict=True, tol=tol)
+    Pi = V.check_psd("Pi_post", as_matrix("Pi_post", Pi_post, (*batch, m, n, n), note=note), tol=tol)
+    Gam = V.check_psd("Gamma_post", as_matrix("Gamma_post", Gamma_post, (*batch, m, n, n), note=note),
+                      tol=tol)
+    V.check_loewner_order("Gamma_post", Gam, "Pi_post", Pi, tol=tol)
+    as_matrix("y", y, (*batch, m, ny), note="to match x_post and C")
+    _check_delta(delta, batch)
+    _check_network(adj, weights, m)
+
+
+def _check_rejections(rejections: ArrayLike | None, shape: tuple[int, ...]) -> NDArray[np.int64]:
+    if rejections is None:
+        return np.zeros(shape, dtype=np.int64)
+    r = as_matrix("rejections", rejections, shape)
+    if np.any(r < 0) or np.any(r != np.round(r)):
+        raise ValidationError("rejections must hold non-negative integer counts")
+    return r.astype(np.int64)
+
+
+def _health(
+    Pi: NDArray, Gam: NDArray, theta: NDArray, rejections: NDArray, lockout_steps: int, tol: float
+) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """PSD and order of the new bounds, and the lockout counters (module docstring)."""
+    ev = np.linalg.eigvalsh(Pi)
+    Pi_psd = ev[..., 0] >= -tol * np.abs(ev).max(axis=-1)
+    gap = np.linalg.eigvalsh(Pi - Gam)[..., 0]
+    scale = np.maximum(np.abs(ev).max(axis=-1), np.abs(np.linalg.eigvalsh(Gam)).max(axis=-1))
+    ordered = gap >= -tol * scale
+    count = np.where(theta == 1, 0, rejections + 1)
+    if not (np.all(Pi_psd) and np.all(ordered)):
+        warnings.warn(
+            f"secure filter: Pi^+ lost PSD at {int(np.sum(~Pi_psd))} and Gamma^+ <= Pi^+ failed at "
+            f"{int(np.sum(~ordered))} node(s); consider joseph=True",
+            FilterHealthWarning,
+            stacklevel=3,
         )
-    a = as_matrix("adj", _dense(adj), (m, m))
-    if not np.all((a == 0) | (a == 1)) or np.any(np.diag(a) != 0):
-        raise ValidationError("adj must be a 0/1 matrix with zero diagonal")
-    h = as_matrix("weights", _dense(weights), (m, m))
-    if np.any((h > 0) != (a > 0)) or np.any(h < 0):
-        raise ValidationError(
-            "weights must be positive exactly on the edges of adj (h_ij > 0 iff (i, j) in E)"
+    if np.any(count == lockout_steps):
+        warnings.warn(
+            f"secure filter: {int(np.sum(count == lockout_steps))} node(s) rejected every measurement "
+            f"for lockout_steps = {lockout_steps} consecutive steps (locked out, open loop)",
+            FilterHealthWarning,
+            stacklevel=3,
         )
+    return Pi_psd, ordered, count, count >= lockout_steps
 
 
 def secure_filter_step(
@@ -359,49 +500,68 @@ def secure_filter_step(
     inspection_cov: str = "Gamma",
     tol: float = 1e-10,
     strict: bool = False,
+    joseph: bool = False,
+    rejections: ArrayLike | None = None,
+    lockout_steps: int = 10,
     validate: bool = True,
 ) -> SecureStep:
     """One step ``k -> k+1`` of the distributed secure filter (7)/(34), all nodes at once.
 
     Vectorised over the ``m`` nodes and over any leading batch axes (e.g.
-    Monte Carlo runs); see the module docstring for the ten sub-steps and
-    their equation numbers.
+    Monte Carlo runs); see the module docstring for the ten sub-steps, their
+    equation numbers, the standing assumptions checked at entry and the health checks.
 
     Parameters
     ----------
     x_post : (..., m, n) array_like
         Posterior estimates ``x_{i,k}^+``.
     Pi_post, Gamma_post : (..., m, n, n) array_like
-        Upper bounds ``Pi_{i,k}^+`` (35) and lower bounds ``Gamma_{i,k}^+`` (18).
+        Upper bounds ``Pi_{i,k}^+`` (35) and lower bounds ``Gamma_{i,k}^+`` (18): symmetric
+        PSD with ``Gamma_{i,k}^+ <= Pi_{i,k}^+``.
     delta : scalar or (...) array_like of {0, 1}
         Shared Gilbert-Elliott channel state ``delta_k``.
     y : (..., m, ny) array_like
         Measurements ``y_{i,k+1}`` (including any injected attack).
-    A, BBt : (n, n) array_like
-        System matrix and process-noise covariance ``B B^T`` of (1).
+    A : (n, n) array_like
+        System matrix of (1).
+    BBt : (n, n) array_like
+        Process-noise covariance ``B B^T`` of (1), symmetric PSD.
     C : (m, ny, n) array_like
         Measurement matrices ``C_i`` of (2).
     DDt : (ny, ny) array_like
-        Measurement-noise covariance ``D D^T``.
+        Measurement-noise covariance ``D D^T``, symmetric positive definite.
     adj : (m, m) array_like or scipy.sparse matrix (sparse: O(edges) per step)
-        0/1 adjacency, ``adj[i, j] = 1`` iff ``j in N_i`` (``i`` receives from ``j``).
+        0/1 adjacency of a strongly connected graph, ``adj[i, j] = 1`` iff ``j in N_i``
+        (``i`` receives from ``j``), zero diagonal.
     weights : (m, m) array_like or scipy.sparse matrix
-        ``H = [h_ij]``, positive exactly on the edges.
+        ``H = [h_ij]``, positive exactly on the edges, rows summing to one (e.g.
+        :func:`secest.graphs.row_stochastic_weights` at its default).
     kappa : float
         Coupling strength ``kappa >= 0``.
     threshold : float
-        Chi-square threshold of (25).
+        Chi-square threshold of (25), positive.
     inspect : bool, default True
         Apply the test (25); ``False`` sets ``theta = 1`` in (34) and (35) (no inspection).
     inspection_cov : {"Gamma", "Pi"}, default "Gamma"
         Normalise the test with the lower bound ``Gamma_eta`` (the paper's (25)) or,
         as an ablation that is not the paper's scheme, with ``Pi_eta``.
     tol : float, default 1e-10
-        Relative tolerance of the PSD test in (17) and of :func:`matrix_min`.
+        Relative tolerance of every matrix test: the standing assumptions, the PSD test
+        in (17), :func:`matrix_min` and the health flags.
     strict : bool, default False
         Strict reading of ``Y < X`` in the min operation of (18).
+    joseph : bool, default False
+        Evaluate (35) in Joseph form instead of the paper's subtraction form; recorded in
+        :attr:`SecureStep.joseph`.
+    rejections : (..., m) array_like of int, optional
+        Consecutive rejected measurements of every node before this step (the
+        ``rejections`` of the previous step's result); default zeros.
+    lockout_steps : int, default 10
+        A node is flagged (``locked_out``) and a :class:`FilterHealthWarning` is issued
+        when it has rejected this many consecutive measurements.
     validate : bool, default True
-        Check shapes and values (switch off inside tight loops).
+        Check shapes, values and the standing assumptions (switch off inside tight loops;
+        the health checks run at every step regardless).
 
     Returns
     -------
@@ -410,11 +570,15 @@ def secure_filter_step(
     Raises
     ------
     ValidationError
-        If shapes disagree or a value is out of range (when ``validate``).
+        If shapes disagree, a value is out of range or a standing assumption fails
+        (when ``validate``).
     """
+    validate = V.check_bool("validate", validate)
     if validate:
-        _check_scalars(kappa, threshold, inspection_cov, tol)
-        _validate_step(x_post, Pi_post, Gamma_post, delta, y, A, BBt, C, DDt, adj, weights)
+        _check_scalars(kappa, threshold, inspection_cov, tol, {"inspect": inspect, "strict": strict,
+                                                                "joseph": joseph, "validate": validate})
+        V.check_int("lockout_steps", lockout_steps, minimum=1)
+        _validate_step(x_post, Pi_post, Gamma_post, delta, y, A, BBt, C, DDt, adj, weights, tol)
     x = np.asarray(x_post, dtype=float)
     Pi = np.asarray(Pi_post, dtype=float)
     Gam = np.asarray(Gamma_post, dtype=float)
@@ -428,6 +592,7 @@ def secure_filter_step(
     H = _operator("weights", weights, m)
     n = x.shape[-1]
     Ct = np.swapaxes(C, -1, -2)
+    rejections = _check_rejections(rejections, x.shape[:-1])
 
     # (3), (4), (7): channel indicator and consensus prediction
     x_prior, dr = consensus_prediction(x, delta, adj, H, A, kappa, validate=False)
@@ -454,23 +619,40 @@ def secure_filter_step(
     S_test = C @ Gamma_prior @ Ct + DDt if inspection_cov == "Gamma" else Pi_eta
     nis = np.einsum("...y,...y->...", eta, np.linalg.solve(S_test, eta[..., None])[..., 0])
     theta = (nis < threshold).astype(float) if inspect else np.ones_like(nis)
-    # (34): update; (35): upper posterior bound
+    # (34): update; (35): upper posterior bound, subtraction (paper) or Joseph form
     x_new = x_prior + theta[..., None] * np.einsum("...iny,...iy->...in", K, eta)
-    Pi_new = _sym(Pi_prior - theta[..., None, None] * (K @ C @ Pi_prior))
-    return SecureStep(
-        x_new,
-        Pi_new,
-        _sym(Gamma_new),
-        x_prior,
-        Pi_prior,
-        Gamma_prior,
-        K,
-        theta,
-        nis,
-        dr,
-        q1_psd,
-        branch,
-    )
+    tK = theta[..., None, None] * K
+    if joseph:
+        I_tKC = np.eye(n) - tK @ C
+        Pi_new = _sym(I_tKC @ Pi_prior @ np.swapaxes(I_tKC, -1, -2) + tK @ DDt @ np.swapaxes(tK, -1, -2))
+    else:
+        Pi_new = _sym(Pi_prior - tK @ C @ Pi_prior)
+    Gamma_new = _sym(Gamma_new)
+    health = _health(Pi_new, Gamma_new, theta, rejections, lockout_steps, tol)
+    return SecureStep(x_new, Pi_new, Gamma_new, x_prior, Pi_prior, Gamma_prior, K, theta, nis, dr,
+                      q1_psd, branch, bool(joseph), *health)
+
+
+def _validate_node(x_self, Pi_self, Gamma_self, x_nbrs, Pi_nbrs, h_nbrs, delta, y_i, A, BBt, C_i, DDt,
+                   tol):
+    """Shapes, finiteness and the standing assumptions one node can see."""
+    x_i = as_matrix("x_self", x_self, (None,))
+    n = x_i.shape[0]
+    note = "to match x_self"
+    P_i = V.check_psd("Pi_self", as_matrix("Pi_self", Pi_self, (n, n), note=note), tol=tol)
+    G_i = V.check_psd("Gamma_self", as_matrix("Gamma_self", Gamma_self, (n, n), note=note), tol=tol)
+    V.check_loewner_order("Gamma_self", G_i, "Pi_self", P_i, tol=tol)
+    nb = as_matrix("x_nbrs", x_nbrs, (None, n), note=note).shape[0]
+    V.check_psd("Pi_nbrs", as_matrix("Pi_nbrs", Pi_nbrs, (nb, n, n)), tol=tol)
+    hs = as_matrix("h_nbrs", h_nbrs, (nb,))
+    if np.any(hs <= 0) or abs(hs.sum() - 1.0) > V.RTOL * max(1.0, float(hs.sum())):
+        raise ValidationError(f"h_nbrs must be positive and sum to 1, found sum {hs.sum():.6g}")
+    as_matrix("A", A, (n, n), note=note)
+    V.check_psd("BBt", as_matrix("BBt", BBt, (n, n), note=note), tol=tol)
+    ny = as_matrix("C_i", C_i, (None, n), note=note).shape[0]
+    V.check_psd("DDt", as_matrix("DDt", DDt, (ny, ny), note="to match C_i"), strict=True, tol=tol)
+    as_matrix("y_i", y_i, (ny,), note="to match C_i")
+    V.check_choice("delta", delta, (0, 1))
 
 
 def secure_filter_node_step(
@@ -493,31 +675,37 @@ def secure_filter_node_step(
     inspection_cov: str = "Gamma",
     tol: float = 1e-10,
     strict: bool = False,
+    joseph: bool = False,
+    validate: bool = True,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], int]:
     """One step ``k -> k+1`` of node ``i`` alone: the plain per-node reference.
 
     Uses only the node's own quantities and those it receives from its
     neighbours ``N_i`` (one loop over neighbours), as Remark 4 describes; the
     arithmetic follows the module docstring step by step, without vectorisation.
+    The standing assumptions that one node can see are checked at entry.
 
     Parameters
     ----------
     x_self : (n,) array_like
         ``x_{i,k}^+``.
     Pi_self, Gamma_self : (n, n) array_like
-        ``Pi_{i,k}^+`` and ``Gamma_{i,k}^+``.
-    x_nbrs : (|N_i|, n) array_like
-        Neighbours' estimates ``x_{j,k}^+`` (before the channel; (3) is applied here).
-    Pi_nbrs : (|N_i|, n, n) array_like
-        Neighbours' bounds ``Pi_{j,k}^+`` (sent in the same packet as ``x_{j,k}^+``).
-    h_nbrs : (|N_i|,) array_like
-        Weights ``h_ij`` of the neighbours.
+        ``Pi_{i,k}^+`` and ``Gamma_{i,k}^+``, symmetric PSD, ``Gamma_{i,k}^+ <= Pi_{i,k}^+``.
+    x_nbrs : (``|N_i|``, n) array_like
+        Neighbours' estimates ``x_{j,k}^+`` (before the channel; (3) is applied here);
+        at least one neighbour.
+    Pi_nbrs : (``|N_i|``, n, n) array_like
+        Neighbours' bounds ``Pi_{j,k}^+`` (sent in the same packet as ``x_{j,k}^+``), PSD.
+    h_nbrs : (``|N_i|``,) array_like
+        Weights ``h_ij`` of the neighbours, positive and summing to one.
     delta : {0, 1}
         Channel state ``delta_k``.
     y_i : (ny,) array_like
         Measurement ``y_{i,k+1}``.
-    A, BBt, C_i, DDt, kappa, threshold, inspect, inspection_cov, tol, strict
-        As in :func:`secure_filter_step`, with ``C_i`` of shape (ny, n).
+    A, BBt, DDt, kappa, threshold, inspect, inspection_cov, tol, strict, joseph, validate
+        As in :func:`secure_filter_step` (``validate=False`` for timing loops such as Remark 4's).
+    C_i : (ny, n) array_like
+        Measurement matrix of node ``i``.
 
     Returns
     -------
@@ -529,24 +717,19 @@ def secure_filter_node_step(
     Raises
     ------
     ValidationError
-        If shapes disagree or a value is out of range.
+        If shapes disagree, a value is out of range or a standing assumption fails
+        (when ``validate``).
     """
-    _check_scalars(kappa, threshold, inspection_cov, tol)
-    x_i = as_matrix("x_self", x_self, (None,))
-    n = x_i.shape[0]
-    P_i = as_matrix("Pi_self", Pi_self, (n, n))
-    G_i = as_matrix("Gamma_self", Gamma_self, (n, n))
-    xs = as_matrix("x_nbrs", x_nbrs, (None, n))
-    nb = xs.shape[0]
-    Ps = as_matrix("Pi_nbrs", Pi_nbrs, (nb, n, n))
-    hs = as_matrix("h_nbrs", h_nbrs, (nb,))
-    A = as_matrix("A", A, (n, n))
-    BBt = as_matrix("BBt", BBt, (n, n))
-    C_i = as_matrix("C_i", C_i, (None, n))
-    DDt = as_matrix("DDt", DDt, (C_i.shape[0], C_i.shape[0]))
-    y_i = as_matrix("y_i", y_i, (C_i.shape[0],))
-    if delta not in (0, 1):
-        raise ValidationError(f"delta must be 0 or 1, found {delta!r}")
+    if V.check_bool("validate", validate):
+        _check_scalars(kappa, threshold, inspection_cov, tol, {"inspect": inspect, "strict": strict,
+                                                                "joseph": joseph, "validate": validate})
+        _validate_node(x_self, Pi_self, Gamma_self, x_nbrs, Pi_nbrs, h_nbrs, delta, y_i, A, BBt, C_i,
+                       DDt, tol)
+    x_i, P_i, G_i, xs, Ps, hs, y_i, A, BBt, C_i, DDt = (
+        np.asarray(v, dtype=float)
+        for v in (x_self, Pi_self, Gamma_self, x_nbrs, Pi_nbrs, h_nbrs, y_i, A, BBt, C_i, DDt)
+    )
+    n, nb = x_i.shape[0], xs.shape[0]
 
     # (3): what node i receives; (4): indicator
     received = [delta * xs[j] for j in range(nb)]
@@ -579,7 +762,11 @@ def secure_filter_node_step(
     S_test = C_i @ Gamma_prior @ C_i.T + DDt if inspection_cov == "Gamma" else Pi_eta
     nis = float(eta @ np.linalg.inv(S_test) @ eta)
     theta = 1 if (nis < threshold or not inspect) else 0
-    # (34), (35)
+    # (34), (35): subtraction (paper) or Joseph form
     x_post = x_prior + theta * (K @ eta)
-    Pi_post = _sym(Pi_prior - theta * (K @ C_i @ Pi_prior))
+    if joseph:
+        I_tKC = np.eye(n) - theta * (K @ C_i)
+        Pi_post = _sym(I_tKC @ Pi_prior @ I_tKC.T + theta * (K @ DDt @ K.T))
+    else:
+        Pi_post = _sym(Pi_prior - theta * (K @ C_i @ Pi_prior))
     return x_post, Pi_post, _sym(Gamma_post), theta

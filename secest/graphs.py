@@ -2,7 +2,9 @@
 
 Graphs are handled as dense 0/1 adjacency matrices ``A`` with ``A[i, j] = 1``
 when node ``i`` receives from node ``j`` (``j`` is an in-neighbour of ``i``);
-the diagonal is zero. networkx builds and checks them.
+the diagonal is zero, so a neighbourhood ``N_i`` never contains ``i`` itself
+(as in ding2020, Section II). networkx converts graphs, scipy checks connectivity.
+Dense ``N x N`` matrices are limited to ``N <= secest.validation.MAX_DENSE_NODES``.
 """
 
 from __future__ import annotations
@@ -10,21 +12,30 @@ from __future__ import annotations
 import networkx as nx
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy.sparse import csgraph
+from scipy.spatial import cKDTree
 
-from secest.validation import ValidationError, as_matrix, check_positive_int
+from secest import validation as V
+from secest.validation import ValidationError, as_matrix
 
 __all__ = [
     "adjacency",
     "algebraic_connectivity",
     "check_connected",
+    "check_row_stochastic",
     "complete_graph",
     "laplacian",
     "neighbours",
     "random_geometric_graph",
     "ring_graph",
     "row_stochastic_weights",
-    "check_row_stochastic",
 ]
+
+
+def _check_nodes(name: str, n: int, minimum: int) -> int:
+    n = V.check_int(name, n, minimum=minimum)
+    V.check_size(name, n, V.MAX_DENSE_NODES, "nodes of a dense adjacency matrix")
+    return n
 
 
 def adjacency(graph: nx.Graph | nx.DiGraph) -> NDArray[np.float64]:
@@ -33,10 +44,29 @@ def adjacency(graph: nx.Graph | nx.DiGraph) -> NDArray[np.float64]:
     For a directed graph, ``A[i, j] = 1`` if the edge ``j -> i`` exists, so row
     ``i`` lists the in-neighbours whose data node ``i`` receives. Self-loops are
     dropped.
+
+    Parameters
+    ----------
+    graph : networkx.Graph or networkx.DiGraph
+        At least one node, sortable node labels.
+
+    Returns
+    -------
+    (N, N) ndarray
+        0/1 adjacency with zero diagonal.
+
+    Raises
+    ------
+    ValidationError
+        If ``graph`` is not a networkx graph, is empty, has unsortable labels or too many nodes.
     """
     if not isinstance(graph, nx.Graph):
         raise ValidationError(f"graph must be a networkx Graph or DiGraph, found {type(graph).__name__}")
-    nodes = sorted(graph.nodes)
+    _check_nodes("graph (number of nodes)", graph.number_of_nodes(), 1)
+    try:
+        nodes = sorted(graph.nodes)
+    except TypeError as exc:
+        raise ValidationError("graph must have mutually comparable (sortable) node labels") from exc
     a = nx.to_numpy_array(graph, nodelist=nodes, weight=None, dtype=float)
     if graph.is_directed():
         a = a.T
@@ -54,25 +84,66 @@ def _check_adjacency(name: str, adj: ArrayLike) -> NDArray[np.float64]:
 
 
 def ring_graph(n: int) -> NDArray[np.float64]:
-    """Adjacency of the undirected ring (cycle) on ``n >= 3`` nodes."""
-    n = check_positive_int("n", n, minimum=3)
-    return adjacency(nx.cycle_graph(n))
+    """Adjacency of the undirected ring (cycle) on ``n`` nodes.
+
+    Parameters
+    ----------
+    n : int
+        Number of nodes, ``3 <= n <= MAX_DENSE_NODES``.
+
+    Returns
+    -------
+    (n, n) ndarray
+    """
+    n = _check_nodes("n", n, 3)
+    a = np.zeros((n, n))
+    i = np.arange(n)
+    a[i, (i + 1) % n] = a[(i + 1) % n, i] = 1.0
+    return a
 
 
 def complete_graph(n: int) -> NDArray[np.float64]:
-    """Adjacency of the all-to-all graph on ``n >= 2`` nodes."""
-    n = check_positive_int("n", n, minimum=2)
-    return adjacency(nx.complete_graph(n))
+    """Adjacency of the all-to-all graph on ``n`` nodes.
+
+    Parameters
+    ----------
+    n : int
+        Number of nodes, ``2 <= n <= MAX_DENSE_NODES``.
+
+    Returns
+    -------
+    (n, n) ndarray
+    """
+    n = _check_nodes("n", n, 2)
+    return np.ones((n, n)) - np.eye(n)
 
 
 def random_geometric_graph(
-    n: int, radius: float, seed: int, *, max_tries: int = 1000, return_positions: bool = False
+    n: int,
+    radius: float,
+    seed: int | np.random.Generator,
+    *,
+    max_tries: int = 1000,
+    return_positions: bool = False,
 ) -> NDArray[np.float64] | tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Connected random geometric graph on the unit square.
 
-    Nodes are placed uniformly at random and joined when closer than
-    ``radius``; placements are redrawn (deterministically from ``seed``) until
-    the graph is connected.
+    Nodes are placed uniformly at random and joined when at distance at most
+    ``radius`` (as ``networkx.random_geometric_graph``); placements are redrawn
+    (deterministically from ``seed``) until the graph is connected.
+
+    Parameters
+    ----------
+    n : int
+        Number of nodes, ``2 <= n <= MAX_DENSE_NODES``.
+    radius : float
+        Connection radius, positive.
+    seed : int or numpy.random.Generator
+        Seed (non-negative integer) or generator of the placements; ``None`` is refused.
+    max_tries : int, default 1000
+        Placements drawn before giving up; ``n * max_tries <= MAX_STEPS``.
+    return_positions : bool, default False
+        Also return the node positions.
 
     Returns
     -------
@@ -84,18 +155,33 @@ def random_geometric_graph(
     Raises
     ------
     ValidationError
-        If no connected placement is found in ``max_tries`` draws (radius too small).
+        On bad arguments, or if no connected placement is found in ``max_tries`` draws
+        (radius too small).
     """
-    n = check_positive_int("n", n, minimum=2)
-    if not radius > 0:
-        raise ValidationError(f"radius must be positive, found {radius!r}")
-    rng = np.random.default_rng(seed)
+    n = _check_nodes("n", n, 2)
+    radius = V.check_real("radius", radius, lower=0.0, lower_open=True)
+    rng = V.as_rng("seed", seed)
+    max_tries = V.check_int("max_tries", max_tries, minimum=1)
+    V.check_size("n * max_tries", n * max_tries, V.MAX_STEPS, "node placements")
+    return_positions = V.check_bool("return_positions", return_positions)
     for _ in range(max_tries):
         xy = rng.random((n, 2))
-        g = nx.random_geometric_graph(n, radius, pos={i: tuple(p) for i, p in enumerate(xy)})
-        if nx.is_connected(g):
-            return (adjacency(g), xy) if return_positions else adjacency(g)
-    raise ValidationError(f"radius={radius} gave no connected graph on n={n} nodes in {max_tries} draws")
+        pairs = cKDTree(xy).query_pairs(radius, 2, output_type="ndarray")
+        a = np.zeros((n, n))
+        a[pairs[:, 0], pairs[:, 1]] = a[pairs[:, 1], pairs[:, 0]] = 1.0
+        if csgraph.connected_components(a, directed=False, return_labels=False) == 1:
+            return (a, xy) if return_positions else a
+    raise ValidationError(
+        f"radius = {radius:g} gave no connected graph on n = {n} nodes in max_tries = {max_tries} "
+        "draws: increase radius or max_tries"
+    )
+
+
+def _components(a: NDArray[np.float64], strongly: bool) -> list[list[int]]:
+    symmetric = np.array_equal(a, a.T)
+    kind = "strong" if strongly and not symmetric else "weak"
+    count, labels = csgraph.connected_components(a, directed=not symmetric, connection=kind)
+    return sorted(np.flatnonzero(labels == c).tolist() for c in range(count))
 
 
 def check_connected(adj: ArrayLike, *, strongly: bool = True) -> NDArray[np.float64]:
@@ -119,16 +205,10 @@ def check_connected(adj: ArrayLike, *, strongly: bool = True) -> NDArray[np.floa
         If the graph is disconnected; the message lists the components.
     """
     a = _check_adjacency("adj", adj)
-    if np.array_equal(a, a.T):
-        g = nx.from_numpy_array(a)
-        comps = list(nx.connected_components(g))
-    else:
-        g = nx.from_numpy_array(a.T, create_using=nx.DiGraph)
-        comps = list(
-            nx.strongly_connected_components(g) if strongly else nx.weakly_connected_components(g)
-        )
+    strongly = V.check_bool("strongly", strongly)
+    comps = _components(a, strongly)
     if len(comps) > 1:
-        shown = sorted(sorted(c) for c in comps)
+        shown = comps if len(comps) <= 10 else [*comps[:10], "..."]
         raise ValidationError(
             f"adj describes a disconnected graph with {len(comps)} components: {shown}"
         )
@@ -136,23 +216,44 @@ def check_connected(adj: ArrayLike, *, strongly: bool = True) -> NDArray[np.floa
 
 
 def neighbours(adj: ArrayLike, *, include_self: bool = False) -> list[NDArray[np.intp]]:
-    """In-neighbour index lists ``N_i`` (with ``i`` itself if ``include_self``)."""
-    a = _check_adjacency("adj", adj)
-    if include_self:
-        a = a + np.eye(a.shape[0])
-    return [np.flatnonzero(row) for row in a]
-
-
-def row_stochastic_weights(adj: ArrayLike, *, self_weight: bool = True) -> NDArray[np.float64]:
-    """Uniform row-stochastic weights ``h_ij = 1/|N_i|``.
+    """In-neighbour index lists ``N_i`` (with ``i`` itself if ``include_self``).
 
     Parameters
     ----------
     adj : array_like, shape (N, N)
         0/1 adjacency with zero diagonal.
-    self_weight : bool, default True
-        Count node ``i`` in its own neighbourhood ``N_i`` (``h_ii = 1/|N_i|``);
+    include_self : bool, default False
+        Add ``i`` to its own list.
+
+    Returns
+    -------
+    list of ndarray of int
+        ``N_i`` in increasing order, one array per node.
+    """
+    a = _check_adjacency("adj", adj)
+    if V.check_bool("include_self", include_self):
+        a = a + np.eye(a.shape[0])
+    return [np.flatnonzero(row) for row in a]
+
+
+def row_stochastic_weights(adj: ArrayLike, *, self_weight: bool = False) -> NDArray[np.float64]:
+    """Uniform row-stochastic weights ``h_ij = 1/|N_i|`` on the edges.
+
+    The default (``h_ii = 0``, every row summing to one over ``N_i``) is the weight matrix of
+    ding2020 (Section II, Section V) that :func:`secest.filters.secure_filter_step` expects.
+
+    Parameters
+    ----------
+    adj : array_like, shape (N, N)
+        0/1 adjacency with zero diagonal.
+    self_weight : bool, default False
+        Count node ``i`` in its own neighbourhood (``h_ii = h_ij = 1/(|N_i| + 1)``);
         otherwise ``h_ii = 0`` and every node must have a neighbour.
+
+    Returns
+    -------
+    (N, N) ndarray
+        Row-stochastic weights.
 
     Raises
     ------
@@ -160,7 +261,7 @@ def row_stochastic_weights(adj: ArrayLike, *, self_weight: bool = True) -> NDArr
         If a node has no neighbour and ``self_weight`` is False.
     """
     a = _check_adjacency("adj", adj)
-    if self_weight:
+    if V.check_bool("self_weight", self_weight):
         a = a + np.eye(a.shape[0])
     deg = a.sum(axis=1)
     if np.any(deg == 0):
@@ -169,40 +270,65 @@ def row_stochastic_weights(adj: ArrayLike, *, self_weight: bool = True) -> NDArr
     return a / deg[:, None]
 
 
-def check_row_stochastic(weights: ArrayLike, *, tol: float = 1e-12) -> NDArray[np.float64]:
+def check_row_stochastic(weights: ArrayLike, *, tol: float = V.RTOL) -> NDArray[np.float64]:
     """Check that ``weights`` is non-negative with rows summing to one.
+
+    Parameters
+    ----------
+    weights : array_like, shape (N, N)
+        Weight matrix.
+    tol : float, default secest.validation.RTOL
+        Relative tolerance of the row sums (rule in :mod:`secest.validation`).
+
+    Returns
+    -------
+    ndarray
 
     Raises
     ------
     ValidationError
-        Naming the first offending row.
+        Naming the first offending entry or row.
     """
-    w = as_matrix("weights", weights, square=True)
-    if np.any(w < -tol):
-        i, j = np.argwhere(w < -tol)[0]
-        raise ValidationError(f"weights must be non-negative, found weights[{i}, {j}] = {w[i, j]}")
-    sums = w.sum(axis=1)
-    bad = np.flatnonzero(np.abs(sums - 1.0) > tol)
-    if bad.size:
-        raise ValidationError(f"weights must be row-stochastic, row {bad[0]} sums to {sums[bad[0]]:.6g}")
-    return w
+    return V.check_row_stochastic("weights", weights, tol=tol)
 
 
 def laplacian(adj: ArrayLike) -> NDArray[np.float64]:
-    """Graph Laplacian ``L = D - A`` with ``D`` the diagonal of row sums (in-degrees)."""
+    """Graph Laplacian ``L = D - A`` with ``D`` the diagonal of row sums (in-degrees).
+
+    Parameters
+    ----------
+    adj : array_like, shape (N, N)
+        0/1 adjacency with zero diagonal.
+
+    Returns
+    -------
+    (N, N) ndarray
+    """
     a = _check_adjacency("adj", adj)
     return np.diag(a.sum(axis=1)) - a
 
 
 def algebraic_connectivity(adj: ArrayLike) -> float:
-    """Second-smallest Laplacian eigenvalue ``lambda_2(L)`` of an undirected graph.
+    """Second-smallest Laplacian eigenvalue ``lambda_2(L)`` of a connected undirected graph.
+
+    Parameters
+    ----------
+    adj : array_like, shape (N, N)
+        Symmetric 0/1 adjacency with zero diagonal, ``N >= 2``.
+
+    Returns
+    -------
+    float
 
     Raises
     ------
     ValidationError
-        If ``adj`` is not symmetric or the graph is disconnected (``lambda_2 = 0``).
+        If ``adj`` is not symmetric, has fewer than 2 nodes or the graph is disconnected
+        (``lambda_2 = 0``).
     """
     a = _check_adjacency("adj", adj)
+    if a.shape[0] < 2:
+        raise ValidationError(f"adj must have at least 2 nodes for lambda_2, found {a.shape[0]}")
     if not np.array_equal(a, a.T):
         raise ValidationError("adj must be symmetric (undirected graph) for lambda_2")
     check_connected(a)

@@ -4,19 +4,29 @@ Every notebook ends by writing its claims to ``results_path`` (default
 ``figures/<key>/claims.json``): one entry per claim id (``C<n>`` the paper's,
 ``X<n>`` ours) built by :func:`claim`, with the keys
 
-``paper``      what the paper states, in its words;
-``source``     where: section, figure, equation of the paper, or ``"ours"``;
-``check``      what we measure, against what, by which rule;
-``measured``   the measured value(s); ``key`` names the headline entry of a dict;
-``interval``   optional confidence interval of a Monte Carlo value (with its level and method);
-``threshold``  the value the measurement is compared with;
-``holds``      whether the statement holds at this run's parameters;
-``premise``    optional: the theorem's own assumption and whether it holds here;
-``verdict``    ``holds`` / ``fails`` / ``fails-premise`` at this point, or, once the
-               declared space has been swept (``make robustness``), over that space:
-               ``undetermined`` when it holds in part of it, with ``robustness``
-               giving the fraction, its interval and the region;
-``tolerance``  how closely a re-run on another machine must reproduce ``measured``.
+``paper``
+   what the paper states, in its words;
+``source``
+   where: section, figure, equation of the paper, or ``"ours"``;
+``check``
+   what we measure, against what, by which rule;
+``measured``
+   the measured value(s); ``key`` names the headline entry of a dict;
+``interval``
+   optional confidence interval of a Monte Carlo value (with its level and method);
+``threshold``
+   the value the measurement is compared with;
+``holds``
+   whether the statement holds at this run's parameters;
+``premise``
+   optional: the theorem's own assumption and whether it holds here;
+``verdict``
+   ``holds`` / ``fails`` / ``fails-premise`` at this point, or, once the declared space
+   has been swept (``make robustness``), over that space: ``undetermined`` when it
+   holds in part of it, with ``robustness`` giving the fraction, its interval and the
+   region;
+``tolerance``
+   how closely a re-run on another machine must reproduce ``measured``.
 
 Every execution also writes a run manifest ``build/runs/<key>.json`` (not
 committed) with package versions, solver, git commit, parameters and wall time.
@@ -31,6 +41,7 @@ import subprocess
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from decimal import ROUND_HALF_EVEN, Context, Decimal
 from importlib import metadata
 from pathlib import Path
 from typing import Any
@@ -40,7 +51,11 @@ import numpy as np
 from secest.validation import ValidationError
 
 __all__ = [
+    "CANCELLATION",
     "DETERMINISTIC",
+    "LMI_ITERATES",
+    "ROUNDING_RESIDUAL",
+    "SIGN_DRIVEN",
     "VERDICTS",
     "Run",
     "Tolerance",
@@ -89,13 +104,41 @@ def environment_summary() -> str:
 
 
 def resolve(path: str | Path) -> Path:
-    """``path`` if absolute, else ``repo_root() / path``."""
+    """``path`` if absolute, else ``repo_root() / path``.
+
+    Parameters
+    ----------
+    path : str or Path
+        A path, absolute or relative to the repository root (not to the working
+        directory), e.g. a notebook's ``fig_dir`` parameter.
+
+    Returns
+    -------
+    Path
+        The absolute path (not normalised; the file need not exist).
+    """
     p = Path(path)
     return p if p.is_absolute() else repo_root() / p
 
 
 def notebook_path(key: str) -> Path:
-    """``notebooks/<key>.ipynb`` under the repository root (must exist)."""
+    """``notebooks/<key>.ipynb`` under the repository root (must exist).
+
+    Parameters
+    ----------
+    key : str
+        Paper key, e.g. ``"lee2020"``.
+
+    Returns
+    -------
+    Path
+        The notebook's absolute path.
+
+    Raises
+    ------
+    ValidationError
+        If the notebook does not exist.
+    """
     path = repo_root() / "notebooks" / f"{key}.ipynb"
     if not path.exists():
         raise ValidationError(f"key {key!r} names no notebook: {path} does not exist")
@@ -103,7 +146,28 @@ def notebook_path(key: str) -> Path:
 
 
 def declared_parameters(key: str) -> dict[str, Any]:
-    """Names and defaults of the ``parameters`` cell of ``notebooks/<key>.ipynb``."""
+    """Names and defaults of the ``parameters`` cell of ``notebooks/<key>.ipynb``.
+
+    Read with papermill (what it will inject against) and cross-checked with the names
+    the cell assigns, parsed with :mod:`ast`.
+
+    Parameters
+    ----------
+    key : str
+        Paper key, e.g. ``"lee2020"``.
+
+    Returns
+    -------
+    dict
+        Parameter name -> default, as papermill reports it (the default's source text).
+
+    Raises
+    ------
+    ValidationError
+        If the notebook does not exist, has no single cell tagged ``parameters``,
+        that cell holds anything but assignments, or papermill parses other names
+        than the cell assigns (e.g. because of an ``=`` inside a comment).
+    """
     import papermill
 
     path = notebook_path(key)
@@ -143,6 +207,18 @@ def validate_parameters(key: str, parameters: Mapping[str, Any]) -> dict[str, An
     Papermill only warns about unknown names; this rejects them, and values of the
     wrong type or outside their declared domain (see :mod:`secest.spaces`).
 
+    Parameters
+    ----------
+    key : str
+        Paper key, e.g. ``"lee2020"``.
+    parameters : mapping
+        Parameter name -> value to inject (a subset of the notebook's parameters).
+
+    Returns
+    -------
+    dict
+        The checked values, by name (see :func:`secest.spaces.validate`).
+
     Raises
     ------
     ValidationError
@@ -175,6 +251,9 @@ def _plain(value: Any) -> Any:
         return v
     return value
 
+
+_DOUBLE_DIGITS = 17
+"""Significant decimal digits that identify any double (``repr`` never needs more)."""
 
 @dataclass(frozen=True)
 class Tolerance:
@@ -209,6 +288,42 @@ class Tolerance:
         """The JSON form ``{"rtol": ..., "atol": ..., "reason": ...}``."""
         return {"rtol": float(self.rtol), "atol": float(self.atol), "reason": self.reason}
 
+    def allowed(self, value: float) -> float:
+        """The largest difference from ``value`` that still reproduces it: ``atol + rtol*|value|``."""
+        return self.atol + self.rtol * abs(float(value))
+
+    def resolution(self, value: float) -> float:
+        """The decimal step ``value`` is written with: ``10**(e - 1)``, ``10**e`` the leading digit
+        of :meth:`allowed` (so at most a tenth of the tolerance); 0 for a zero tolerance.
+
+        Digits finer than this are rounding noise by the tolerance's own declaration, and
+        writing them would only make committed files change from machine to machine.
+        """
+        exponent = self._exponent(float(value))
+        return 0.0 if exponent is None else float(Decimal(1).scaleb(exponent))
+
+    def round(self, value: float) -> float:
+        """``value`` rounded (half to even) to a multiple of :meth:`resolution`; -0.0 becomes 0.0.
+
+        Non-finite values, and values whose resolution is finer than a double resolves, are
+        returned unchanged.
+        """
+        v = float(value)
+        exponent = self._exponent(v) if math.isfinite(v) else None
+        if exponent is None:
+            return v + 0.0
+        exact = Decimal(v)
+        if v != 0.0 and exact.adjusted() - exponent + 1 > _DOUBLE_DIGITS:
+            return v + 0.0
+        context = Context(prec=2 * _DOUBLE_DIGITS, rounding=ROUND_HALF_EVEN)
+        return float(exact.quantize(Decimal(1).scaleb(exponent), context=context)) + 0.0
+
+    def _exponent(self, value: float) -> int | None:
+        width = self.allowed(value)
+        if width == 0.0 or not math.isfinite(width):
+            return None
+        return Decimal(width).adjusted() - 1
+
 
 DETERMINISTIC = Tolerance(
     rtol=1e-9,
@@ -216,11 +331,65 @@ DETERMINISTIC = Tolerance(
     reason="deterministic floating point: another CPU or BLAS build may reorder sums "
     "and change the last bits",
 )
-"""Default tolerance of a claim: deterministic linear algebra."""
+"""Default tolerance of a claim and of figure data: deterministic linear algebra."""
+
+# Named tolerances for the kinds of computation whose last bits another machine amplifies.
+# Each was chosen above what re-runs under other BLAS kernels / CPU features measured (README,
+# "Reproducibility"); a notebook declares its own where none of these fits.
+ROUNDING_RESIDUAL = Tolerance(
+    rtol=1e-9,
+    atol=1e-11,
+    reason="residual of an identity exact in exact arithmetic (a KKT condition, two formulas or "
+    "implementations of one quantity): its value is rounding noise of order n*eps*|operands| "
+    "(up to 4e-13 here), which another CPU replaces by other noise of that order",
+)
+CANCELLATION = Tolerance(
+    rtol=1e-6,
+    atol=1e-12,
+    reason="a small difference of two computed quantities of size ~1 (e.g. an attacked minus an "
+    "attack-free estimate): cancellation leaves it a relative precision of eps*|operands|/difference "
+    "(6.8e-8 measured on ding2020's smallest leaks, 1.5e-6, under other BLAS kernels)",
+)
+SIGN_DRIVEN = Tolerance(
+    rtol=1e-3,
+    atol=5e-3,
+    reason="sign-driven (Filippov) dynamics on a fixed step dt: a last-bit difference flips a sgn "
+    "at another step and trajectories chatter apart by O(kappa*dt) per coordinate (lee2020: "
+    "kappa*dt = 5e-4, 1.7e-3 measured on theta-sums under other BLAS kernels); observer gains "
+    "placed at clustered poles differ by ~4e-5 relative",
+)
+LMI_ITERATES = Tolerance(
+    rtol=1e-3,
+    atol=1e-3,
+    reason="interior-point LMI solves stop at an iterate within their 1e-8 gap tolerance of a flat "
+    "optimum: gains and ellipsoids are fixed only to ~1e-5 of their size and the recursion carries "
+    "that over the horizon (ma2021: up to 1.4e-4 on estimates under other BLAS kernels)",
+)
 
 
 def interval(low: float, high: float, *, level: float = 0.95, method: str) -> dict[str, Any]:
-    """A confidence interval entry for :func:`claim` (``method``: e.g. ``"wilson"``, ``"t"``)."""
+    """A confidence interval entry for :func:`claim`.
+
+    Parameters
+    ----------
+    low, high : float
+        The interval's bounds; finite, with ``low <= high``.
+    level : float, optional
+        Confidence level, in (0, 1). Default 0.95.
+    method : str
+        How the interval was computed, e.g. ``"wilson"``, ``"t"`` (keyword-only, required).
+
+    Returns
+    -------
+    dict
+        ``{"low", "high", "level", "method"}``, bounds and level as Python floats.
+
+    Raises
+    ------
+    ValidationError
+        If a bound is not finite, ``low > high``, ``level`` lies outside (0, 1) or
+        ``method`` is not a non-empty string.
+    """
     lo, hi = float(low), float(high)
     if not (math.isfinite(lo) and math.isfinite(hi)) or lo > hi:
         raise ValidationError(f"interval must be finite with low <= high, found ({low}, {high})")
@@ -320,7 +489,19 @@ def claim(
 
 
 def point_verdict(entry: Mapping[str, Any]) -> str:
-    """``fails-premise`` if the claim's premise fails, else ``holds`` or ``fails``."""
+    """``fails-premise`` if the claim's premise fails, else ``holds`` or ``fails``.
+
+    Parameters
+    ----------
+    entry : mapping
+        A claims-JSON entry (from :func:`claim`): its ``holds`` and, if present,
+        ``premise["holds"]`` are read.
+
+    Returns
+    -------
+    str
+        The verdict at this run's parameters: ``"holds"``, ``"fails"`` or ``"fails-premise"``.
+    """
     premise = entry.get("premise")
     if premise is not None and not premise["holds"]:
         return "fails-premise"
@@ -328,7 +509,20 @@ def point_verdict(entry: Mapping[str, Any]) -> str:
 
 
 def headline_value(entry: Mapping[str, Any]) -> float | None:
-    """The number a robustness table records for a claim: ``measured`` or ``measured[key]``."""
+    """The number a robustness table records for a claim: ``measured`` or ``measured[key]``.
+
+    Parameters
+    ----------
+    entry : mapping
+        A claims-JSON entry (from :func:`claim`).
+
+    Returns
+    -------
+    float or None
+        ``measured`` when it is a number, ``measured[key]`` when ``measured`` is a
+        mapping and the entry names its ``key`` and that value is a number; None
+        otherwise (lists, booleans, a mapping without ``key``).
+    """
     value = entry.get("measured")
     if isinstance(value, Mapping):
         value = value.get(entry["key"]) if "key" in entry else None
@@ -347,6 +541,13 @@ def write_claims(
     robustness: str | Path | None = None,
 ) -> Path:
     """Write ``claims`` (id -> :func:`claim` entry) as sorted, indented JSON.
+
+    Numbers are written with the precision deterministic floating point carries: to a
+    tenth of :data:`DETERMINISTIC` (:meth:`Tolerance.round`: 11 significant digits,
+    multiples of 1e-13 near zero), whatever the claim's own tolerance, so that readers
+    and recomputations keep every digit that can be reproduced and no rounding noise.
+    A claim's ``tolerance`` says how much of that reproduces on another machine
+    (``python -m secest.verify``).
 
     Parameters
     ----------
@@ -383,9 +584,26 @@ def write_claims(
                 entry["robustness"] = summary[cid]
     out = resolve(path)
     out.parent.mkdir(parents=True, exist_ok=True)
-    text = json.dumps(_plain(merged), indent=2, sort_keys=True) + "\n"
+    rounded = {cid: _rounded_claim(entry) for cid, entry in _plain(merged).items()}
+    text = json.dumps(rounded, indent=2, sort_keys=True) + "\n"
     out.write_text(text)
     return out
+
+
+def _rounded_claim(entry: Mapping[str, Any]) -> dict[str, Any]:
+    """``entry`` with every number except its tolerance rounded with :data:`DETERMINISTIC`."""
+    return {k: v if k == "tolerance" else _round_leaves(v, DETERMINISTIC) for k, v in entry.items()}
+
+
+def _round_leaves(value: Any, tolerance: Tolerance) -> Any:
+    """Round every float in a JSON-ready value (nested lists / dicts) with ``tolerance``."""
+    if isinstance(value, dict):
+        return {k: _round_leaves(v, tolerance) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_round_leaves(v, tolerance) for v in value]
+    if isinstance(value, float):
+        return tolerance.round(value)
+    return value
 
 
 def _git_commit() -> str:

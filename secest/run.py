@@ -83,9 +83,24 @@ def execute_notebook(
 def safe_outputs(key: str, params: Mapping[str, Any], output: str | Path | None) -> tuple[Path, dict]:
     """Where a run that is not ``--in-place`` writes: never over the committed outputs.
 
-    Returns the output notebook path and ``params`` completed with ``fig_dir`` and
-    ``results_path`` under the output's folder (``build/run/<key>/`` by default),
-    unless the caller gave them.
+    Parameters
+    ----------
+    key : str
+        Paper key, e.g. ``"lee2020"``; names the default output folder.
+    params : mapping
+        Parameter values of the run (already checked); not modified.
+    output : str or Path or None
+        Output notebook path; None means ``build/run/<key>/<key>.ipynb`` under the
+        repository root.
+
+    Returns
+    -------
+    output : Path
+        The output notebook path.
+    params : dict
+        A copy of ``params`` completed with ``fig_dir`` (``<folder>/figures``) and
+        ``results_path`` (``<folder>/claims.json``), ``<folder>`` being the output
+        notebook's folder, unless the caller gave them.
     """
     out = Path(output) if output is not None else repo_root() / "build" / "run" / key / f"{key}.ipynb"
     folder = out.resolve().parent
@@ -96,7 +111,27 @@ def safe_outputs(key: str, params: Mapping[str, Any], output: str | Path | None)
 
 
 def list_parameters(key: str) -> str:
-    """One line per parameter: name, default, admissible values, tag, declared space, comment."""
+    """One line per parameter: name, default, admissible values, tag, declared space, comment.
+
+    What ``python -m secest.run KEY --list`` prints.
+
+    Parameters
+    ----------
+    key : str
+        Paper key, e.g. ``"ding2020"``.
+
+    Returns
+    -------
+    str
+        A header line and one line per parameter of the notebook's ``parameters``
+        cell, in its order, the first five columns aligned.
+
+    Raises
+    ------
+    ValidationError
+        If ``key`` names no notebook or its ``notebooks/<key>.toml`` is invalid
+        (see :func:`secest.spaces.load`).
+    """
     space = spaces.load(key)
     rows = [("name", "default", "admissible", "tag", "declared space", "comment")]
     for p in space.parameters.values():
@@ -131,7 +166,22 @@ def _parse(key: str, pairs: list[list[str]]) -> dict[str, Any]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Command-line entry point (see the module docstring)."""
+    """Command-line entry point (see the module docstring).
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments after the program name (``KEY [-p NAME VALUE]... [--output PATH |
+        --in-place] [--list]``). Default: ``sys.argv[1:]``.
+
+    Returns
+    -------
+    int
+        Exit status: 0 on success, 2 when a key or parameter is invalid (one line
+        naming it is printed to stderr). argparse exits with status 2 on malformed
+        arguments; an error raised inside the notebook propagates
+        (``papermill.PapermillExecutionError``).
+    """
     parser = argparse.ArgumentParser(
         prog="python -m secest.run",
         description=__doc__,

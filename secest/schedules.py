@@ -28,7 +28,8 @@ from math import lcm
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from secest.validation import ValidationError, check_positive_int
+from secest import validation as V
+from secest.validation import ValidationError
 
 __all__ = [
     "rrl_map_period",
@@ -42,8 +43,8 @@ __all__ = [
 
 def _check_channels(m: int, n_y: int) -> tuple[int, int]:
     """Validate the number of channels ``m`` and of sensors ``n_y`` (1 <= m <= n_y)."""
-    n_y = check_positive_int("n_y", n_y)
-    m = check_positive_int("m", m)
+    n_y = V.check_int("n_y", n_y, minimum=1, maximum=V.MAX_ELEMENTS)
+    m = V.check_int("m", m, minimum=1)
     if m > n_y:
         raise ValidationError(
             f"m must not exceed n_y (a sensor cannot use two channels at once): found m={m}, n_y={n_y}"
@@ -51,13 +52,22 @@ def _check_channels(m: int, n_y: int) -> tuple[int, int]:
     return m, n_y
 
 
-def _check_steps(k: ArrayLike) -> NDArray[np.int64]:
-    """Validate time instants ``k`` (integers >= 1, as in eq. (2))."""
-    arr = np.asarray(k)
+def _check_steps(k: ArrayLike, m: int) -> NDArray[np.int64]:
+    """Validate time instants ``k`` (integers >= 1, as in eq. (2), small enough for ``m (k - 1)``)."""
+    try:
+        arr = np.asarray(k)
+    except (TypeError, ValueError) as exc:
+        raise ValidationError(
+            "k must be an integer or an array of integers, found an irregular sequence"
+        ) from exc
     if arr.dtype == bool or not np.issubdtype(arr.dtype, np.integer):
         raise ValidationError(f"k must be an integer or an array of integers, found dtype {arr.dtype}")
     if arr.size and arr.min() < 1:
         raise ValidationError(f"k must be >= 1 (the schedule starts at k = 1), found {arr.min()}")
+    if arr.size and int(arr.max()) > 2**62 // m:
+        raise ValidationError(
+            f"k must be <= 2**62 / m = {2**62 // m} (int64 arithmetic), found {arr.max()}"
+        )
     return arr.astype(np.int64)
 
 
@@ -101,7 +111,7 @@ def rrl_map_phase(k: ArrayLike, m: int, n_y: int) -> NDArray[np.int64]:
         ``o(k)`` in ``1..U``, same shape as ``k``.
     """
     m, n_y = _check_channels(m, n_y)
-    kk = _check_steps(k)
+    kk = _check_steps(k, m)
     return np.mod(kk - 1, rrl_map_period(m, n_y)) + 1
 
 
@@ -135,7 +145,8 @@ def rrl_map_sets(k: ArrayLike, m: int, n_y: int) -> NDArray[np.int64]:
     [[0, 1], [2, 3], [0, 1]]
     """
     m, n_y = _check_channels(m, n_y)
-    kk = _check_steps(k)
+    kk = _check_steps(k, m)
+    V.check_size("k, m", kk.size * m, V.MAX_ELEMENTS, "array entries")
     return np.mod(m * (kk[..., None] - 1) + np.arange(m), n_y)
 
 
@@ -155,6 +166,8 @@ def rrl_map_selector(k: ArrayLike, m: int, n_y: int) -> NDArray[np.float64]:
         Diagonal 0/1 matrix of shape ``(n_y, n_y)`` (or ``k.shape + (n_y, n_y)``)
         with rank ``m``.
     """
+    m, n_y = _check_channels(m, n_y)
+    V.check_size("k, n_y", np.size(_check_steps(k, m)) * n_y * n_y, V.MAX_ELEMENTS, "array entries")
     sets = rrl_map_sets(k, m, n_y)
     diag = np.zeros(sets.shape[:-1] + (n_y,))
     np.put_along_axis(diag, sets, 1.0, axis=-1)
@@ -180,7 +193,7 @@ def zero_input_update(y: ArrayLike, k: int, m: int, n_y: int) -> NDArray[np.floa
         :math:`\\bar y(k) = \\Phi_{o(k)} \\tilde y(k)`.
     """
     m, n_y = _check_channels(m, n_y)
-    arr = np.asarray(y, dtype=float)
+    arr = V.as_matrix("y", y)
     if arr.ndim == 0 or arr.shape[-1] != n_y:
         raise ValidationError(f"Incompatible dimensions of y: expected (..., {n_y}), found {arr.shape}")
     if np.ndim(k) != 0:
@@ -222,8 +235,11 @@ def rrl_map_window_counts(
         If ``sets`` is not a 2-D integer array with indices in ``0..n_y-1``, a
         sensor appears twice in one step, or the window is longer than ``T``.
     """
-    n_y = check_positive_int("n_y", n_y)
-    arr = np.asarray(sets)
+    n_y = V.check_int("n_y", n_y, minimum=1, maximum=V.MAX_ELEMENTS)
+    try:
+        arr = np.asarray(sets)
+    except (TypeError, ValueError) as exc:
+        raise ValidationError("sets must be a 2-D integer array of shape (T, m)") from exc
     if arr.ndim != 2 or arr.dtype == bool or not np.issubdtype(arr.dtype, np.integer):
         raise ValidationError(
             f"sets must be a 2-D integer array of shape (T, m), found shape {arr.shape} "
@@ -231,6 +247,7 @@ def rrl_map_window_counts(
         )
     if arr.size and (arr.min() < 0 or arr.max() >= n_y):
         raise ValidationError(f"sets must hold sensor indices in 0..{n_y - 1}")
+    V.check_size("sets, n_y", arr.shape[0] * n_y, V.MAX_ELEMENTS, "array entries")
     if m is None:
         m = arr.shape[1]
     m, n_y = _check_channels(m, n_y)
@@ -241,7 +258,7 @@ def rrl_map_window_counts(
         raise ValidationError("sets schedules the same sensor on two channels at one step")
     if window is None:
         window = rrl_map_period(m, n_y)
-    window = check_positive_int("window", window)
+    window = V.check_int("window", window, minimum=1)
     if window > arr.shape[0]:
         raise ValidationError(
             f"window must not exceed the number of steps {arr.shape[0]}, found {window}"

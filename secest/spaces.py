@@ -100,7 +100,19 @@ def _root() -> Path:
 
 @dataclass(frozen=True)
 class CellEntry:
-    """One assignment of a notebook's parameters cell: name, literal value and comment."""
+    """One assignment of a notebook's parameters cell: name, literal value and comment.
+
+    Attributes
+    ----------
+    name : str
+        The variable assigned.
+    value : object
+        The literal's value.
+    source : str
+        The literal's source text.
+    comment : str
+        The comments on the assignment's lines, joined (empty if none).
+    """
 
     name: str
     value: Any
@@ -113,6 +125,19 @@ def parameter_cell(key: str, root: Path | None = None) -> dict[str, CellEntry]:
 
     Read with :mod:`ast` and :mod:`tokenize` from the jupytext source, so it is fast
     (no Jupyter import) and sees the comments that document each parameter.
+
+    Parameters
+    ----------
+    key : str
+        Paper key, e.g. ``"lee2020"``.
+    root : Path, optional
+        Repository root holding ``notebooks/``; default: the one this package lives in.
+
+    Returns
+    -------
+    dict of str to CellEntry
+        Parameter name -> its entry (literal value, source text, comment), in the
+        cell's order.
 
     Raises
     ------
@@ -158,7 +183,28 @@ def parameter_cell(key: str, root: Path | None = None) -> dict[str, CellEntry]:
 
 @dataclass(frozen=True)
 class Axis:
-    """The declared space of one parameter: a set, a (stepped) range, or a tie to another axis."""
+    """The declared space of one parameter: a set, a (stepped) range, or a tie to another axis.
+
+    Exactly one form is used (see :attr:`kind`): ``values`` (a set), ``low`` / ``high``
+    with ``steps`` (a grid) or without (sampled by the Sobol / LHS design), or ``same_as``.
+
+    Attributes
+    ----------
+    values : tuple, optional
+        The levels of a set, in order.
+    labels : tuple of str, optional
+        One short printable name per entry of ``values`` (for long values, e.g. graphs).
+    low, high : float, optional
+        The bounds of a range, ``low < high`` (``low > 0`` if ``log``).
+    steps : int, optional
+        Number of grid levels of a stepped range (at least 2); None: a sampled range.
+    log : bool
+        Space the range geometrically rather than linearly. Default False.
+    integer : bool
+        Round the range's values to integers. Default False.
+    same_as : str, optional
+        Name of another swept parameter this one equals at every point (a tied axis).
+    """
 
     values: tuple | None = None
     labels: tuple[str, ...] | None = None
@@ -220,7 +266,44 @@ class Axis:
 
 @dataclass(frozen=True)
 class Parameter:
-    """Domain, provenance and declared space of one notebook parameter."""
+    """Domain, provenance and declared space of one notebook parameter.
+
+    Built by :func:`load` from the ``parameters`` cell (name, default, comment) and the
+    parameter's table in ``notebooks/<key>.toml`` (everything else).
+
+    Attributes
+    ----------
+    name : str
+        The variable name in the ``parameters`` cell.
+    default : object
+        Its literal value in the cell.
+    comment : str
+        The comment documenting it in the cell (empty if none).
+    type : str
+        One of :data:`TYPES`: ``"int"``, ``"float"``, ``"bool"``, ``"str"``, ``"list"``
+        or ``"any"`` (default: inferred from ``default``).
+    tag : str, optional
+        Provenance tag, one of :data:`TAGS` (from the TOML or the comment).
+    reason : str, optional
+        Why the declared space is what it is (from the paper's text and assumptions).
+    unit : str, optional
+        Physical unit, shown in the provenance table.
+    nullable : bool
+        Whether None is admissible. Default False.
+    min, max : float, optional
+        Inclusive bounds of an ``int`` or ``float``.
+    exclusive_min, exclusive_max : float, optional
+        Exclusive bounds of an ``int`` or ``float``.
+    choices : tuple, optional
+        The only admissible values.
+    length : int, optional
+        Required length of a ``list``.
+    items : str, optional
+        Required type of a ``list``'s items: ``"int"``, ``"float"``, ``"str"``,
+        ``"bool"`` or ``"list"``.
+    space : Axis, optional
+        The declared space swept by ``make robustness``; None: not swept.
+    """
 
     name: str
     default: Any
@@ -273,7 +356,26 @@ class Parameter:
 
 @dataclass(frozen=True)
 class Space:
-    """Every parameter of one notebook with its declared space and the sweep settings."""
+    """Every parameter of one notebook with its declared space and the sweep settings.
+
+    Attributes
+    ----------
+    key : str
+        Paper key of the notebook.
+    parameters : dict of str to Parameter
+        Every parameter of the ``parameters`` cell, in its order.
+    base : dict
+        Parameter values fixed at every point of the sweep (``[sweep] base``).
+    design : str
+        ``"sobol"`` or ``"lhs"``: how the sampled ranges are sampled. Default ``"sobol"``.
+    n : int
+        Number of points of that design. Default 8.
+    seed : int
+        Seed of the design's scrambling. Default 0.
+    perturb : tuple of dict
+        Explicit perturbation points (``[[sweep.perturb]]``), see
+        :func:`perturbation_points`.
+    """
 
     key: str
     parameters: dict[str, Parameter]
@@ -303,7 +405,19 @@ def _same(a: Any, b: Any) -> bool:
 
 
 def format_value(value: Any) -> str:
-    """A short printable form of a parameter value (at most 40 characters)."""
+    """A short printable form of a parameter value (at most 40 characters).
+
+    Parameters
+    ----------
+    value : object
+        A parameter value: floats are written with 6 significant digits, strings as
+        they are, anything else as JSON.
+
+    Returns
+    -------
+    str
+        The text, cut to 37 characters and ``...`` when longer than 40.
+    """
     if isinstance(value, float):
         return format(value, ".6g")
     text = json.dumps(value) if not isinstance(value, str) else value
@@ -396,6 +510,19 @@ def load(key: str, root: Path | None = None) -> Space:
     no range. Every declared space must lie in its parameter's domain and hold the
     default; tied axes must name a swept parameter.
 
+    Parameters
+    ----------
+    key : str
+        Paper key, e.g. ``"lee2020"``. A missing ``notebooks/<key>.toml`` is not an
+        error (no domains, no declared spaces).
+    root : Path, optional
+        Repository root holding ``notebooks/``; default: the one this package lives in.
+
+    Returns
+    -------
+    Space
+        The notebook's parameters and sweep settings.
+
     Raises
     ------
     ValidationError
@@ -469,6 +596,19 @@ def _check_space(space: Space) -> None:
 def check_value(param: Parameter, value: Any) -> Any:
     """Check ``value`` against ``param``'s domain; return it (ints accepted for floats).
 
+    Parameters
+    ----------
+    param : Parameter
+        The parameter whose domain (type, bounds, choices, length, items,
+        nullability) is checked.
+    value : object
+        The candidate value.
+
+    Returns
+    -------
+    object
+        ``value`` unchanged.
+
     Raises
     ------
     ValidationError
@@ -532,6 +672,24 @@ def parse_value(param: Parameter, text: str) -> Any:
     Booleans accept true/false, yes/no, on/off, 1/0 (any case); ``None``/``null``
     gives None; strings are taken as they are; everything else is a Python literal
     (``3``, ``0.5``, ``[1, 2]``).
+
+    Parameters
+    ----------
+    param : Parameter
+        The parameter the text is a value of (its type decides how it is parsed).
+    text : str
+        The value as typed on the command line.
+
+    Returns
+    -------
+    object
+        The parsed value, checked against ``param``'s domain.
+
+    Raises
+    ------
+    ValidationError
+        If the text is not a value of ``param``'s type or lies outside its domain.
+        (A text that is not a Python literal is taken as a string when the type is ``any``.)
     """
     stripped = text.strip()
     if stripped.lower() in ("none", "null"):
@@ -566,8 +724,24 @@ def parse_value(param: Parameter, text: str) -> Any:
 def validate(space: Space | str, values: Mapping[str, Any]) -> dict[str, Any]:
     """Check every entry of ``values`` against the domain of the notebook's parameters.
 
-    ``space`` is a :class:`Space` or a notebook key. Unknown names are an error
-    (papermill itself only warns about them).
+    Unknown names are an error (papermill itself only warns about them).
+
+    Parameters
+    ----------
+    space : Space or str
+        The notebook's declared parameters, or its paper key (then read with :func:`load`).
+    values : mapping
+        Parameter name -> value, a subset of the notebook's parameters.
+
+    Returns
+    -------
+    dict
+        The checked values, by name, in the order of ``values``.
+
+    Raises
+    ------
+    ValidationError
+        If a name is not declared by the notebook or a value lies outside its domain.
     """
     if isinstance(space, str):
         space = load(space)
@@ -590,6 +764,17 @@ def design(space: Space) -> list[dict[str, Any]]:
     is not included. The full grid of sets and stepped ranges is crossed with a
     scrambled Sobol (or Latin hypercube) sample of ``n`` points over the other
     ranges; the default point comes first.
+
+    Parameters
+    ----------
+    space : Space
+        The notebook's declared space and sweep settings (``design``, ``n``, ``seed``).
+
+    Returns
+    -------
+    list of dict
+        The points, each mapping parameter name -> value; duplicates removed, the
+        default point first. Deterministic for a given ``space``.
     """
     from scipy.stats import qmc
 
@@ -638,6 +823,24 @@ def perturbation_points(space: Space) -> list[dict[str, Any]]:
     The ``[[sweep.perturb]]`` points of the TOML file if it gives three or more;
     otherwise every axis at its low edge, every axis at its high edge, and every
     axis at its middle level (sets: first, last, middle value).
+
+    Parameters
+    ----------
+    space : Space
+        The notebook's declared space.
+
+    Returns
+    -------
+    list of dict
+        The points, each mapping swept (and tied) parameter name -> value; in the
+        second case the edge / middle points equal to the default point are left
+        out and the (fewer than three) ``[[sweep.perturb]]`` points appended.
+
+    Raises
+    ------
+    ValidationError
+        If the notebook declares no space to perturb (and fewer than three
+        ``[[sweep.perturb]]`` points).
     """
     if len(space.perturb) >= 3:
         return [dict(p) for p in space.perturb]
@@ -676,6 +879,24 @@ def provenance_markdown(key: str, *, only_tagged: bool = False) -> str:
 
     Notebooks display it in their provenance section, so the declared spaces the
     robustness sweep uses are visible where the reader checks the values.
+
+    Parameters
+    ----------
+    key : str
+        Paper key, e.g. ``"lee2020"``.
+    only_tagged : bool, optional
+        List only the parameters with a provenance tag. Default False (all of them).
+
+    Returns
+    -------
+    str
+        The table, one row per parameter in the order of the ``parameters`` cell;
+        the ``reason`` column falls back to the parameter's comment.
+
+    Raises
+    ------
+    ValidationError
+        As :func:`load`.
     """
     space = load(key)
     rows = [
@@ -685,7 +906,7 @@ def provenance_markdown(key: str, *, only_tagged: bool = False) -> str:
     for p in space.parameters.values():
         if only_tagged and p.tag is None:
             continue
-        axis = "–" if p.space is None else p.space_text()
+        axis = "–" if p.space is None else p.space_text().replace("|", "\\|")
         unit = f" [{p.unit}]" if p.unit else ""
         reason = (p.reason or p.comment or "").replace("|", "\\|")
         rows.append(

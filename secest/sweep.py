@@ -5,15 +5,15 @@ opinion. ``make robustness [NB=<key>]`` (``python -m secest.sweep KEY ...``)
 executes each notebook with papermill at every point of the design of its
 declared space (:func:`secest.spaces.design`), figures off, and writes
 
-``figures/<key>/robustness.csv``    one row per point: its parameters, status, and
-                                    for each claim ``<id>.outcome`` (holds / fails /
-                                    fails-premise), ``<id>.holds`` and ``<id>.value``;
-``figures/<key>/robustness.json``   per claim: the verdict over the space (``holds``,
-                                    ``fails``, ``fails-premise`` everywhere, else
-                                    ``undetermined``), the fraction of points where it
-                                    holds with a Wilson interval, and the region;
-``figures/<key>/robustness_<id>.png``  for every claim whose outcome varies: where it
-                                    holds over the swept axes.
+``figures/<key>/robustness.csv``
+   one row per point: its parameters, status, and for each claim ``<id>.outcome``
+   (holds / fails / fails-premise), ``<id>.holds`` and ``<id>.value``;
+``figures/<key>/robustness.json``
+   per claim: the verdict over the space (``holds``, ``fails``, ``fails-premise``
+   everywhere, else ``undetermined``), the fraction of points where it holds with a
+   Wilson interval, and the region;
+``figures/<key>/robustness_<id>.png``
+   for every claim whose outcome varies: where it holds over the swept axes.
 
 The notebooks read ``robustness.json`` when they write their claims
 (:func:`secest.results.write_claims`), so run ``make robustness`` before ``make figures``.
@@ -336,6 +336,24 @@ def summarise(space: spaces.Space, rows: Sequence[Mapping[str, Any]], points: Se
     The verdict is ``holds`` (``fails``, ``fails-premise``) when every finished
     point says so, else ``undetermined``. The Wilson interval treats the design
     points as a sample of the declared space.
+
+    Parameters
+    ----------
+    space : Space
+        The notebook's declared space (for the axes and their kinds).
+    rows : sequence of mapping
+        The table of :func:`tabulate`, one row per point.
+    points : sequence of mapping
+        The design points (parameter name -> value), aligned with ``rows``.
+
+    Returns
+    -------
+    dict
+        Claim id -> ``verdict``, ``points`` (finished points with an outcome),
+        ``failed_points`` (points that did not finish), ``outcomes`` (count per
+        outcome), ``fraction_holds``, ``interval`` (a :func:`secest.results.interval`
+        entry), ``region`` (:func:`describe_region`) and ``axes`` (the axes it was
+        described over). Claims without any finished point are left out.
     """
     from secest.montecarlo import wilson_interval
     from secest.results import interval
@@ -368,32 +386,65 @@ def summarise(space: spaces.Space, rows: Sequence[Mapping[str, Any]], points: Se
             "interval": interval(
                 lo, hi, method="wilson, design points as a sample of the declared space"
             ),
-            "region": describe_region(space, axes, [o == "holds" for o in outcomes]),
+            "region": _region(space, axes, outcomes),
             "axes": list(axes),
         }
     return summary
 
 
-def describe_region(space: spaces.Space, axes: Mapping[str, list], holds: Sequence[bool]) -> str:
+def _region(space: spaces.Space, axes: Mapping[str, list], outcomes: Sequence[str]) -> str:
+    """:func:`describe_region` of the outcomes; when the claim never fails where its
+    premise holds, the region says so and describes where the premise fails."""
+    if "fails" in outcomes or "holds" not in outcomes or "fails-premise" not in outcomes:
+        return describe_region(space, axes, [o == "holds" for o in outcomes])
+    where = describe_region(space, axes, [o == "fails-premise" for o in outcomes],
+                            words=("the premise fails", "the premise holds"))
+    return f"holds wherever its premise holds ({outcomes.count('holds')} of {len(outcomes)} points); {where}"
+
+
+def describe_region(
+    space: spaces.Space, axes: Mapping[str, list], holds: Sequence[bool],
+    words: tuple[str, str] = ("holds", "fails"),
+) -> str:
     """Where a claim holds, in words: the best one-axis rule and how often it is right.
 
     For a numeric axis the rule is a threshold (holds where the value is below, or
     above, a cut between two swept values); for a set of non-numeric values it is
     a subset of levels. When no rule is right at every point the best one is given
     with its accuracy, followed by the fraction holding at each level of every set.
+
+    Parameters
+    ----------
+    space : Space
+        The notebook's declared space (axis kinds and labels).
+    axes : mapping of str to list
+        Axis name -> its value at each point (a parameter not declared as an axis
+        of ``space`` is treated as a set of its values).
+    holds : sequence of bool
+        Whether the claim holds at each point, aligned with the lists of ``axes``.
+    words : tuple of str, optional
+        What ``holds`` true and false say (default the claim's ``"holds"`` and
+        ``"fails"``; e.g. ``("the premise fails", "the premise holds")``).
+
+    Returns
+    -------
+    str
+        One sentence, e.g. ``"holds exactly where n >= 4 (the next swept value, 3,
+        is on the other side) (12 of 16 points)"``.
     """
     n = len(holds)
     if all(holds):
-        return f"holds at all {n} points of the declared space"
+        return f"{words[0]} at all {n} points of the declared space"
     if not any(holds):
-        return f"holds at none of the {n} points of the declared space"
+        return f"{words[0]} at none of the {n} points of the declared space"
     rules = [_best_rule(space, name, values, holds) for name, values in axes.items()]
     rules = [r for r in rules if r is not None]
-    if not rules:
-        return f"holds at {sum(holds)} of {n} points"
-    accuracy, text = max(rules, key=lambda r: r[0])
+    accuracy, text = max(rules, key=lambda r: r[0]) if rules else (0.0, "")
     if accuracy == 1.0:
-        return f"holds exactly where {text} ({sum(holds)} of {n} points)"
+        return f"{words[0]} exactly where {text} ({sum(holds)} of {n} points)"
+    pair = _pair_region(space, axes, holds, words)
+    if pair is not None:
+        return f"{pair} ({sum(holds)} of {n} points; no single axis separates it)"
     levels = []
     for name, values in axes.items():
         axis = space.axes.get(name)
@@ -405,10 +456,33 @@ def describe_region(space: spaces.Space, axes: Mapping[str, list], holds: Sequen
                     parts.append(f"{axis.label(v)}: {sum(sel)}/{len(sel)}")
             levels.append(f"{name} ({', '.join(parts)})")
     tail = "; holding per level: " + "; ".join(levels) if levels else ""
-    return (
-        f"holds at {sum(holds)} of {n} points; no single axis separates it, the best rule is "
-        f"'{text}' (right at {accuracy:.0%} of points){tail}"
-    )
+    best = f", the best rule is '{text}' (right at {accuracy:.0%} of points)" if rules else ""
+    return f"{words[0]} at {sum(holds)} of {n} points; no one- or two-axis rule separates it{best}{tail}"
+
+
+def _pair_region(
+    space: spaces.Space, axes: Mapping[str, list], holds: Sequence[bool],
+    words: tuple[str, str] = ("holds", "fails"),
+) -> str | None:
+    """A region that two set-valued axes decide together, in words, or None.
+
+    When every combination of levels of two axes holds everywhere or fails everywhere,
+    the region is the list of combinations where it fails (or holds, if shorter).
+    """
+    names = [n for n in axes if n in space.axes and space.axes[n].kind == "set"]
+    for i, a in enumerate(names):
+        for b in names[i + 1 :]:
+            cells: dict[tuple[str, str], set[bool]] = {}
+            for va, vb, h in zip(axes[a], axes[b], holds, strict=True):
+                cells.setdefault((space.axes[a].label(va), space.axes[b].label(vb)), set()).add(h)
+            if all(len(v) == 1 for v in cells.values()):
+                fail = sorted(c for c, v in cells.items() if True not in v)
+                hold = sorted(c for c, v in cells.items() if True in v)
+                shown, verb = (fail, words[1]) if len(fail) <= len(hold) else (hold, words[0])
+                where = "; ".join(f"{a} = {x} and {b} = {y}" for x, y in shown)
+                other = words[0] if verb == words[1] else words[1]
+                return f"{verb} exactly where {where}, {other} elsewhere"
+    return None
 
 
 def _best_rule(space: spaces.Space, name: str, values: list, holds: Sequence[bool]) -> tuple | None:
@@ -437,9 +511,11 @@ def _best_rule(space: spaces.Space, name: str, values: list, holds: Sequence[boo
             for v in axis.values
             if _mean([h for x, h in zip(values, holds, strict=True) if spaces._same(x, v)]) > 0.5
         ]
+        if not good or len(good) == len(axis.values):
+            return None  # "holds at every level" or "at none" says nothing about where
         pred = [any(spaces._same(x, g) for g in good) for x in values]
         acc = sum(p == h for p, h in zip(pred, holds, strict=True)) / len(holds)
-        shown = ", ".join(axis.label(g) for g in good) or "none"
+        shown = ", ".join(axis.label(g) for g in good)
         return acc, f"{name} in {{{shown}}}"
     return None
 
@@ -534,7 +610,11 @@ def plot_claim(
         ax.set_title(f"{title}holds at {held}/{len(sel)}", fontsize=8)
         ax.set_xlabel(_axis_label(space, x_axis))
     panels[0][0].set_ylabel(f"{cid}: measured value" if has_values else f"{cid}: outcome")
-    handles, labels = panels[0][0].get_legend_handles_labels()
+    shown: dict[str, Any] = {}
+    for ax in panels[0]:
+        for handle, label in zip(*ax.get_legend_handles_labels(), strict=True):
+            shown.setdefault(label, handle)
+    handles, labels = list(shown.values()), list(shown)
     fig.legend(handles, labels, loc="outside lower center", ncols=len(labels), fontsize=7, frameon=False)
     fig.suptitle(
         f"{space.key} {cid}: holds at {entry['outcomes']['holds']} of {entry['points']} points "
@@ -563,12 +643,7 @@ def _x_axis(space: spaces.Space, axes: list[str], ok: list, cid: str) -> str:
         for name in axes
         if (rule := _best_rule(space, name, [p[name] for _, p in ok], holds)) is not None
     ]
-    numeric = [
-        s
-        for s in scored
-        if space.axes[s[1]].kind != "set"
-        or all(isinstance(v, int | float) for v in space.axes[s[1]].values)
-    ]
+    numeric = [s for s in scored if space.axes[s[1]].kind != "set" or _numeric(space.axes[s[1]].values)]
     pool = numeric or scored or [(0.0, axes[0])]
     return max(pool)[1]
 
@@ -580,7 +655,9 @@ def _axis_label(space: spaces.Space, name: str) -> str:
 
 def _scatter(ax: Any, space: spaces.Space, x_axis: str, sel: list, cid: str, has_values: bool) -> None:
     axis = space.axes[x_axis]
-    categorical = axis.kind == "set" and not all(isinstance(v, int | float) for v in axis.values)
+    categorical = axis.kind == "set" and not _numeric(axis.values)
+    if axis.log:
+        ax.set_xscale("log")
     style = {"holds": ("o", "tab:blue"), "fails": ("x", "tab:red"), "fails-premise": ("^", "tab:gray")}
     for outcome, (marker, colour) in style.items():
         pts = [(r, p) for r, p in sel if r[f"{cid}.outcome"] == outcome]
@@ -630,7 +707,22 @@ def _print_summary(key: str, outcome: Mapping[str, Any]) -> None:
 
 
 def main(argv: Iterable[str] | None = None) -> int:
-    """Command-line entry point: ``python -m secest.sweep [KEY ...] [--scheduler ADDR]``."""
+    """Command-line entry point: ``python -m secest.sweep [KEY ...] [--scheduler ADDR]``.
+
+    Parameters
+    ----------
+    argv : iterable of str, optional
+        The arguments after the program name: paper keys (default: every notebook)
+        and the options ``--scheduler ADDR``, ``--workers N``, ``--fresh`` and
+        ``--list`` (see ``--help``). Default: ``sys.argv[1:]``.
+
+    Returns
+    -------
+    int
+        Exit status: 0 when every point finished and the robustness files match
+        ``figures/manifest.toml``, 1 otherwise, 2 when a key or declared space is
+        invalid (printed to stderr). argparse exits with status 2 on malformed arguments.
+    """
     parser = argparse.ArgumentParser(
         prog="python -m secest.sweep",
         description=__doc__,

@@ -23,11 +23,13 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from itertools import combinations
+from math import comb
 from typing import NamedTuple
 
 import numpy as np
 import scipy.linalg as sla
 
+from secest import validation as V
 from secest.validation import ValidationError, as_matrix
 
 __all__ = [
@@ -74,25 +76,30 @@ def _check_C(C: object, n: int, name: str = "C") -> np.ndarray:
 
 
 def _check_rtol(rtol: float) -> float:
-    rtol = float(rtol)
-    if not (0.0 < rtol < 1.0):
-        raise ValidationError(f"rtol must lie in (0, 1), found {rtol}")
-    return rtol
+    return V.check_real("rtol", rtol, lower=0.0, upper=1.0, lower_open=True, upper_open=True)
 
 
-def _check_banks(C_banks: Sequence[object], n: int, name: str = "C_banks") -> list[np.ndarray]:
+def _bank_list(C_banks: Sequence[object], name: str = "C_banks") -> list[object]:
     if isinstance(C_banks, np.ndarray) and C_banks.ndim == 2:
         raise ValidationError(
             f"{name} must be a sequence of per-bank output matrices; for a stacked C with one "
             "sensor per bank pass list(C) (or use stack_banks)"
         )
+    if isinstance(C_banks, str | bytes):
+        raise ValidationError(f"{name} must be a sequence of matrices, found {type(C_banks).__name__}")
     try:
         banks = list(C_banks)
     except TypeError as exc:
-        raise ValidationError(f"{name} must be a sequence of matrices") from exc
+        raise ValidationError(
+            f"{name} must be a sequence of matrices, found {type(C_banks).__name__}"
+        ) from exc
     if not banks:
         raise ValidationError(f"{name} must contain at least one bank")
-    return [_check_C(Ci, n, name=f"{name}[{i}]") for i, Ci in enumerate(banks)]
+    return banks
+
+
+def _check_banks(C_banks: Sequence[object], n: int, name: str = "C_banks") -> list[np.ndarray]:
+    return [_check_C(Ci, n, name=f"{name}[{i}]") for i, Ci in enumerate(_bank_list(C_banks, name))]
 
 
 # ----------------------------------------------------------------------------- functions
@@ -107,7 +114,8 @@ def observability_matrix(A: np.ndarray, C: np.ndarray, steps: int | None = None)
         Output matrix (a 1-D array is one output row).
     steps : int, optional
         Number of block rows; default ``n`` (the Kalman rank test).  A larger value is
-        the ``steps``-step observability matrix of a discrete-time system.
+        the ``steps``-step observability matrix of a discrete-time system
+        (``m * steps * n <= MAX_ELEMENTS``).
 
     Returns
     -------
@@ -121,12 +129,10 @@ def observability_matrix(A: np.ndarray, C: np.ndarray, steps: int | None = None)
     A = _check_A(A)
     n = A.shape[0]
     C = _check_C(C, n)
-    if steps is None:
-        steps = n
-    if int(steps) != steps or steps < 1:
-        raise ValidationError(f"steps must be a positive integer, found {steps}")
+    steps = n if steps is None else V.check_int("steps", steps, minimum=1)
+    V.check_size("steps", C.shape[0] * steps * n, V.MAX_ELEMENTS, "array entries")
     blocks = [C]
-    for _ in range(int(steps) - 1):
+    for _ in range(steps - 1):
         blocks.append(blocks[-1] @ A)
     return np.vstack(blocks)
 
@@ -145,7 +151,7 @@ def observable_subspace(A: np.ndarray, C: np.ndarray, rtol: float = _DEFAULT_RTO
     A : (n, n) array_like
     C : (m, n) or (n,) array_like
     rtol : float, default 1e-9
-        Relative rank tolerance of every orthonormalisation.
+        Relative rank tolerance of every orthonormalisation, in (0, 1).
 
     Returns
     -------
@@ -175,6 +181,13 @@ def unobservable_subspace(A: np.ndarray, C: np.ndarray, rtol: float = _DEFAULT_R
     ``U`` is the orthogonal complement of :func:`observable_subspace`; it is ``A``-invariant
     and contained in ``ker C`` (lee2020, Section III-A: the subspace ``U_i`` of bank ``i``).
 
+    Parameters
+    ----------
+    A : (n, n) array_like
+    C : (m, n) or (n,) array_like
+    rtol : float, default 1e-9
+        Relative rank tolerance, in (0, 1).
+
     Returns
     -------
     (n, n - r) ndarray
@@ -190,34 +203,79 @@ def unobservable_subspace(A: np.ndarray, C: np.ndarray, rtol: float = _DEFAULT_R
 
 
 def observability_rank(A: np.ndarray, C: np.ndarray, rtol: float = _DEFAULT_RTOL) -> int:
-    """Dimension of the observable subspace of ``(C, A)`` (rank of the observability matrix)."""
+    """Dimension of the observable subspace of ``(C, A)`` (rank of the observability matrix).
+
+    Parameters
+    ----------
+    A : (n, n) array_like
+    C : (m, n) or (n,) array_like
+    rtol : float, default 1e-9
+        Relative rank tolerance, in (0, 1).
+
+    Returns
+    -------
+    int
+    """
     return int(observable_subspace(A, C, rtol=rtol).shape[1])
 
 
 def is_observable(A: np.ndarray, C: np.ndarray, rtol: float = _DEFAULT_RTOL) -> bool:
-    """``True`` iff ``(C, A)`` is observable (observable subspace of full dimension ``n``)."""
-    return observability_rank(A, C, rtol=rtol) == np.asarray(A).shape[0]
+    """``True`` iff ``(C, A)`` is observable (observable subspace of full dimension ``n``).
+
+    Parameters
+    ----------
+    A : (n, n) array_like
+    C : (m, n) or (n,) array_like
+    rtol : float, default 1e-9
+        Relative rank tolerance, in (0, 1).
+
+    Returns
+    -------
+    bool
+    """
+    Q = observable_subspace(A, C, rtol=rtol)
+    return Q.shape[1] == Q.shape[0]
 
 
 def stack_banks(C_banks: Sequence[np.ndarray], n: int | None = None) -> np.ndarray:
-    """Stack per-bank output matrices ``C_i`` (each ``(m_i, n)`` or ``(n,)``) into one ``C``."""
-    banks = list(C_banks)
+    """Stack per-bank output matrices ``C_i`` (each ``(m_i, n)`` or ``(n,)``) into one ``C``.
+
+    Parameters
+    ----------
+    C_banks : sequence of (m_i, n) or (n,) array_like
+        One output matrix per sensor bank (at least one).
+    n : int, optional
+        State dimension; default the number of columns of the first bank.
+
+    Returns
+    -------
+    (sum_i m_i, n) ndarray
+    """
+    banks = _bank_list(C_banks)
     if n is None:
-        if not banks:
-            raise ValidationError("C_banks must contain at least one bank")
-        n = np.atleast_2d(np.asarray(banks[0], dtype=float)).shape[1]
-    return np.vstack(_check_banks(banks, int(n)))
+        first = as_matrix("C_banks[0]", banks[0])
+        n = first.shape[-1] if first.ndim in (1, 2) else 0
+    else:
+        n = V.check_int("n", n, minimum=1)
+    return np.vstack(_check_banks(banks, n))
 
 
 class RedundancyResult(NamedTuple):
-    """Outcome of :func:`redundant_observability`."""
+    """Outcome of :func:`redundant_observability`.
+
+    Attributes
+    ----------
+    holds : bool
+        ``True`` iff every subset of ``N - 2q`` banks gives an observable pair.
+    failing : tuple of tuple of int
+        The subsets (0-based bank indices, sorted) whose stacked pair is not observable.
+    n_subsets : int
+        Number of subsets checked, ``binom(N, N - 2q)``.
+    """
 
     holds: bool
-    """``True`` iff every subset of ``N - 2q`` banks gives an observable pair."""
     failing: tuple[tuple[int, ...], ...]
-    """The subsets (0-based bank indices, sorted) whose stacked pair is not observable."""
     n_subsets: int
-    """Number of subsets checked, ``binom(N, N - 2q)``."""
 
 
 def redundant_observability(
@@ -254,13 +312,15 @@ def redundant_observability(
     ------
     ValidationError
         Non-square ``A``, a bank with the wrong number of columns, a negative or non-integer
-        ``q``, or ``q`` too large (``N - 2q < 1``).
+        ``q``, or ``q`` too large (``N - 2q < 1``); :class:`~secest.validation.SizeLimitError`
+        if more than ``MAX_SUBSETS`` subsets would be enumerated.
     """
     A = _check_A(A)
     n = A.shape[0]
     banks = _check_banks(C_banks, n)
+    rtol = _check_rtol(rtol)
     N = len(banks)
-    if isinstance(q, bool) or int(q) != q or q < 0:
+    if isinstance(q, bool) or not isinstance(q, int | np.integer) or q < 0:
         raise ValidationError(f"q must be a non-negative integer, found {q!r}")
     q = int(q)
     if N - 2 * q < 1:
@@ -268,6 +328,7 @@ def redundant_observability(
             f"q is too large: 2q-redundant observability needs N - 2q >= 1 banks left, "
             f"found N = {N}, q = {q} (largest admissible q is {(N - 1) // 2})"
         )
+    V.check_size(f"q = {q} with N = {N} banks (C_banks)", comb(N, 2 * q), V.MAX_SUBSETS, "subsets")
     failing = []
     n_subsets = 0
     for subset in combinations(range(N), N - 2 * q):
@@ -284,6 +345,20 @@ def discretize_zoh(M: np.ndarray, E: np.ndarray, dt: float) -> tuple[np.ndarray,
     Returns ``Phi = exp(M dt)`` and ``Gamma = int_0^dt exp(M s) ds E``, both read off one
     matrix exponential ``expm([[M, E], [0, 0]] dt)`` (Van Loan), so ``M`` may be singular.
 
+    Parameters
+    ----------
+    M : (nx, nx) array_like
+        Linear part.
+    E : (nx, ne) array_like
+        Input matrix.
+    dt : float
+        Step, positive and finite.
+
+    Returns
+    -------
+    Phi : (nx, nx) ndarray
+    Gamma : (nx, ne) ndarray
+
     Raises
     ------
     ValidationError
@@ -291,7 +366,7 @@ def discretize_zoh(M: np.ndarray, E: np.ndarray, dt: float) -> tuple[np.ndarray,
     """
     M = _check_A(M, "M")
     nx = M.shape[0]
-    E = as_matrix("E", E, (nx, None))
+    E = as_matrix("E", E, (nx, None), note="to match M")
     dt = _check_dt(dt)
     ne = E.shape[1]
     aug = np.zeros((nx + ne, nx + ne))
@@ -302,10 +377,7 @@ def discretize_zoh(M: np.ndarray, E: np.ndarray, dt: float) -> tuple[np.ndarray,
 
 
 def _check_dt(dt: float) -> float:
-    dt = float(dt)
-    if not (np.isfinite(dt) and dt > 0):
-        raise ValidationError(f"dt must be a positive finite number, found {dt}")
-    return dt
+    return V.check_real("dt", dt, lower=0.0, lower_open=True)
 
 
 def integrate_switched_linear(
@@ -385,30 +457,70 @@ def integrate_switched_linear(
     nx = M.shape[0]
     E_w = as_matrix("E_w", E_w, (nx, None))
     E_s = as_matrix("E_s", E_s, (nx, None))
-    R = as_matrix("R", R, (E_s.shape[1], nx))
+    R = as_matrix("R", R, (E_s.shape[1], nx), note="to match E_s and M")
     X = np.array(as_matrix("x0", x0), dtype=float)
     if X.ndim not in (1, 2) or X.shape[0] != nx:
         raise ValidationError(
             f"Incompatible dimensions of x0: expected ({nx},) or ({nx}, B), found {X.shape}"
         )
+    w = V.check_callable("w", w)
+    phi = V.check_callable("phi", phi)
     dt = _check_dt(dt)
-    if isinstance(n_steps, bool) or int(n_steps) != n_steps or n_steps < 0:
-        raise ValidationError(f"n_steps must be a non-negative integer, found {n_steps!r}")
-    if isinstance(record_every, bool) or int(record_every) != record_every or record_every < 1:
-        raise ValidationError(f"record_every must be a positive integer, found {record_every!r}")
-    n_steps, record_every = int(n_steps), int(record_every)
+    n_steps = _count("n_steps", n_steps, 0, "a non-negative")
+    record_every = _count("record_every", record_every, 1, "a positive")
+    V.check_size("n_steps", n_steps, V.MAX_STEPS, "integration steps")
+    n_rec = n_steps // record_every + 1
+    V.check_size("n_steps / record_every", n_rec * X.size, V.MAX_ELEMENTS, "recorded entries")
+    method = V.check_choice("method", method, ("expeuler", "euler"))
     if method == "expeuler":
         Phi, Gam = discretize_zoh(M, np.hstack([E_w, E_s]), dt)
         G_w, G_s = Gam[:, : E_w.shape[1]], Gam[:, E_w.shape[1] :]
-    elif method == "euler":
+    else:
         Phi = np.eye(nx) + dt * M
         G_w, G_s = dt * E_w, dt * E_s
-    else:
-        raise ValidationError(f"method must be 'expeuler' or 'euler', found {method!r}")
-    out = np.empty((n_steps // record_every + 1,) + X.shape)
+    w_shapes = {(E_w.shape[1],), (E_w.shape[1],) + X.shape[1:]}
+    out = np.empty((n_rec,) + X.shape)
     out[0] = X
     for k in range(n_steps):
-        X = Phi @ X + G_w @ w((k + 0.5) * dt) + G_s @ phi(R @ X)
+        t = (k + 0.5) * dt
+        gw = G_w @ _output("w", w(t), w_shapes, t)
+        if gw.ndim < X.ndim:  # one input shared by all B columns
+            gw = gw[:, None]
+        RX = R @ X
+        X = Phi @ X + gw + G_s @ _output("phi", phi(RX), {RX.shape}, t)
         if (k + 1) % record_every == 0:
             out[(k + 1) // record_every] = X
+    _check_trajectory(out, record_every * dt, method)
     return out
+
+
+def _check_trajectory(out: np.ndarray, dt_rec: float, method: str) -> None:
+    """Refuse a trajectory that is not finite (NaN from w or phi, or a diverging scheme)."""
+    bad = ~np.isfinite(out.reshape(out.shape[0], -1)).all(axis=1)
+    if np.any(bad):
+        t = int(np.argmax(bad)) * dt_rec
+        hint = "; for method='euler' reduce dt" if method == "euler" else ""
+        raise ValidationError(
+            f"the state is not finite from t = {t:g}: w or phi returned NaN or inf values, or "
+            f"the integration with dt diverged{hint}"
+        )
+
+
+def _count(name: str, value: object, minimum: int, what: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < minimum:
+        raise ValidationError(f"{name} must be {what} integer, found {value!r}")
+    return int(value)
+
+
+def _output(name: str, value: object, shapes: set[tuple[int, ...]], t: float) -> np.ndarray:
+    """The value returned by the callable ``name``, checked for type and shape (cheaply)."""
+    if isinstance(value, np.ndarray) and value.dtype.kind in "biuf" and value.shape in shapes:
+        return value
+    arr = np.asarray(value) if not isinstance(value, str | bytes) else np.asarray(None)
+    if arr.dtype.kind not in "biuf" or arr.shape not in shapes:
+        expected = " or ".join(str(s) for s in sorted(shapes))
+        expected += " (to match E_w and x0)" if name == "w" else " (that of R @ x)"
+        raise ValidationError(
+            f"{name} must return real values of shape {expected}, found {V._show(value)} at t = {t:g}"
+        )
+    return arr

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import json
 from collections.abc import Callable
 from pathlib import Path
@@ -12,26 +13,33 @@ import pytest
 from secest.run import execute_notebook
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def run_notebook(tmp_path_factory: pytest.TempPathFactory) -> Callable[..., dict[str, Any]]:
     """Return ``run(key, **parameters) -> claims`` executing ``notebooks/<key>.ipynb``.
 
     The notebook runs with ``mode="fast"`` (unless overridden) and writes its
     figures and claims into a fresh temporary directory, never into the repo.
+    Each (key, parameters) is executed once per test session (pytest-xdist may
+    interleave modules on a worker, which would rebuild module-scoped fixtures);
+    every call gets its own copy of the claims.
     """
+    done: dict[str, dict[str, Any]] = {}
 
     def run(key: str, **parameters: Any) -> dict[str, Any]:
-        out: Path = tmp_path_factory.mktemp(key)
-        params = {
-            "mode": "fast",
-            "fig_dir": str(out / "figures"),
-            "results_path": str(out / "claims.json"),
-            **parameters,
-        }
-        execute_notebook(key, params, out / f"{key}.ipynb")
-        claims = json.loads((out / "claims.json").read_text())
-        claims["_fig_dir"] = str(out / "figures")
-        return claims
+        signature = json.dumps([key, parameters], sort_keys=True, default=str)
+        if signature not in done:
+            out: Path = tmp_path_factory.mktemp(key)
+            params = {
+                "mode": "fast",
+                "fig_dir": str(out / "figures"),
+                "results_path": str(out / "claims.json"),
+                **parameters,
+            }
+            execute_notebook(key, params, out / f"{key}.ipynb")
+            claims = json.loads((out / "claims.json").read_text())
+            claims["_fig_dir"] = str(out / "figures")
+            done[signature] = claims
+        return copy.deepcopy(done[signature])
 
     return run
 

@@ -142,7 +142,6 @@ def _perturbation_cases() -> list[tuple[str, int]]:
 
 
 @pytest.mark.notebook
-@pytest.mark.xdist_group("notebooks")
 @pytest.mark.parametrize(("key", "index"), _perturbation_cases())
 def test_notebook_runs_off_its_default_point(key: str, index: int, tmp_path: Path) -> None:
     """Fast mode at a point of the declared space other than the default (edges included)."""

@@ -37,7 +37,7 @@ def test_as_matrix_shape_message() -> None:
         as_matrix("A", np.zeros((2, 3)), square=True)
     with pytest.raises(ValidationError, match="P contains NaN or infinite entries"):
         as_matrix("P", [[np.nan]])
-    with pytest.raises(ValidationError, match="M must be numeric"):
+    with pytest.raises(ValidationError, match="M must be a real numeric array, found str 'abc'"):
         as_matrix("M", "abc")
 
 
@@ -81,9 +81,9 @@ def test_random_geometric_graph_is_connected_and_seeded() -> None:
     dist = np.linalg.norm(xy[:, None] - xy[None], axis=-1)
     assert np.array_equal(a, ((dist <= 0.35) & ~np.eye(20, dtype=bool)).astype(float))
     graphs.check_connected(a)
-    with pytest.raises(ValidationError, match="radius=0.01 gave no connected graph on n=20"):
+    with pytest.raises(ValidationError, match="radius = 0.01 gave no connected graph on n = 20 nodes in max_tries = 5"):
         graphs.random_geometric_graph(20, 0.01, seed=0, max_tries=5)
-    with pytest.raises(ValidationError, match="radius must be positive"):
+    with pytest.raises(ValidationError, match="radius must be > 0, found 0.0"):
         graphs.random_geometric_graph(20, 0.0, seed=0)
 
 
@@ -111,9 +111,9 @@ def test_neighbours() -> None:
 
 
 def test_row_stochastic_weights() -> None:
-    w = graphs.row_stochastic_weights(graphs.ring_graph(5))
+    w = graphs.row_stochastic_weights(graphs.ring_graph(5), self_weight=True)
     assert np.allclose(w.sum(axis=1), 1) and w[0, 0] == pytest.approx(1 / 3)
-    w0 = graphs.row_stochastic_weights(graphs.ring_graph(5), self_weight=False)
+    w0 = graphs.row_stochastic_weights(graphs.ring_graph(5))  # default: h_ii = 0 (ding2020)
     assert w0[0, 0] == 0 and w0[0, 1] == pytest.approx(0.5)
     graphs.check_row_stochastic(w)
     with pytest.raises(ValidationError, match=r"adj has nodes without neighbours \[2\]"):
@@ -174,7 +174,7 @@ def test_gilbert_elliott_is_seeded_and_validates() -> None:
     a = channels.gilbert_elliott(0.3, 0.5, 100, np.random.default_rng(7))
     b = channels.gilbert_elliott(0.3, 0.5, 100, np.random.default_rng(7))
     assert np.array_equal(a, b)
-    with pytest.raises(ValidationError, match="initial must be 0 or 1, found 2"):
+    with pytest.raises(ValidationError, match=r"initial must be one of \(0, 1\), found 2"):
         channels.gilbert_elliott(0.1, 0.9, 10, np.random.default_rng(0), initial=2)
     with pytest.raises(ValidationError, match="steps must be >= 1, found 0"):
         channels.gilbert_elliott(0.1, 0.9, 0, np.random.default_rng(0))
@@ -215,7 +215,7 @@ def test_check_psd_messages() -> None:
         covariance.check_psd("R", [[1.0, 0.5], [0.0, 1.0]])
     with pytest.raises(ValidationError, match="P0 must be positive definite"):
         covariance.check_psd("P0", np.zeros((2, 2)), strict=True)
-    with pytest.raises(ValidationError, match="R must be a square matrix"):
+    with pytest.raises(ValidationError, match=r"R must be square in its last two axes, found shape \(2, 3\)"):
         covariance.check_psd("R", np.zeros((2, 3)))
 
 
@@ -296,7 +296,7 @@ def test_chi2_threshold_and_false_alarm() -> None:
         detectors.chi2_threshold(3, 1.0)
     with pytest.raises(ValidationError, match="dof must be >= 1, found 0"):
         detectors.chi2_threshold(0, 0.05)
-    with pytest.raises(ValidationError, match="threshold must be non-negative"):
+    with pytest.raises(ValidationError, match="threshold must be >= 0, found -1.0"):
         detectors.chi2_false_alarm(2, -1.0)
 
 
@@ -305,8 +305,19 @@ def test_nis_and_test_single_and_stacked() -> None:
     assert detectors.nis([2.0, 1.0], S) == pytest.approx(2.0)
     g = detectors.nis(np.array([[2.0, 1.0], [0.0, 3.0]]), S)
     assert g.tolist() == pytest.approx([2.0, 9.0])
-    assert detectors.chi2_test([2.0, 1.0], S, 5.0) is True
-    assert detectors.chi2_test(np.array([[2.0, 1.0], [0.0, 3.0]]), S, 5.0).tolist() == [True, False]
+    assert detectors.chi2_passes([2.0, 1.0], S, 5.0) is True
+    assert detectors.chi2_alarm([2.0, 1.0], S, 5.0) is False
+    assert detectors.chi2_passes(np.array([[2.0, 1.0], [0.0, 3.0]]), S, 5.0).tolist() == [True, False]
+    assert detectors.chi2_alarm(np.array([[2.0, 1.0], [0.0, 3.0]]), S, 5.0).tolist() == [False, True]
+
+
+def test_chi2_test_is_a_warning_alias_of_chi2_passes() -> None:
+    """chi2_test keeps its old answer (True = passes) but says it is ambiguous."""
+    S = np.diag([4.0, 1.0])
+    with pytest.warns(FutureWarning, match="use chi2_passes .True = accepted. or chi2_alarm"):
+        assert detectors.chi2_test([2.0, 1.0], S, 5.0) is True
+    with pytest.warns(FutureWarning):
+        assert detectors.chi2_test([0.0, 3.0], S, 5.0) is False
 
 
 def test_nis_empirical_false_alarm() -> None:
@@ -314,17 +325,17 @@ def test_nis_empirical_false_alarm() -> None:
     S = np.array([[2.0, 0.5], [0.5, 1.0]])
     r = rng.multivariate_normal(np.zeros(2), S, size=100_000)
     tau = detectors.chi2_threshold(2, 0.01)
-    rate = 1 - detectors.chi2_test(r, S, tau).mean()
+    rate = detectors.chi2_alarm(r, S, tau).mean()
     assert rate == pytest.approx(0.01, abs=0.002)
 
 
 def test_detector_bad_input() -> None:
-    with pytest.raises(ValidationError, match=r"Incompatible dimensions of S: expected \(\.\.\., 2, 2\), found \(3, 3\)"):
+    with pytest.raises(ValidationError, match=r"Incompatible dimensions of S: expected \(\.\.\., 2, 2\) to match innovation of length 2, found \(3, 3\)"):
         detectors.nis([1.0, 2.0], np.eye(3))
-    with pytest.raises(ValidationError, match="S must be nonsingular"):
+    with pytest.raises(ValidationError, match="S must be positive definite, found lambda_min = 0"):
         detectors.nis([1.0, 2.0], np.zeros((2, 2)))
-    with pytest.raises(ValidationError, match="threshold must be positive"):
-        detectors.chi2_test([1.0], np.eye(1), 0.0)
+    with pytest.raises(ValidationError, match="threshold must be > 0, found 0.0"):
+        detectors.chi2_passes([1.0], np.eye(1), 0.0)
 
 
 # ---------------------------------------------------------------- montecarlo
@@ -348,7 +359,7 @@ def test_nees_and_anees_bounds() -> None:
     lo, hi = montecarlo.anees_bounds(2, 100)
     assert lo < 2 < hi and hi - lo == pytest.approx(
         (stats.chi2.ppf(0.975, 200) - stats.chi2.ppf(0.025, 200)) / 100)
-    with pytest.raises(ValidationError, match=r"Incompatible dimensions of P: expected \(\.\.\., 2, 2\), found \(3, 3\)"):
+    with pytest.raises(ValidationError, match=r"Incompatible dimensions of P: expected \(\.\.\., 2, 2\) to match errors of length 2, found \(3, 3\)"):
         montecarlo.nees(np.zeros(2), np.eye(3))
     with pytest.raises(ValidationError, match=r"confidence must lie in \(0, 1\)"):
         montecarlo.anees_bounds(2, 10, confidence=1.0)
@@ -603,7 +614,7 @@ def test_interval_bad_input() -> None:
         montecarlo.wilson_interval(0.5, 3)
     with pytest.raises(ValidationError, match="samples must hold at least 2 finite values"):
         montecarlo.mean_interval([1.0])
-    with pytest.raises(ValidationError, match="statistic must be 'mean' or 'median'"):
+    with pytest.raises(ValidationError, match=r"statistic must be one of \('mean', 'median'\), found 'max'"):
         montecarlo.bootstrap_interval([1.0, 2.0], "max")
     with pytest.raises(ValidationError, match=r"samples must have shape \(runs,\) or \(runs, 2\)"):
         montecarlo.bootstrap_interval(np.ones((3, 3)))

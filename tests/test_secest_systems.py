@@ -163,7 +163,7 @@ def test_bad_input_q():
 
 def test_bad_input_steps_and_rtol():
     A, C = three_inertia()
-    with pytest.raises(ValidationError, match="steps must be a positive integer"):
+    with pytest.raises(ValidationError, match="steps must be >= 1, found 0"):
         observability_matrix(A, C, steps=0)
     with pytest.raises(ValidationError, match=r"rtol must lie in \(0, 1\)"):
         observable_subspace(A, C, rtol=0.0)
@@ -287,13 +287,13 @@ def test_integrator_bad_input():
         integrate_switched_linear(M, **{**ok, "R": np.zeros((2, 2))})
     with pytest.raises(ValidationError, match=r"Incompatible dimensions of x0: expected \(2,\)"):
         integrate_switched_linear(M, **{**ok, "x0": np.zeros(3)})
-    with pytest.raises(ValidationError, match="dt must be a positive finite number"):
+    with pytest.raises(ValidationError, match="dt must be > 0, found 0.0"):
         integrate_switched_linear(M, **{**ok, "dt": 0.0})
     with pytest.raises(ValidationError, match="n_steps must be a non-negative integer"):
         integrate_switched_linear(M, **{**ok, "n_steps": 2.5})
     with pytest.raises(ValidationError, match="record_every must be a positive integer"):
         integrate_switched_linear(M, **ok, record_every=0)
-    with pytest.raises(ValidationError, match="method must be 'expeuler' or 'euler'"):
+    with pytest.raises(ValidationError, match=r"method must be one of \('expeuler', 'euler'\), found 'rk4'"):
         integrate_switched_linear(M, **ok, method="rk4")
     with pytest.raises(ValidationError, match=r"Incompatible dimensions of E: expected \(2, \*\)"):
         discretize_zoh(M, np.zeros((3, 1)), 0.1)

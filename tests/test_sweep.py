@@ -62,7 +62,31 @@ def test_region_without_a_single_separating_axis(toy: Path) -> None:
     swept, results = _results(points, lambda p: p["scale"] < 0.2 and p["seed"] == 0)
     rows = sweep.tabulate(space, swept, results)
     region = sweep.summarise(space, rows, points)["C1"]["region"]
-    assert "no single axis separates it" in region and "holding per level: alpha (brief:" in region
+    assert "no one- or two-axis rule separates it" in region and "holding per level: alpha (brief:" in region
+
+
+def test_region_decided_by_two_set_axes_together(toy: Path) -> None:
+    space = _space(toy)
+    points = spaces.design(space)
+    swept, results = _results(points, lambda p: not (p["alpha"] == 0.6 and p["seed"] == 1))
+    rows = sweep.tabulate(space, swept, results)
+    region = sweep.summarise(space, rows, points)["C1"]["region"]
+    assert region.startswith("fails exactly where alpha = brief and seed = 1, holds elsewhere")
+
+
+def test_region_of_a_claim_that_holds_wherever_its_premise_holds(toy: Path) -> None:
+    space = _space(toy)
+    points = spaces.design(space)
+    swept, results = _results(points, lambda p: True)
+    for (pid, p) in swept:  # X1's premise holds only at seed 0, and X1 holds there
+        results[pid]["claims"]["X1"]["premise"]["holds"] = p["seed"] == 0
+    rows = sweep.tabulate(space, swept, results)
+    x1 = sweep.summarise(space, rows, points)["X1"]
+    kept = sum(p["seed"] == 0 for p in points)
+    assert x1["verdict"] == "undetermined" and x1["outcomes"]["fails"] == 0
+    assert x1["region"] == (f"holds wherever its premise holds ({kept} of {len(points)} points); "
+                            "the premise fails exactly where seed >= 1 (the next swept value, 0, is "
+                            f"on the other side) ({len(points) - kept} of {len(points)} points)")
 
 
 def test_failed_points_are_counted_and_reported(toy: Path) -> None:
@@ -112,11 +136,10 @@ def _wait_for_workers(address: str, n: int, timeout: float = 60.0) -> None:
         client.wait_for_workers(n, timeout=timeout)
 
 
-@pytest.mark.xdist_group("notebooks")
 def test_a_remote_cluster_gives_the_same_table_as_a_local_one(tmp_path: Path) -> None:
     """A scheduler and two workers started as separate processes on 127.0.0.1."""
-    points = {"guo2023": [{"seed": 5}, {"seed": 6, "n_mc": 20}]}
-    base = {"guo2023": {"mode": "fast", "n_mc": 50}}
+    points = {"guo2023": [{"seed": 5}, {"seed": 6, "n_mc": 12}]}
+    base = {"guo2023": {"mode": "fast", "n_mc": 10, "n_steps": 40}}  # cheap admissible values
     local = sweep.run_sweep(
         ["guo2023"],
         workers=2,

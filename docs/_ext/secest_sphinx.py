@@ -1,0 +1,167 @@
+"""Sphinx extension of the secest site.
+
+* ``{badge}`text``` — a coloured verdict / status badge (``holds``, ``fails``,
+  ``[Re, partial]``, ``reproduced``, ``ours`` ...).
+* Numbered, captioned figures on the paper pages. Each figure a notebook saves
+  is displayed inline with output metadata ``{"secest": {"figure": "<stem>"}}``;
+  myst-nb names an image output by the SHA-256 of its bytes, so the extension
+  maps those hashes back to the stems (reading the notebook copies) and wraps
+  each image in a ``figure`` node captioned from ``figures/manifest.toml``
+  (the paper's figure number, title, status, a link to the CSV data), labelled
+  ``fig-<key>-<stem>`` for ``{numref}`` from the gallery. The notebooks are not
+  edited for this.
+* After the build, the ``.ipynb`` that the theme's download button serves
+  (``_sources/papers/<key>.ipynb``) is replaced by the committed notebook, so
+  the download is byte for byte the file in the repository.
+"""
+
+from __future__ import annotations
+
+import base64
+import hashlib
+import json
+import os
+import re
+import shutil
+from pathlib import Path
+from typing import Any
+
+from docutils import nodes
+from sphinx import addnodes
+from sphinx.application import Sphinx
+from sphinx.transforms import SphinxTransform
+from sphinx.util import logging
+
+from secest.site import ROOT, load_manifest
+
+logger = logging.getLogger(__name__)
+
+
+def _badge_class(text: str) -> str:
+    slug = text.lower().replace("¬", "not-")
+    slug = re.sub(r"[^a-z0-9]+", "-", slug).strip("-")
+    return f"secest-badge-{slug or 'none'}"
+
+
+def badge_role(name, rawtext, text, lineno, inliner, options=None, content=None):  # noqa: ANN001
+    """``{badge}`holds``` -> <span class="secest-badge secest-badge-holds">holds</span>."""
+    node = nodes.inline(rawtext, text, classes=["secest-badge", _badge_class(text)])
+    return [node], []
+
+
+def _figure_index(app: Sphinx) -> dict[str, dict[str, dict[str, Any]]]:
+    """docname -> image hash -> figure info, from the notebook copies and the manifest."""
+    manifest = load_manifest(ROOT)
+    index: dict[str, dict[str, dict[str, Any]]] = {}
+    for path in sorted(Path(app.srcdir, "papers").glob("*.ipynb")):
+        key = path.stem
+        listed = {}
+        for fig in manifest.get(key, {}).get("figures", []):
+            for f in fig.get("files", []):
+                if f.endswith(".png"):
+                    listed[Path(f).stem] = fig
+        hashes: dict[str, dict[str, Any]] = {}
+        nb = json.loads(path.read_text())
+        for cell in nb["cells"]:
+            for out in cell.get("outputs", []):
+                stem = out.get("metadata", {}).get("secest", {}).get("figure")
+                data = out.get("data", {}).get("image/png")
+                if not stem or not data:
+                    continue
+                raw = base64.b64decode("".join(data) if isinstance(data, list) else data)
+                digest = hashlib.sha256(raw).hexdigest()
+                hashes[digest] = {"key": key, "stem": stem, "manifest": listed.get(stem)}
+        index[f"papers/{key}"] = hashes
+    return index
+
+
+def _caption_text(key: str, stem: str, fig: dict[str, Any] | None) -> tuple[str, str]:
+    if fig is None:
+        return f"{stem} (not listed in figures/manifest.toml)", "unlisted"
+    paper = str(fig.get("paper", ""))
+    title = str(fig.get("title", stem))
+    if paper.lower().startswith("none"):
+        where = paper[4:].strip(" ()")
+        origin = f"Ours, not in the paper ({where})" if where else "Ours, not in the paper"
+    else:
+        origin = f"Paper's {paper}"
+    return f"{origin}: {title}.", str(fig.get("status", "?"))
+
+
+class NumberNotebookFigures(SphinxTransform):
+    """Wrap each saved-figure image output of a paper page in a numbered, captioned figure."""
+
+    default_priority = 400
+
+    def apply(self, **kwargs: Any) -> None:
+        docname = self.env.docname
+        hashes = self.env.app.secest_figures.get(docname)  # type: ignore[attr-defined]
+        if not hashes:
+            return
+        self.env.note_dependency(str(ROOT / "figures" / "manifest.toml"))  # captions come from it
+        seen: set[str] = set()
+        for bundle in list(self.document.findall(nodes.container)):
+            if bundle.get("nb_element") != "mime_bundle" or isinstance(bundle.parent, nodes.figure):
+                continue
+            info = None
+            for image in bundle.findall(nodes.image):
+                digest = Path(image["uri"]).stem
+                info = hashes.get(digest)
+                if info:
+                    break
+            if info is None:
+                continue
+            key, stem = info["key"], info["stem"]
+            if stem in seen:
+                continue
+            seen.add(stem)
+            text, status = _caption_text(key, stem, info["manifest"])
+            figure = nodes.figure(classes=["secest-figure"])
+            figure["names"].append(f"fig-{key}-{stem}".lower())
+            bundle.replace_self(figure)
+            figure += bundle
+            caption = nodes.caption("", "")
+            caption += nodes.Text(text + " ")
+            caption += nodes.inline(status, status, classes=["secest-badge", _badge_class(status)])
+            csv = ROOT / "figures" / key / f"{stem}.csv"
+            if csv.is_file():
+                caption += nodes.Text(" Data: ")
+                target = os.path.relpath(csv, Path(self.env.srcdir) / "papers")
+                ref = addnodes.download_reference(
+                    "", "", refdoc=docname, reftarget=target, refexplicit=True, refwarn=False
+                )
+                ref += nodes.literal(csv.name, csv.name, classes=["xref", "download"])
+                caption += ref
+                caption += nodes.Text(".")
+            figure += caption
+            self.document.note_explicit_target(figure, figure)
+        missing = {h["stem"] for h in hashes.values()} - seen
+        for stem in sorted(missing):
+            logger.warning(
+                "secest: figure %s of %s found in the notebook but not rendered",
+                stem,
+                docname,
+                location=docname,
+            )
+
+
+def _builder_inited(app: Sphinx) -> None:
+    app.secest_figures = _figure_index(app)  # type: ignore[attr-defined]
+
+
+def _replace_sources(app: Sphinx, exc: Exception | None) -> None:
+    """Serve the committed notebooks (not the copies with a header cell) as downloads."""
+    if exc is not None or app.builder.format != "html":
+        return
+    for path in Path(app.srcdir, "papers").glob("*.ipynb"):
+        target = Path(app.outdir, "_sources", "papers", path.name)
+        if target.parent.is_dir():
+            shutil.copyfile(ROOT / "notebooks" / path.name, target)
+
+
+def setup(app: Sphinx) -> dict[str, Any]:
+    app.add_role("badge", badge_role)
+    app.add_transform(NumberNotebookFigures)
+    app.connect("builder-inited", _builder_inited)
+    app.connect("build-finished", _replace_sources)
+    return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}

@@ -1,0 +1,108 @@
+"""Sphinx configuration of the secest site (``make html``).
+
+The source tree is generated: ``python -m secest.site prepare build/site-src``
+copies the static pages of ``docs/`` and the committed executed notebooks there
+and generates the landing verdict table, the claims matrix, the gallery, the
+errata page and the API pages. This file is the configuration directory
+(``sphinx-build -c docs build/site-src build/html``); paths below are relative
+to ``docs/`` or absolute.
+
+Execution is off (the committed executed notebooks are rendered as they are),
+MathJax is served from the site itself (no CDN), and warnings are errors.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import sphinx_book_theme  # noqa: F401  (fail early if the site extras are missing)
+
+DOCS = Path(__file__).resolve().parent
+ROOT = DOCS.parent
+sys.path.insert(0, str(DOCS / "_ext"))
+sys.path.insert(0, str(ROOT))
+
+from secest import __version__  # noqa: E402
+from secest.site import mathjax_dir  # noqa: E402
+
+project = "secest"
+author = "the secest authors"
+copyright = "the secest authors, BSD-3-Clause"  # noqa: A001
+release = version = __version__
+
+extensions = [
+    "myst_nb",
+    "sphinx.ext.autodoc",
+    "sphinx.ext.autosummary",
+    "sphinx.ext.napoleon",
+    "sphinx.ext.mathjax",
+    "sphinxcontrib.bibtex",
+    "secest_sphinx",
+]
+
+exclude_patterns = ["_build", "**.ipynb_checkpoints", "_generated/*.md"]
+templates_path: list[str] = []
+root_doc = "index"
+source_suffix = {".rst": "restructuredtext", ".md": "myst-nb", ".ipynb": "myst-nb"}
+
+# --- MyST / myst-nb: render the committed outputs, never execute --------------------------
+nb_execution_mode = "off"
+nb_merge_streams = True
+myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence", "deflist", "substitution"]
+myst_heading_anchors = 4
+myst_dmath_double_inline = True
+nb_render_markdown_format = "myst"
+
+# --- figures, equations, citations --------------------------------------------------------
+numfig = True
+numfig_secnum_depth = 1  # figures numbered per paper page: Figure <page>.<n>
+numfig_format = {"figure": "Figure %s", "table": "Table %s", "code-block": "Listing %s"}
+bibtex_bibfiles = [str(DOCS / "references.bib")]
+bibtex_default_style = "plain"
+bibtex_reference_style = "author_year"
+
+# --- API reference (numpydoc docstrings through napoleon) ---------------------------------
+autosummary_generate = False
+autosummary_imported_members = False
+autodoc_member_order = "bysource"
+autodoc_typehints = "signature"
+autodoc_type_aliases = {"ArrayLike": "ArrayLike", "NDArray": "NDArray"}
+napoleon_google_docstring = False
+napoleon_numpy_docstring = True
+napoleon_use_rtype = False
+napoleon_use_ivar = True
+napoleon_preprocess_types = False
+
+# --- offline MathJax 3 (bundled by sphinx-mathjax-offline, copied into _static/mathjax) ----
+# SVG output needs no web fonts, so pages opened from disk (file://) typeset too.
+html_static_path = ["_static", str(mathjax_dir())]
+mathjax_path = "mathjax/tex-svg.js"
+mathjax3_config = {
+    "svg": {"fontCache": "global"},
+    "options": {"enableMenu": True},
+}
+
+# --- theme ----------------------------------------------------------------------------------
+html_theme = "sphinx_book_theme"
+html_title = "secest"
+html_short_title = "secest"
+html_css_files = ["secest.css"]
+html_last_updated_fmt = None
+html_copy_source = True
+html_show_sourcelink = False
+html_theme_options = {
+    "use_download_button": True,
+    "use_fullscreen_button": False,
+    "home_page_in_toc": True,
+    "show_navbar_depth": 1,
+    "show_toc_level": 2,
+    "toc_title": "On this page",
+    "navigation_with_keys": False,
+    "extra_footer": (
+        "Rendered from the committed executed notebooks; nothing was re-run to build this site."
+    ),
+}
+html_context = {"default_mode": "light"}
+
+suppress_warnings: list[str] = []

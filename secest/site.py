@@ -1,0 +1,1158 @@
+"""Generate the Sphinx source tree of the site (``make html``) from the repository's own files.
+
+``python -m secest.site prepare build/site-src`` writes a source tree that
+``sphinx-build -c docs build/site-src build/html`` renders. Nothing here is a
+second copy of a result: every generated page is derived, at build time, from
+the one file that holds it, so the site stays true when they change.
+
+=====================  ==========================================================
+page                   generated from
+=====================  ==========================================================
+``index``              ``docs/index.md``; its intro and the two commands come from
+                       ``README.md``, its verdict table from README's table of
+                       papers (verdict), ``docs/references.bib`` (DOI),
+                       ``figures/<key>/claims.json`` (counts) and the manifest
+``papers/<key>``       the committed executed ``notebooks/<key>.ipynb``, copied
+                       with one header cell added (citation, DOI, downloads) and
+                       ``|`` inside maths in table rows read as Jupyter reads it;
+                       figures are captioned and numbered by the Sphinx extension
+                       ``docs/_ext/secest_sphinx.py`` from the manifest
+``claims``             every ``figures/<key>/claims.json``
+``gallery``            ``figures/manifest.toml``
+``errata``             ``ERRATA.md``, links rewritten to the paper pages
+``readme``             ``README.md``, links rewritten
+``environment``        ``docs/environment.md``, ``environment.lock``, README's
+                       section on re-running and each notebook's ``parameters`` cell
+``api``                the modules of :mod:`secest` (autosummary + napoleon)
+=====================  ==========================================================
+
+Files are written only when their content changes, so an unchanged page is not
+rebuilt. Links that would not resolve (an ERRATA anchor that names no heading of
+its notebook, a claim ``section`` that names no heading) raise :class:`SiteError`.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import sys
+import tomllib
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+from typing import Any
+
+from secest.validation import ValidationError
+
+__all__ = [
+    "SiteError",
+    "claims_markdown",
+    "errata_markdown",
+    "format_value",
+    "gallery_markdown",
+    "load_manifest",
+    "mathjax_dir",
+    "myst_slug",
+    "notebook_headings",
+    "paper_keys",
+    "prepare",
+    "readme_papers",
+    "readme_markdown",
+    "verdict_table",
+]
+
+ROOT = Path(__file__).resolve().parent.parent
+DOCS = ROOT / "docs"
+VERDICT_TAGS = ("[Re]", "[Re, partial]", "[¬Re]")
+CLAIM_VERDICTS = ("holds", "fails", "undetermined", "fails-premise")
+_MD_SPECIAL = re.compile(r"([\\`*_{}\[\]<>#|~$^])")
+
+
+class SiteError(ValidationError):
+    """A source file of the site is inconsistent (a link or anchor would not resolve)."""
+
+
+# ------------------------------------------------------------------------------------------
+# small helpers
+# ------------------------------------------------------------------------------------------
+
+
+def mathjax_dir() -> Path:
+    """The folder holding ``mathjax/`` (MathJax 3) shipped by ``sphinx-mathjax-offline``."""
+    for entry in sys.path:
+        candidate = Path(entry or ".") / "sphinx-mathjax-offline" / "static"
+        if (candidate / "mathjax" / "tex-svg.js").is_file():
+            return candidate
+    raise SiteError(
+        "sphinx-mathjax-offline is not installed (it ships the MathJax the site serves offline); "
+        "run `make venv`"
+    )
+
+
+def escape_md(text: str) -> str:
+    """Plain text made safe for MyST: markdown punctuation escaped, newlines joined.
+
+    Inline maths ``$...$`` is kept as it is, so a heading such as "the design at work
+    ($K\\ne0$)" is typeset on the site as in the notebook.
+
+    Parameters
+    ----------
+    text : str
+        The text to escape.
+
+    Returns
+    -------
+    str
+        The escaped text.
+    """
+    joined = " ".join(str(text).split())
+    parts = re.split(r"(\$[^$]+\$)", joined)
+    return "".join(p if i % 2 else _MD_SPECIAL.sub(r"\\\1", p) for i, p in enumerate(parts))
+
+
+def myst_slug(title: str) -> str:
+    """The anchor MyST gives a heading (``myst_heading_anchors``), from its markdown source.
+
+    MyST slugs the heading's text and inline code only (maths is dropped), GitHub
+    style: lower case, spaces to ``-``, every other non-word character removed.
+
+    Parameters
+    ----------
+    title : str
+        The heading's markdown source, without the leading ``#``.
+
+    Returns
+    -------
+    str
+        The anchor (not made unique: see :func:`notebook_headings`).
+    """
+    text = re.sub(r"(?<!\\)\$[^$]*\$", "", title)  # inline maths is not part of the slug
+    text = re.sub(r"\[([^\]]*)\]\([^)]*\)", r"\1", text)  # links: their text
+    text = text.replace("`", "").replace("*", "").replace("\\", "")
+    text = re.sub(r"(?<!\w)_|_(?!\w)", "", text)  # emphasis underscores, not intraword ones
+    return re.sub(r"[^\w\u4e00-\u9fff\- ]", "", text.lower().replace(" ", "-"))
+
+
+def jupyter_anchor(title: str) -> str:
+    """The anchor Jupyter (and nbconvert) gives a heading: its text with spaces as ``-``."""
+    return title.strip().replace(" ", "-")
+
+
+def _write(path: Path, text: str | bytes, written: set[Path]) -> None:
+    """Write ``path`` only if its content differs (keeps Sphinx's incremental build)."""
+    data = text.encode() if isinstance(text, str) else text
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if not path.exists() or path.read_bytes() != data:
+        path.write_bytes(data)
+    written.add(path.resolve())
+
+
+def _natural(cid: str) -> tuple[Any, ...]:
+    """Sort key: C1, C1b, C2, ..., C10, then X1, ..."""
+    m = re.match(r"([A-Za-z]+)(\d+)(.*)", cid)
+    if not m:
+        return (cid, 0, "")
+    return (m.group(1) != "C", m.group(1), int(m.group(2)), m.group(3))
+
+
+# ------------------------------------------------------------------------------------------
+# sources: manifest, README, notebooks, bibliography
+# ------------------------------------------------------------------------------------------
+
+
+def load_manifest(root: Path = ROOT) -> dict[str, Any]:
+    """``figures/manifest.toml`` as a dict (paper key -> ``notebook``, ``figures``).
+
+    Parameters
+    ----------
+    root : Path, optional
+        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+
+    Returns
+    -------
+    dict
+        The parsed TOML: paper key -> its table.
+    """
+    return tomllib.loads((root / "figures" / "manifest.toml").read_text())
+
+
+def paper_keys(root: Path = ROOT) -> list[str]:
+    """Paper keys with a committed executed notebook, sorted.
+
+    Parameters
+    ----------
+    root : Path, optional
+        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+
+    Returns
+    -------
+    list of str
+        The stems of ``notebooks/*.ipynb``, sorted.
+    """
+    return sorted(p.stem for p in (root / "notebooks").glob("*.ipynb"))
+
+
+def _markdown_tables(text: str) -> Iterable[list[list[str]]]:
+    rows: list[list[str]] = []
+    for line in [*text.splitlines(), ""]:
+        if line.startswith("|"):
+            cells = [c.strip() for c in re.split(r"(?<!\\)\|", line.strip())[1:-1]]
+            rows.append(cells)
+        elif rows:
+            yield rows
+            rows = []
+
+
+def readme_papers(root: Path = ROOT) -> dict[str, dict[str, str]]:
+    """README's table of papers: key -> ``paper`` (markdown), ``verdict`` (tag), ``why``.
+
+    The table is the one whose header has the columns ``key``, ``paper`` and
+    ``verdict``; the verdict cell starts with a bold ReScience tag
+    (``**[Re, partial]**``) followed by the reason in parentheses.
+
+    Parameters
+    ----------
+    root : Path, optional
+        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+
+    Returns
+    -------
+    dict of str to dict
+        Paper key -> ``{"paper", "verdict", "why"}``; ``verdict`` is ``"not yet"``
+        when the cell has no bold tag.
+
+    Raises
+    ------
+    SiteError
+        If ``README.md`` has no such table.
+    """
+    text = (root / "README.md").read_text()
+    for rows in _markdown_tables(text):
+        header = [h.lower() for h in rows[0]]
+        if {"key", "paper", "verdict"} <= set(header):
+            break
+    else:
+        raise SiteError("README.md has no table with the columns key, paper and verdict")
+    col = {name: header.index(name) for name in ("key", "paper", "verdict")}
+    out: dict[str, dict[str, str]] = {}
+    for row in rows[2:]:
+        key = row[col["key"]].strip("` ")
+        cell = row[col["verdict"]]
+        m = re.match(r"\*\*(\[[^\]]+\])\*\*\s*(.*)$", cell)
+        if m:
+            tag, why = m.group(1), m.group(2).strip()
+        else:
+            tag, why = "not yet", re.sub(r"^\*|\*$", "", cell).strip()
+        if why.startswith("(") and why.endswith(")"):
+            why = why[1:-1]
+        out[key] = {"paper": row[col["paper"]], "verdict": tag, "why": why}
+    return out
+
+
+def bibliography(root: Path = ROOT) -> dict[str, dict[str, str]]:
+    """``docs/references.bib`` as key -> lower-cased field -> value (no pybtex needed)."""
+    text = (root / "docs" / "references.bib").read_text()
+    entries: dict[str, dict[str, str]] = {}
+    for m in re.finditer(r"@\w+\s*\{\s*([^,\s]+)\s*,(.*?)\n\}", text, flags=re.S):
+        fields = dict(
+            (k.lower(), v.strip())
+            for k, v in re.findall(r"^\s*(\w+)\s*=\s*\{(.*?)\}\s*,?\s*$", m.group(2), flags=re.M)
+        )
+        entries[m.group(1)] = fields
+    return entries
+
+
+def read_notebook(path: Path) -> dict[str, Any]:
+    """A notebook as plain JSON (nbformat 4)."""
+    return json.loads(path.read_text())
+
+
+def _source(cell: Mapping[str, Any]) -> str:
+    src = cell.get("source", "")
+    return "".join(src) if isinstance(src, list) else src
+
+
+def notebook_headings(nb: Mapping[str, Any]) -> list[tuple[int, str, str]]:
+    """Markdown headings of a notebook in order: (level, title, MyST anchor), anchors made unique.
+
+    Lines inside fenced code blocks are not headings. A repeated anchor gets a
+    suffix ``-1``, ``-2``, ... as MyST gives it.
+
+    Parameters
+    ----------
+    nb : mapping
+        The notebook as plain JSON (nbformat 4, e.g. from :func:`read_notebook`).
+
+    Returns
+    -------
+    list of (int, str, str)
+        Heading level (1 to 6), title (markdown source) and anchor, in order.
+    """
+    out: list[tuple[int, str, str]] = []
+    seen: dict[str, int] = {}
+    for cell in nb["cells"]:
+        if cell["cell_type"] != "markdown":
+            continue
+        fence = False
+        for line in _source(cell).splitlines():
+            if line.lstrip().startswith(("```", "~~~")):
+                fence = not fence
+            m = None if fence else re.match(r"^(#{1,6})\s+(.*?)\s*#*\s*$", line)
+            if not m:
+                continue
+            slug = myst_slug(m.group(2))
+            if slug in seen:
+                seen[slug] += 1
+                slug = f"{slug}-{seen[slug]}"
+            else:
+                seen[slug] = 0
+            out.append((len(m.group(1)), m.group(2), slug))
+    return out
+
+
+def section_anchor(headings: list[tuple[int, str, str]], title: str) -> str | None:
+    """MyST anchor of the heading whose text, Jupyter anchor or MyST anchor is ``title``."""
+    for _, text, slug in headings:
+        if title in (text, jupyter_anchor(text), slug) or myst_slug(title) == slug:
+            return slug
+    return None
+
+
+def notebook_title(nb: Mapping[str, Any], key: str) -> str:
+    """The text after ``<key> —`` in the notebook's first heading (or the whole heading)."""
+    heads = notebook_headings(nb)
+    if not heads:
+        return key
+    title = heads[0][1]
+    return re.sub(rf"^{re.escape(key)}\s*[—–-]\s*", "", title)
+
+
+# ------------------------------------------------------------------------------------------
+# value formatting for the claims matrix
+# ------------------------------------------------------------------------------------------
+
+
+def format_number(value: float | int) -> str:
+    """Short, exact enough: integers as they are, floats to 4 significant digits."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if value == 0:
+        return "0"
+    return format(value, ".4g")
+
+
+def _flatten(value: Any, prefix: str = "") -> list[tuple[str, Any]]:
+    if isinstance(value, Mapping):
+        out: list[tuple[str, Any]] = []
+        for k, v in value.items():
+            out += _flatten(v, f"{prefix}.{k}" if prefix else str(k))
+        return out
+    return [(prefix, value)]
+
+
+def format_value(value: Any, *, limit: int = 6) -> str:
+    """A measured value / threshold as one short line of plain text.
+
+    Numbers to 4 significant digits, lists up to ``limit`` entries, mappings as
+    ``key: value`` pairs (nested keys joined by ``.``), at most ``limit`` of them,
+    then ``… (n more)``.
+
+    Parameters
+    ----------
+    value : object
+        A value of a claims-JSON entry: None, a number, a string, a list or tuple, a
+        mapping (nested values are formatted the same way), or anything else (``str``).
+    limit : int, optional
+        Most entries of a list or mapping shown. Default 6.
+
+    Returns
+    -------
+    str
+        The text; ``—`` for None.
+    """
+    if value is None:
+        return "—"
+    if isinstance(value, bool | int | float):
+        return format_number(value)
+    if isinstance(value, str):
+        return value
+    if isinstance(value, list | tuple):
+        items = [format_value(v, limit=limit) for v in value[:limit]]
+        more = f", … ({len(value) - limit} more)" if len(value) > limit else ""
+        return "[" + ", ".join(items) + more + "]"
+    if isinstance(value, Mapping):
+        pairs = _flatten(value)
+        shown = [f"{k}: {format_value(v, limit=limit)}" for k, v in pairs[:limit]]
+        if len(pairs) > limit:
+            shown.append(f"… ({len(pairs) - limit} more)")
+        return "; ".join(shown)
+    return str(value)
+
+
+def _headline(entry: Mapping[str, Any]) -> str:
+    measured = entry.get("measured")
+    key = entry.get("key")
+    if key is not None and isinstance(measured, Mapping) and key in measured:
+        return f"{key}: {format_value(measured[key])}"
+    return format_value(measured)
+
+
+def _interval(iv: Mapping[str, Any] | None) -> str:
+    if not iv:
+        return ""
+    level = iv.get("level")
+    pct = f"{100 * level:g} % " if isinstance(level, int | float) else ""
+    return (
+        f"{pct}interval [{format_value(iv.get('low'))}, {format_value(iv.get('high'))}]"
+        f" ({iv.get('method', '?')})"
+    )
+
+
+# ------------------------------------------------------------------------------------------
+# generated pages
+# ------------------------------------------------------------------------------------------
+
+
+def _capital(text: str) -> str:
+    return text[:1].upper() + text[1:]
+
+
+def _badge(text: str) -> str:
+    return "{badge}`" + text.replace("`", "") + "`"
+
+
+def _claims(root: Path, key: str) -> dict[str, dict[str, Any]]:
+    path = root / "figures" / key / "claims.json"
+    return json.loads(path.read_text()) if path.exists() else {}
+
+
+def _counts(claims: Mapping[str, Mapping[str, Any]]) -> str:
+    counts = {v: 0 for v in CLAIM_VERDICTS}
+    for entry in claims.values():
+        counts[entry.get("verdict", "fails")] = counts.get(entry.get("verdict", "fails"), 0) + 1
+    words = {
+        "holds": "hold",
+        "fails": "fail",
+        "undetermined": "undetermined",
+        "fails-premise": "premise fails",
+    }
+    return ", ".join(f"{n} {words.get(v, v)}" for v, n in counts.items() if n)
+
+
+def verdict_table(root: Path = ROOT) -> str:
+    """The landing page's table: paper, verdict tag and reason (README), DOI, claims, figures.
+
+    Parameters
+    ----------
+    root : Path, optional
+        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+
+    Returns
+    -------
+    str
+        A MyST ``list-table``, one row per paper of :func:`paper_keys`.
+
+    Raises
+    ------
+    SiteError
+        If README has no table of papers, or a link in it would not resolve.
+    """
+    papers = readme_papers(root)
+    bib = bibliography(root)
+    manifest = load_manifest(root)
+    lines = [
+        ":::{list-table}",
+        ":header-rows: 1",
+        ":widths: 36 20 44",
+        ":class: secest-verdicts",
+        "",
+        "* - Paper",
+        "  - Verdict",
+        "  - Why",
+    ]
+    for key in paper_keys(root):
+        row = papers.get(key, {"paper": key, "verdict": "not yet", "why": "not in README's table"})
+        doi = bib.get(key, {}).get("doi")
+        doi_md = f"[doi:{doi}](https://doi.org/{doi})" if doi else "DOI not in the paper text"
+        claims = _claims(root, key)
+        n_fig = len(manifest.get(key, {}).get("figures", []))
+        lines += [
+            f"* - [**{key}**](papers/{key}.ipynb): {_rewrite_links(row['paper'], root, Path('.'))}"
+            f" {{cite:p}}`{key}`. {doi_md}",
+            f"  - {_badge(row['verdict'])}",
+            "",
+            f"    {{ref}}`{len(claims)} claims <claims-{key}>`: {_counts(claims) or 'none yet'}",
+            "",
+            f"    {{ref}}`{n_fig} figures <gallery-{key}>`",
+            f"  - {_capital(_rewrite_links(row['why'], root, Path('.')))}",
+        ]
+    lines.append(":::")
+    return "\n".join(lines) + "\n"
+
+
+def readme_intro(root: Path = ROOT) -> tuple[str, str]:
+    """README's opening paragraphs (before the first ``##``) and its two-command block."""
+    text = (root / "README.md").read_text()
+    body = text.split("\n", 1)[1] if text.startswith("# ") else text
+    intro = body.split("\n## ", 1)[0].strip()
+    m = re.search(r"```bash\n(make figures.*?\nmake test.*?)\n```", text, flags=re.S)
+    if not m:
+        raise SiteError("README.md has no ```bash block with `make figures` and `make test`")
+    return _rewrite_links(intro, root, Path(".")), m.group(1)
+
+
+def readme_section(title: str, root: Path = ROOT) -> str:
+    """The body of README's ``## <title>...`` section (heading dropped), links rewritten."""
+    text = (root / "README.md").read_text()
+    m = re.search(rf"^## {re.escape(title)}[^\n]*\n(.*?)(?=^## |\Z)", text, flags=re.M | re.S)
+    if not m:
+        raise SiteError(f"README.md has no section '## {title}...' (the environment page needs it)")
+    return _rewrite_links(m.group(1).strip(), root, Path(".")) + "\n"
+
+
+def _rel(root: Path, docdir: Path) -> str:
+    """Path from a page in ``docdir`` (relative to the source tree) to the repository root."""
+    depth = len(docdir.parts)
+    return "/".join([".."] * (depth + 2))  # source tree is build/site-src: two levels below root
+
+
+_LINK = re.compile(r"(?<!!)\[([^\]]+)\]\(([^)\s]+)\)")
+
+
+def _rewrite_links(text: str, root: Path, docdir: Path) -> str:
+    """Rewrite README / ERRATA links from repository paths to site pages or downloads."""
+    up = "../" * len(docdir.parts)
+    repo = _rel(root, docdir)
+
+    def sub(m: re.Match[str]) -> str:
+        label, target = m.group(1), m.group(2)
+        if re.match(r"^[a-z]+:", target) or target.startswith("#"):
+            return m.group(0)
+        path, _, frag = target.partition("#")
+        nb = re.fullmatch(r"notebooks/(\w+)\.ipynb", path)
+        if nb:
+            key = nb.group(1)
+            if not (root / path).exists():
+                raise SiteError(f"link to {target}: no such notebook")
+            if frag:
+                anchor = section_anchor(notebook_headings(read_notebook(root / path)), frag)
+                if anchor is None:
+                    raise SiteError(f"link to {target}: notebook {key} has no heading {frag!r}")
+                return f"[{label}]({up}papers/{key}.ipynb#{anchor})"
+            return f"[{label}]({up}papers/{key}.ipynb)"
+        if path.startswith("build/html/"):  # the site itself (README's link to the build)
+            page = path.removeprefix("build/html/").removesuffix(".html") or "index"
+            return f"[{label}]({up}{page}.md{'#' + frag if frag else ''})"
+        fig = re.fullmatch(r"figures/(\w+)/?", path)
+        if fig and (root / path).is_dir():
+            return "{ref}`" + label.replace("`", "") + f" <gallery-{fig.group(1)}>`"
+        if path in ("ERRATA.md", "README.md"):
+            page = path.lower().replace(".md", ".md")
+            return f"[{label}]({up}{page}{'#' + frag if frag else ''})"
+        if (root / path).is_file():
+            return "{download}`" + label.replace("`", "") + f" <{repo}/{path}>`"
+        if (root / path).is_dir():
+            return f"{label} (`{path}` in the repository)"
+        raise SiteError(f"link to {target!r}: no such file in the repository")
+
+    return _LINK.sub(sub, text)
+
+
+def readme_markdown(root: Path = ROOT) -> str:
+    """README.md with its links pointing at the site's pages and downloads.
+
+    Parameters
+    ----------
+    root : Path, optional
+        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+
+    Returns
+    -------
+    str
+        The page's MyST source, labelled ``readme``, its title replaced by ``README``.
+
+    Raises
+    ------
+    SiteError
+        If a link would not resolve (no such file, notebook or heading).
+    """
+    text = _rewrite_links((root / "README.md").read_text(), root, Path("."))
+    text = re.sub(r"\A# .*", "# README", text)
+    return "(readme)=\n" + text
+
+
+def errata_markdown(root: Path = ROOT) -> str:
+    """ERRATA.md, each ``notebooks/<key>.ipynb#Deviations-...`` link sent to the paper page heading.
+
+    Parameters
+    ----------
+    root : Path, optional
+        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+
+    Returns
+    -------
+    str
+        The page's MyST source, labelled ``errata``.
+
+    Raises
+    ------
+    SiteError
+        If a link would not resolve (no such file, notebook or heading).
+    """
+    text = _rewrite_links((root / "ERRATA.md").read_text(), root, Path("."))
+    return "(errata)=\n" + text
+
+
+def claims_markdown(root: Path = ROOT) -> str:
+    """The claims matrix: every claim of every paper, one table per paper.
+
+    Read from every ``figures/<key>/claims.json``; each claim links to the notebook
+    section that measures it.
+
+    Parameters
+    ----------
+    root : Path, optional
+        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+
+    Returns
+    -------
+    str
+        The page's MyST source, labelled ``claims``, a summary table then one
+        section ``claims-<key>`` per paper.
+
+    Raises
+    ------
+    SiteError
+        If a claim's ``section`` names no heading of its notebook.
+    """
+    out = [
+        "(claims)=",
+        "# Claims matrix",
+        "",
+        "Every claim that numbers can check, for every paper, generated from "
+        "`figures/<key>/claims.json` (written by the notebooks and asserted by the tests). "
+        "**The paper states** is the paper's claim and where it stands; **What we measured** is "
+        "our check, the measured value and the threshold it is compared with; the verdict is "
+        "{badge}`holds`, {badge}`fails`, {badge}`fails-premise` (the theorem's own assumption "
+        "does not hold) or {badge}`undetermined` (holds in part of the declared space of unknown "
+        "values; the fraction is given). Ids `C…` are the paper's claims, `X…` ours. Values of "
+        "many entries are abbreviated; the full record is each paper's `claims.json`.",
+        "",
+    ]
+    summary = [
+        ":::{list-table}",
+        ":header-rows: 1",
+        ":class: secest-claims-summary",
+        "",
+        "* - Paper",
+        "  - Claims",
+        "  - Verdicts",
+    ]
+    sections: list[str] = []
+    for key in paper_keys(root):
+        claims = _claims(root, key)
+        nb = read_notebook(root / "notebooks" / f"{key}.ipynb")
+        heads = notebook_headings(nb)
+        claims_anchor = section_anchor(heads, "Claims")
+        summary += [
+            f"* - {{ref}}`{key} <claims-{key}>`",
+            f"  - {len(claims)}",
+            f"  - {_counts(claims) or '—'}",
+        ]
+        sections += [
+            f"(claims-{key})=",
+            f"## {key} — {escape_md(notebook_title(nb, key))}",
+            "",
+        ]
+        if not claims:
+            sections += ["No claims recorded yet.", ""]
+            continue
+        repo = _rel(root, Path("."))
+        sections += [
+            f"{len(claims)} claims: {_counts(claims)}. Measured in the "
+            f"[notebook](papers/{key}.ipynb#{claims_anchor or ''}); full record: "
+            "{download}`claims.json <" + f"{repo}/figures/{key}/claims.json" + ">`.",
+            "",
+            ":::{list-table}",
+            ":header-rows: 1",
+            ":widths: 14 36 50",
+            ":class: secest-claims",
+            "",
+            "* - Claim, verdict",
+            "  - The paper states",
+            "  - What we measured",
+        ]
+        for cid in sorted(claims, key=_natural):
+            sections += _claim_row(key, cid, claims[cid], heads, claims_anchor)
+        sections += [":::", ""]
+    summary.append(":::")
+    return "\n".join(out + summary + [""] + sections)
+
+
+def _claim_row(
+    key: str,
+    cid: str,
+    entry: Mapping[str, Any],
+    heads: list[tuple[int, str, str]],
+    claims_anchor: str | None,
+) -> list[str]:
+    section = entry.get("section")
+    if section:
+        anchor = section_anchor(heads, section)
+        if anchor is None:
+            raise SiteError(f"{key} claim {cid}: section {section!r} names no heading of the notebook")
+        where = f"measured in [§ {escape_md(section)}](papers/{key}.ipynb#{anchor})"
+    else:
+        where = f"[§ Claims](papers/{key}.ipynb#{claims_anchor or ''})"
+    source = entry.get("source") or "—"
+    parts = [escape_md(entry.get("check", "")), f"**measured:** {escape_md(_headline(entry))}"]
+    iv = _interval(entry.get("interval"))
+    if iv:
+        parts[-1] += f" — {escape_md(iv)}"
+    threshold = entry.get("threshold")
+    if threshold is not None:
+        parts.append(f"**threshold:** {escape_md(format_value(threshold))}")
+    premise = entry.get("premise")
+    if premise:
+        state = "holds" if premise.get("holds") else "does not hold"
+        parts.append(f"**premise** ({state}): {escape_md(premise.get('statement', ''))}")
+    first = [f"**{cid}** {_badge(entry.get('verdict', 'fails'))}"]
+    rob = entry.get("robustness")
+    if rob:
+        frac = rob.get("fraction_holds")
+        if isinstance(frac, int | float):
+            first.append(f"holds in {100 * frac:.0f} % of the declared space")
+        iv = rob.get("interval")
+        if isinstance(iv, Mapping) and {"low", "high"} <= set(iv):
+            first.append(escape_md(_interval(iv)))
+        elif iv:
+            first.append(f"interval {escape_md(format_value(iv))}")
+        if rob.get("region"):
+            first.append(f"where: {escape_md(format_value(rob['region']))}")
+        if rob.get("points"):
+            first.append(f"{escape_md(format_value(rob['points']))} points")
+    first.append(where)
+    return [
+        f"* - ({claim_label(key, cid)})=",
+        "",
+        "    " + "\n\n    ".join(first),
+        f"  - {escape_md(entry.get('paper', ''))}",
+        "",
+        f"    <span class='secest-source'>source: {escape_md(source)}</span>",
+        "  - " + "\n\n    ".join(parts),
+    ]
+
+
+def claim_label(key: str, cid: str) -> str:
+    """The MyST label (and HTML id) of a claim's row: ``claim-<key>-<id>``, lower case, ``_`` as ``-``.
+
+    Parameters
+    ----------
+    key : str
+        Notebook key.
+    cid : str
+        Claim id, e.g. ``C1_nd``.
+
+    Returns
+    -------
+    str
+        The label, e.g. ``claim-guo2023-c1-nd`` (Sphinx turns ``_`` into ``-`` in ids).
+    """
+    return f"claim-{key}-{cid.lower().replace('_', '-')}"
+
+
+def gallery_markdown(root: Path = ROOT) -> str:
+    """The figure gallery: paper figure -> our PNG -> status, from ``figures/manifest.toml``.
+
+    Parameters
+    ----------
+    root : Path, optional
+        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+
+    Returns
+    -------
+    str
+        The page's MyST source, labelled ``gallery``, one section ``gallery-<key>``
+        per paper.
+    """
+    manifest = load_manifest(root)
+    repo = _rel(root, Path("."))
+    out = [
+        "(gallery)=",
+        "# Figure gallery",
+        "",
+        "Every figure listed in `figures/manifest.toml`: the paper's figure, ours (click for the "
+        "full-size PNG), what it shows, its status ({badge}`reproduced`, {badge}`partial`, "
+        "{badge}`not reproduced`, or {badge}`ours` for a figure the paper does not have) and the "
+        "plotted numbers (CSV) next to it. The figure number links to the figure in its notebook page.",
+        "",
+    ]
+    for key in paper_keys(root):
+        entry = manifest.get(key, {})
+        nb = read_notebook(root / "notebooks" / f"{key}.ipynb")
+        out += [
+            f"(gallery-{key})=",
+            f"## {key} — {escape_md(notebook_title(nb, key))}",
+            "",
+            f"Notebook page: [{key}](papers/{key}.ipynb).",
+            "",
+            ":::{list-table}",
+            ":header-rows: 1",
+            ":widths: 16 40 44",
+            ":class: secest-gallery",
+            "",
+            "* - Paper's figure, status",
+            "  - Ours",
+            "  - What it shows, data",
+        ]
+        for fig in entry.get("figures", []):
+            files = fig.get("files", [])
+            pngs = [f for f in files if f.endswith(".png")]
+            data = [f for f in files if not f.endswith(".png")]
+            if pngs:
+                stem = Path(pngs[0]).stem
+                ours = [
+                    f"  - ```{{image}} {repo}/{pngs[0]}",
+                    f"    :alt: {json.dumps(str(fig.get('title', stem)), ensure_ascii=False)}",
+                    "    :width: 260px",
+                    "    :class: secest-thumb",
+                    "    ```",
+                ]
+                what = f"{{numref}}`fig-{key}-{stem}`: {escape_md(fig.get('title', ''))}"
+            else:
+                ours = ["  - table (CSV only)"]
+                what = escape_md(fig.get("title", ""))
+            links = " · ".join(
+                "{download}`" + Path(f).name + f" <{repo}/{f}>`" for f in data if (root / f).is_file()
+            )
+            out += [
+                f"* - {escape_md(fig.get('paper', ''))}",
+                "",
+                f"    {_badge(fig.get('status', '?'))}",
+                *ours,
+                f"  - {what}" + (f"\n\n    data: {links}" if links else ""),
+            ]
+        out += [":::", ""]
+    return "\n".join(out)
+
+
+def lock_markdown(root: Path = ROOT) -> str:
+    """The pinned versions of the packages a reader cares about, read from ``environment.lock``."""
+    from packaging.markers import Marker
+
+    env = {"python_full_version": "3.11.0", "python_version": "3.11"}  # the lock is for Python 3.11
+    pins: dict[str, str] = {}
+    text = (root / "environment.lock").read_text()
+    for name, version, marker in re.findall(
+        r"^([A-Za-z0-9_.\-]+)==([^\s;\\]+)\s*(?:;\s*([^\\\n]*?))?\s*\\?$", text, flags=re.M
+    ):
+        if not marker or Marker(marker).evaluate(env):
+            pins[name] = version
+    groups = {
+        "numerics": ["numpy", "scipy", "networkx", "control", "cvxpy", "clarabel", "scs"],
+        "notebooks": ["matplotlib", "jupytext", "papermill", "nbformat", "nbconvert", "ipykernel"],
+        "site": [
+            "sphinx",
+            "myst-nb",
+            "myst-parser",
+            "sphinx-book-theme",
+            "sphinxcontrib-bibtex",
+            "sphinx-mathjax-offline",
+        ],
+        "tests": ["pytest", "pytest-xdist", "ruff", "hypothesis", "playwright"],
+    }
+    lower = {k.lower(): (k, v) for k, v in pins.items()}
+    lines = [":::{list-table}", ":header-rows: 1", "", "* - used for", "  - pinned versions"]
+    for group, names in groups.items():
+        found = [f"{lower[n][0]} {lower[n][1]}" for n in names if n in lower]
+        lines += [f"* - {group}", f"  - {', '.join(found) or '—'}"]
+    lines += [":::", "", f"{len(pins)} packages are pinned for Python 3.11, each with its hashes."]
+    return "\n".join(lines) + "\n"
+
+
+def parameters_markdown(root: Path = ROOT) -> str:
+    """Each notebook's declared parameters with their defaults (from its ``parameters`` cell)."""
+    out: list[str] = []
+    for key in paper_keys(root):
+        nb = read_notebook(root / "notebooks" / f"{key}.ipynb")
+        cell = next(
+            (c for c in nb["cells"] if "parameters" in c.get("metadata", {}).get("tags", [])), None
+        )
+        if cell is None:
+            continue
+        rows = []
+        for line in _source(cell).splitlines():
+            m = re.match(r"^([A-Za-z_]\w*)\s*=\s*(.*?)\s*(?:#\s*(.*))?$", line)
+            if m:
+                rows.append((m.group(1), m.group(2), m.group(3) or ""))
+        out += [
+            "<details>",
+            f"<summary><code>{key}</code>: {len(rows)} parameters</summary>",
+            "",
+            ":::{list-table}",
+            ":header-rows: 1",
+            ":widths: 20 30 50",
+            ":class: secest-params",
+            "",
+            "* - name",
+            "  - default",
+            "  - meaning (from the notebook's parameters cell)",
+        ]
+        for name, value, comment in rows:
+            shown = value if len(value) <= 60 else value[:57] + "…"
+            out += [f"* - `{name}`", f"  - {escape_md(shown)}", f"  - {escape_md(comment)}"]
+        out += [":::", "", "</details>", ""]
+    return "\n".join(out)
+
+
+def _public_names(path: Path) -> list[tuple[str, str]]:
+    """(name, kind) of a module's public objects, in ``__all__`` order, read without importing it.
+
+    ``kind`` is ``function``, ``class`` or ``data``; without ``__all__`` every top-level
+    function and class whose name does not start with ``_`` is public.
+    """
+    import ast
+
+    tree = ast.parse(path.read_text())
+    kinds: dict[str, str] = {}
+    exported: list[str] | None = None
+    for node in tree.body:
+        if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+            kinds[node.name] = "function"
+        elif isinstance(node, ast.ClassDef):
+            kinds[node.name] = "class"
+        elif isinstance(node, ast.Assign | ast.AnnAssign):
+            targets = node.targets if isinstance(node, ast.Assign) else [node.target]
+            for target in targets:
+                if isinstance(target, ast.Name):
+                    if target.id == "__all__" and node.value is not None:
+                        exported = [ast.literal_eval(elt) for elt in node.value.elts]  # type: ignore[attr-defined]
+                    else:
+                        kinds.setdefault(target.id, "data")
+    if exported is None:
+        exported = [n for n, k in kinds.items() if k != "data" and not n.startswith("_")]
+    return [(name, kinds.get(name, "data")) for name in exported]
+
+
+def api_module_markdown(module: str, root: Path = ROOT) -> str:
+    """One API page: the module docstring, a summary table, then every public object."""
+    names = _public_names(root / "secest" / f"{module}.py")
+    full = f"secest.{module}"
+    lines = [f"# `{full}`", "", "```{eval-rst}", f".. automodule:: {full}", "   :no-members:", ""]
+    if names:
+        lines += [".. rubric:: Summary", "", ".. autosummary::", "   :nosignatures:", ""]
+        lines += [f"   {name}" for name, _ in names]
+        lines.append("")
+    for name, kind in names:
+        if kind == "class":
+            lines += [f".. autoclass:: {full}.{name}", "   :members:", "   :show-inheritance:", ""]
+        else:
+            lines += [f".. auto{kind}:: {full}.{name}", ""]
+    lines.append("```")
+    return "\n".join(lines) + "\n"
+
+
+def api_modules(root: Path = ROOT) -> list[str]:
+    """The public modules of secest (every ``secest/<name>.py`` not starting with ``_``)."""
+    return sorted(p.stem for p in (root / "secest").glob("*.py") if not p.stem.startswith("_"))
+
+
+def api_markdown(root: Path = ROOT) -> str:
+    """The API index: the package docstring and a table of contents of the module pages."""
+    lines = [
+        "(api)=",
+        "# API reference",
+        "",
+        "The shared module `secest`, documented from its numpydoc docstrings. Each function cites the "
+        "equation it implements; notebooks show the code where their derivation reaches it.",
+        "",
+        "```{eval-rst}",
+        ".. automodule:: secest",
+        "   :no-members:",
+        "```",
+        "",
+        "```{toctree}",
+        ":maxdepth: 1",
+        ":caption: Modules",
+        "",
+        *api_modules(root),
+        "```",
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def paper_header_cell(key: str, root: Path = ROOT) -> dict[str, Any]:
+    """The markdown cell added under a notebook's title on its page: citation, DOI, downloads."""
+    bib = bibliography(root).get(key, {})
+    papers = readme_papers(root)
+    doi = bib.get("doi")
+    repo = _rel(root, Path("papers"))
+    verdict = papers.get(key, {}).get("verdict", "not yet")
+    doi_md = f"[doi:{doi}](https://doi.org/{doi})" if doi else "DOI not in the paper text we have"
+    downloads = [
+        "{download}`" + f"{key}.ipynb <{repo}/notebooks/{key}.ipynb>` (executed notebook)",
+        "{download}`" + f"{key}.py <{repo}/notebooks/{key}.py>` (jupytext source, the one to edit)",
+        "{download}`" + f"claims.json <{repo}/figures/{key}/claims.json>`",
+    ]
+    text = "\n".join(
+        [
+            ":::{admonition} On this site",
+            ":class: secest-paper-box",
+            f"**Paper:** {{cite:t}}`{key}`, {doi_md}. **Verdict:** {_badge(verdict)} — see the "
+            f"{{ref}}`claims matrix <claims-{key}>`, the {{ref}}`figure gallery <gallery-{key}>` "
+            f"and the [errata](../errata.md#{key}).",
+            "",
+            "**Download:** " + " · ".join(downloads) + "; each figure's data (CSV) is linked "
+            "in its caption.",
+            "",
+            f"This page is the committed executed notebook `notebooks/{key}.ipynb`, rendered without "
+            "re-running it. To re-run it with other parameters see {ref}`re-running`.",
+            ":::",
+        ]
+    )
+    return {"cell_type": "markdown", "metadata": {"tags": ["secest-site"]}, "source": text}
+
+
+_INLINE_MATH = re.compile(r"(?<![\\$])\$(?![\s$])(.+?)(?<![\s\\])\$(?!\d)")
+
+
+def _cells(row: str) -> int:
+    return len(re.findall(r"(?<!\\)\|", row.strip())) - 1
+
+
+def protect_table_maths(markdown: str) -> str:
+    """Pipes inside ``$...$`` in a markdown table row, as ``\\vert``, where they split the row.
+
+    Jupyter takes the maths out before it parses a table, so ``| $|z|>3$ |`` is one cell
+    there; MyST (like GitHub) splits the row at every ``|``. A row is changed only when
+    it has more cells than the table's header and the change gives it the header's count.
+    """
+    lines = markdown.split("\n")
+    header: int | None = None
+    for i, line in enumerate(lines):
+        if not line.lstrip().startswith("|"):
+            header = None
+            continue
+        if header is None:
+            header = _cells(line)
+            continue
+        if _cells(line) > header:
+            fixed = _INLINE_MATH.sub(
+                lambda m: "$" + re.sub(r"(?<!\\)\|", r"\\vert ", m.group(1)) + "$", line
+            )
+            if _cells(fixed) == header:
+                lines[i] = fixed
+    return "\n".join(lines)
+
+
+def paper_notebook(key: str, root: Path = ROOT) -> str:
+    """The committed notebook for its page: a header cell after the title cell; maths in
+    table rows protected as Jupyter does (:func:`protect_table_maths`); nothing else changes."""
+    nb = read_notebook(root / "notebooks" / f"{key}.ipynb")
+    for cell in nb["cells"]:
+        if cell["cell_type"] == "markdown":
+            text = _source(cell)
+            fixed = protect_table_maths(text)
+            if fixed != text:
+                cell["source"] = fixed
+    nb["cells"].insert(1, paper_header_cell(key, root))
+    return json.dumps(nb, indent=1, ensure_ascii=False) + "\n"
+
+
+def prepare(srcdir: str | Path, root: Path = ROOT) -> list[Path]:
+    """Write the site's Sphinx source tree into ``srcdir``; return the files it holds.
+
+    Static pages (``docs/*.md``) are copied, the rest generated. Files in
+    ``srcdir`` that this run did not write are removed.
+
+    Parameters
+    ----------
+    srcdir : str or Path
+        The source tree, ``build/<name>`` under ``root`` (``build/site-src`` for
+        ``make html``): relative links to repository files assume that depth.
+    root : Path, optional
+        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+
+    Returns
+    -------
+    list of Path
+        Every file of the source tree, absolute, sorted.
+
+    Raises
+    ------
+    SiteError
+        If ``srcdir`` is not ``build/<name>`` under ``root``, or a generated page
+        would hold a link that does not resolve.
+    """
+    src = Path(srcdir).resolve()
+    if src == root.resolve() or root.resolve() not in src.parents:
+        raise SiteError(f"srcdir must lie inside the repository (e.g. build/site-src), found {src}")
+    if (
+        src.relative_to(root.resolve()).parts[:1] != ("build",)
+        or len(src.relative_to(root.resolve()).parts) != 2
+    ):
+        raise SiteError(
+            f"srcdir must be build/<name> (links to repository files assume it), found {src}"
+        )
+    written: set[Path] = set()
+    for page in sorted((root / "docs").glob("*.md")):
+        _write(src / page.name, page.read_text(), written)
+    intro, commands = readme_intro(root)
+    gen = src / "_generated"
+    _write(gen / "intro.md", intro + "\n", written)
+    _write(gen / "commands.md", "```bash\n" + commands + "\n```\n", written)
+    _write(gen / "verdicts.md", verdict_table(root), written)
+    _write(gen / "lock.md", lock_markdown(root), written)
+    _write(gen / "parameters.md", parameters_markdown(root), written)
+    _write(gen / "rerun.md", readme_section("Reading and re-running", root), written)
+    _write(src / "readme.md", readme_markdown(root), written)
+    _write(src / "errata.md", errata_markdown(root), written)
+    _write(src / "claims.md", claims_markdown(root), written)
+    _write(src / "gallery.md", gallery_markdown(root), written)
+    _write(src / "api" / "index.md", api_markdown(root), written)
+    for module in api_modules(root):
+        _write(src / "api" / f"{module}.md", api_module_markdown(module, root), written)
+    for key in paper_keys(root):
+        _write(src / "papers" / f"{key}.ipynb", paper_notebook(key, root), written)
+    for path in sorted(src.rglob("*"), reverse=True):
+        if path.is_file() and path.resolve() not in written:
+            path.unlink()
+        elif path.is_dir() and not any(path.iterdir()):
+            path.rmdir()
+    return sorted(written)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Command-line entry point: ``python -m secest.site prepare [SRCDIR]``.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments after the program name: ``prepare`` and optionally the source
+        tree (default ``build/site-src``, relative to the repository root).
+        Default: ``sys.argv[1:]``.
+
+    Returns
+    -------
+    int
+        0; errors are raised (:class:`SiteError`), argparse exits with status 2 on
+        malformed arguments.
+    """
+    import argparse
+
+    parser = argparse.ArgumentParser(prog="python -m secest.site", description=__doc__.split("\n")[0])
+    sub = parser.add_subparsers(dest="command", required=True)
+    p = sub.add_parser("prepare", help="write the Sphinx source tree")
+    p.add_argument("srcdir", nargs="?", default="build/site-src")
+    args = parser.parse_args(argv)
+    if args.command == "prepare":
+        files = prepare(ROOT / args.srcdir if not os.path.isabs(args.srcdir) else args.srcdir)
+        print(f"secest.site: {len(files)} source files in {args.srcdir}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

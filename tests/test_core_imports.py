@@ -1,0 +1,25 @@
+"""Importing the core of secest loads neither the notebook stack nor cvxpy (a core install has neither)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+CORE = ["validation", "graphs", "channels", "covariance", "detectors", "montecarlo", "systems",
+        "estimation", "filters", "schedules"]
+HEAVY = ["matplotlib", "papermill", "cvxpy", "IPython", "nbformat", "jupyter_client", "dask"]
+
+
+def _loaded_after(imports: str) -> list[str]:
+    code = f"import sys, json; {imports}; print(json.dumps([m for m in {HEAVY!r} if m in sys.modules]))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    return json.loads(out.stdout)
+
+
+def test_core_modules_import_without_heavy_dependencies() -> None:
+    assert _loaded_after("; ".join(f"import secest.{m}" for m in CORE)) == []
+
+
+def test_lmi_imports_cvxpy_but_not_the_notebook_stack() -> None:
+    assert _loaded_after("import secest.lmi") == ["cvxpy"]

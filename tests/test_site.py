@@ -1,0 +1,613 @@
+"""The site (`make html`): built with no warning, every link resolves, and a browser shows it.
+
+The module builds the site once, exactly as `make html` does but with a fresh Sphinx
+environment (``-E``) so that every warning is reported. The tests that read the HTML
+need nothing else; the browser tests drive Debian's Chromium (``/usr/bin/chromium``)
+through Playwright, never a browser that Playwright downloads. Without Chromium they
+are skipped with a loud reason, unless ``SECEST_REQUIRE_BROWSER=1`` (set by ``.ci/run``),
+where they fail. A full-page screenshot of every page is saved under
+``build/site-screenshots/`` for people to look at.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from collections.abc import Iterator
+from functools import partial
+from html.parser import HTMLParser
+from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
+from pathlib import Path
+from typing import Any
+from urllib.parse import unquote, urldefrag, urlsplit
+
+import pytest
+
+from secest.results import repo_root
+from secest.site import claim_label, load_manifest, paper_keys, readme_papers
+
+pytestmark = pytest.mark.xdist_group("site")
+
+ROOT = repo_root()
+SRC = ROOT / "build" / "site-src"
+HTML = ROOT / "build" / "html"
+SHOTS = ROOT / "build" / "site-screenshots"
+CHROMIUM = Path("/usr/bin/chromium")
+CHROMIUM_FLAGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+]
+# what is left in the visible text (code blocks excluded) when maths was not typeset: display or
+# inline delimiters, a TeX command, a "$" opening a command, a lone "$" (e.g. a table cell cut
+# at a "|" inside $...$), or a $...$ pair
+RAW_MATH = re.compile(
+    r"\$\$|\\[()\[\]]|\\[A-Za-z]{2,}|\$\\|(?:^|\s)\$(?:\s|$)|(?<![\w$])\$[^$\s][^$\n]*?\$(?![\w$])",
+    flags=re.M,
+)
+
+
+# ------------------------------------------------------------------------------------------
+# build once, parse the HTML
+# ------------------------------------------------------------------------------------------
+
+
+@pytest.fixture(scope="session")
+def site() -> Path:
+    """Build the site like `make html` (fresh environment: every warning is reported)."""
+    prep = subprocess.run(
+        [sys.executable, "-m", "secest.site", "prepare", str(SRC.relative_to(ROOT))],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+    )
+    assert prep.returncode == 0, prep.stderr[-4000:]
+    build = subprocess.run(
+        [sys.executable, "-m", "sphinx", "-E", "-W", "--keep-going", "-q", "-b", "html", "-c", "docs"]
+        + [str(SRC.relative_to(ROOT)), str(HTML.relative_to(ROOT))],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+    )
+    assert build.returncode == 0, "sphinx-build -W failed:\n" + build.stderr[-6000:]
+    assert "WARNING" not in build.stderr and "ERROR" not in build.stderr, build.stderr[-6000:]
+    return HTML
+
+
+class _Parsed(HTMLParser):
+    def __init__(self) -> None:
+        super().__init__(convert_charrefs=True)
+        self.ids: set[str] = set()
+        self.links: list[str] = []
+        self.assets: list[str] = []
+
+    def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
+        a = {k: v or "" for k, v in attrs}
+        for key in ("id", "name"):
+            if a.get(key) and (key == "id" or tag == "a"):
+                self.ids.add(a[key])
+        if tag == "a" and "href" in a:
+            self.links.append(a["href"])
+        elif tag in ("img", "script") and a.get("src"):
+            self.assets.append(a["src"])
+        elif tag == "link" and a.get("href") and a.get("rel") in ("stylesheet", "preload", "icon"):
+            self.assets.append(a["href"])
+
+
+_PARSED: dict[Path, _Parsed] = {}
+
+
+def parsed(path: Path) -> _Parsed:
+    if path not in _PARSED:
+        p = _Parsed()
+        p.feed(path.read_text(encoding="utf-8"))
+        _PARSED[path] = p
+    return _PARSED[path]
+
+
+def _is_external(url: str) -> bool:
+    return bool(urlsplit(url).scheme) or url.startswith("//")
+
+
+def crawl(html: Path) -> list[Path]:
+    """Every HTML page reachable from index.html through the site's own links."""
+    seen: list[Path] = []
+    todo = [html / "index.html"]
+    while todo:
+        page = todo.pop()
+        if page in seen:
+            continue
+        seen.append(page)
+        for href in parsed(page).links:
+            if _is_external(href):
+                continue
+            target = unquote(urlsplit(href).path)
+            if not target:
+                continue
+            path = (page.parent / target).resolve()
+            if path.suffix == ".html" and path.is_file() and html in path.parents:
+                todo.append(path)
+    return sorted(seen)
+
+
+EXTRA_PAGES = ("search.html", "genindex.html", "py-modindex.html")
+
+
+@pytest.fixture(scope="session")
+def pages(site: Path) -> list[Path]:
+    """The pages reachable from index.html, plus Sphinx's search page and indices."""
+    extra = [site / name for name in EXTRA_PAGES if (site / name).is_file()]
+    return sorted(set(crawl(site)) | set(extra))
+
+
+def _name(page: Path) -> str:
+    return page.relative_to(HTML).with_suffix("").as_posix()
+
+
+# ------------------------------------------------------------------------------------------
+# the HTML itself (no browser needed)
+# ------------------------------------------------------------------------------------------
+
+
+def test_site_lists_every_page(pages: list[Path]) -> None:
+    names = {_name(p) for p in pages}
+    expected = {
+        "index",
+        "claims",
+        "gallery",
+        "errata",
+        "environment",
+        "readme",
+        "references",
+        "api/index",
+    }
+    expected |= {f"papers/{key}" for key in paper_keys(ROOT)}
+    assert expected <= names, f"pages not reachable from index.html: {sorted(expected - names)}"
+    built = {_name(p) for p in HTML.rglob("*.html") if "_static" not in p.parts}
+    assert built <= names, f"pages built but not reachable: {sorted(built - names)}"
+
+
+def test_no_internal_link_is_broken(pages: list[Path]) -> None:
+    """Every link and asset of every page exists; every #fragment names an element of its page."""
+    broken: list[str] = []
+    for page in pages:
+        p = parsed(page)
+        for href in p.links + p.assets:
+            if _is_external(href) or href.startswith(("mailto:", "javascript:")):
+                continue
+            parts = urlsplit(href)
+            target, frag = parts.path, parts.fragment
+            path = (page.parent / unquote(target)).resolve() if target else page
+            if not path.exists():
+                broken.append(f"{_name(page)}: {href} (no such file)")
+            elif frag and path.suffix == ".html" and unquote(frag) not in parsed(path).ids:
+                broken.append(f"{_name(page)}: {href} (no element #{frag})")
+    assert not broken, "\n".join(broken)
+
+
+def test_no_remote_script_style_or_font(pages: list[Path]) -> None:
+    """Nothing is fetched from the network at view time (MathJax is served by the site)."""
+    remote = [f"{_name(p)}: {a}" for p in pages for a in parsed(p).assets if _is_external(a)]
+    assert not remote, "\n".join(remote)
+    lee = (HTML / "papers" / "lee2020.html").read_text()
+    assert "_static/mathjax/tex-svg.js" in lee
+    assert (HTML / "_static" / "mathjax" / "tex-svg.js").is_file()
+
+
+def test_landing_verdict_table_matches_readme(site: Path) -> None:
+    text = (site / "index.html").read_text()
+    table = re.search(r'<table class="[^"]*secest-verdicts.*?</table>', text, flags=re.S)
+    assert table, "the landing page has no verdict table"
+    rows = re.findall(r"<tr.*?</tr>", table.group(0), flags=re.S)[1:]
+    verdicts = readme_papers(ROOT)
+    assert len(rows) == len(paper_keys(ROOT))
+    for key, row in zip(paper_keys(ROOT), rows, strict=True):
+        assert f"papers/{key}.html" in row
+        tag = verdicts[key]["verdict"]
+        assert f">{tag}</span>" in row.replace("&#172;", "¬"), (key, tag)
+
+
+def test_claims_matrix_lists_every_claim(site: Path) -> None:
+    text = (site / "claims.html").read_text()
+    for key in paper_keys(ROOT):
+        claims = json.loads((ROOT / "figures" / key / "claims.json").read_text())
+        for cid, entry in claims.items():
+            anchor = f'id="{claim_label(key, cid)}"'
+            assert anchor in text, (key, cid)
+            row = text[text.index(anchor) : text.index("</tr>", text.index(anchor))]
+            assert f"secest-badge-{entry['verdict']}" in row, (key, cid, entry["verdict"])
+
+
+def test_gallery_and_paper_pages_carry_every_manifest_figure(site: Path) -> None:
+    gallery = (site / "gallery.html").read_text()
+    for key, entry in load_manifest(ROOT).items():
+        page = (site / "papers" / f"{key}.html").read_text()
+        for fig in entry["figures"]:
+            for f in fig["files"]:
+                assert Path(f).name in gallery, (key, f)
+                if f.endswith(".png"):
+                    fid = "fig-" + re.sub(r"[^a-z0-9]+", "-", f"{key}-{Path(f).stem}".lower())
+                    assert f'id="{fid}"' in page, (key, fid)
+
+
+def test_errata_links_land_on_the_deviations_heading(site: Path) -> None:
+    errata = site / "errata.html"
+    links = [h for h in parsed(errata).links if h.startswith("papers/") and "#" in h]
+    assert {h.split("/")[1].split(".")[0] for h in links} == set(paper_keys(ROOT))
+    for href in links:
+        target, frag = urldefrag(href)
+        html = (site / target).read_text()
+        m = re.search(rf'<section id="{re.escape(frag)}">\s*<h2>([^<]*)', html)
+        assert m and m.group(1).startswith("Deviations from the paper"), href
+
+
+def test_downloads_are_the_committed_files(site: Path) -> None:
+    for key in paper_keys(ROOT):
+        page = site / "papers" / f"{key}.html"
+        downloads = [h for h in parsed(page).links if h.startswith("../_downloads/")]
+        for name in (f"{key}.ipynb", f"{key}.py", "claims.json"):
+            hits = [h for h in downloads if h.endswith("/" + name)]
+            assert hits, (key, name)
+            repo_file = ROOT / ("figures/" + key if name == "claims.json" else "notebooks") / name
+            assert (page.parent / hits[0]).read_bytes() == repo_file.read_bytes()
+        source = site / "_sources" / "papers" / f"{key}.ipynb"
+        assert source.read_bytes() == (ROOT / "notebooks" / f"{key}.ipynb").read_bytes()
+
+
+# ------------------------------------------------------------------------------------------
+# the browser
+# ------------------------------------------------------------------------------------------
+
+
+@pytest.fixture(scope="session")
+def browser_context(site: Path) -> Iterator[Any]:
+    if not CHROMIUM.exists():
+        message = (
+            "NO BROWSER: /usr/bin/chromium is missing, so the site was NOT checked in a browser "
+            "(pages, figures, maths, screenshots). Install Debian's chromium "
+            "(`apt-get install chromium`; .ci/run does) and run `make test` again."
+        )
+        if os.environ.get("SECEST_REQUIRE_BROWSER") == "1":
+            pytest.fail(message + " SECEST_REQUIRE_BROWSER=1 makes this a failure.")
+        print("\n" + "!" * 100 + "\n" + message + "\n" + "!" * 100, file=sys.stderr)
+        pytest.skip(message)
+    from playwright.sync_api import sync_playwright
+
+    with tempfile.TemporaryDirectory(prefix="secest-chromium-") as profile, sync_playwright() as pw:
+        context = pw.chromium.launch_persistent_context(
+            profile,
+            executable_path=str(CHROMIUM),
+            headless=True,
+            args=CHROMIUM_FLAGS,
+            viewport={"width": 1280, "height": 900},
+        )
+        try:
+            yield context
+        finally:
+            context.close()
+
+
+@pytest.fixture(scope="session")
+def server(site: Path) -> Iterator[str]:
+    class Quiet(SimpleHTTPRequestHandler):
+        def log_message(self, *args: Any) -> None:
+            pass
+
+    httpd = ThreadingHTTPServer(("127.0.0.1", 0), partial(Quiet, directory=str(site)))
+    thread = threading.Thread(target=httpd.serve_forever, daemon=True)
+    thread.start()
+    try:
+        yield f"http://127.0.0.1:{httpd.server_address[1]}"
+    finally:
+        httpd.shutdown()
+        httpd.server_close()
+
+
+_TYPESET = """async () => {
+  if (window.MathJax && MathJax.startup && MathJax.startup.promise) {
+    await MathJax.startup.promise;
+  }
+  const root = document.querySelector('main') || document.body;
+  const copy = root.cloneNode(true);
+  copy.querySelectorAll('pre, code, script, style, mjx-container, .MathJax, textarea').forEach(e => e.remove());
+  return {
+    text: copy.innerText,
+    math: document.querySelectorAll('.math').length,
+    typeset: document.querySelectorAll('mjx-container').length,
+    mathjax: typeof window.MathJax === 'object' && !!window.MathJax.version,
+  };
+}"""
+
+
+def _open(context: Any, url: str) -> tuple[Any, list[str], list[str]]:
+    """Open ``url``; return the page, its console/page errors and any request that left the machine."""
+    page = context.new_page()
+    errors: list[str] = []
+    outside: list[str] = []
+
+    def console(msg: Any) -> None:
+        where = (msg.location or {}).get("url", "")
+        if msg.type == "error" and not where.endswith("/favicon.ico"):
+            errors.append(f"console error: {msg.text} ({where})")
+
+    def request(req: Any) -> None:
+        parts = urlsplit(req.url)
+        if parts.scheme not in ("file", "data", "blob") and parts.hostname not in (
+            "127.0.0.1",
+            "localhost",
+        ):
+            outside.append(req.url)
+
+    def response(resp: Any) -> None:
+        if resp.status >= 400 and not resp.url.endswith("/favicon.ico"):
+            errors.append(f"HTTP {resp.status}: {resp.url}")
+
+    page.on("console", console)
+    page.on("pageerror", lambda e: errors.append(f"page error: {e}"))
+    page.on("request", request)
+    page.on("response", response)
+    page.goto(url, wait_until="load")
+    return page, errors, outside
+
+
+def _check_maths(page: Any, name: str) -> list[str]:
+    info = page.evaluate(_TYPESET)
+    problems = []
+    for raw in list(RAW_MATH.finditer(info["text"]))[:10]:
+        start = max(raw.start() - 60, 0)
+        problems.append(f"{name}: raw maths left: …{info['text'][start : raw.end() + 40]!r}")
+    if info["math"] and not (info["mathjax"] and info["typeset"]):
+        problems.append(f"{name}: {info['math']} maths elements but MathJax typeset {info['typeset']}")
+    return problems
+
+
+def _check_figures(page: Any, key: str) -> list[str]:
+    """Every PNG the manifest lists for ``key`` is a loaded image in its numbered figure."""
+    ids = [
+        "fig-" + re.sub(r"[^a-z0-9]+", "-", f"{key}-{Path(f).stem}".lower())
+        for fig in load_manifest(ROOT).get(key, {}).get("figures", [])
+        for f in fig["files"]
+        if f.endswith(".png")
+    ]
+    found = page.evaluate(
+        """ids => ids.map(id => {
+             const imgs = document.querySelectorAll(`figure[id="${id}"] img`);
+             return [id, imgs.length, imgs.length ? (imgs[0].complete ? imgs[0].naturalWidth : 0) : 0];
+           })""",
+        ids,
+    )
+    problems = []
+    for fid, count, width in found:
+        if count != 1:
+            problems.append(f"{key}: figure#{fid} holds {count} images")
+        elif not width:
+            img = page.locator(f"figure[id='{fid}'] img")
+            img.scroll_into_view_if_needed()
+            if not img.evaluate("i => i.complete ? i.naturalWidth : 0"):
+                problems.append(f"{key}: figure#{fid}: image not loaded (naturalWidth 0)")
+    return problems
+
+
+def _errata_targets(html: Path) -> dict[str, list[str]]:
+    """Paper page -> the #fragments the errata page links to on it."""
+    targets: dict[str, list[str]] = {}
+    for href in parsed(html / "errata.html").links:
+        parts = urlsplit(href)
+        if parts.path.startswith("papers/") and parts.fragment:
+            targets.setdefault(parts.path.removesuffix(".html"), []).append(parts.fragment)
+    return targets
+
+
+def _land(page: Any, url: str, frag: str) -> dict[str, Any]:
+    """Follow ``url#frag`` (same document): the heading there and where it lands in the view."""
+    page.goto(f"{url}#{frag}")
+    page.wait_for_timeout(100)
+    return page.evaluate(
+        """frag => {
+             const e = document.getElementById(frag);
+             if (!e) return {heading: null, top: null};
+             const h = e.matches('h1,h2,h3,h4') ? e : e.querySelector('h1,h2,h3,h4');
+             return {heading: h ? h.innerText : null, top: (h || e).getBoundingClientRect().top};
+           }""",
+        frag,
+    )
+
+
+@pytest.fixture(scope="session")
+def browsed(browser_context: Any, server: str, pages: list[Path]) -> dict[str, dict[str, Any]]:
+    """Open every page once (served on 127.0.0.1): findings per page; a screenshot of each."""
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    for old in SHOTS.glob("*.png"):
+        old.unlink()
+    found: dict[str, dict[str, Any]] = {}
+    errata = _errata_targets(HTML)
+    for path in pages:
+        name = _name(path)
+        t0 = time.perf_counter()
+        url = f"{server}/{path.relative_to(HTML).as_posix()}"
+        page, errors, outside = _open(browser_context, url)
+        maths = _check_maths(page, name)
+        figures = _check_figures(page, name.split("/")[1]) if name.startswith("papers/") else []
+        page.screenshot(path=str(SHOTS / (name.replace("/", "__") + ".png")), full_page=True)
+        landings = {frag: _land(page, url, frag) for frag in errata.get(name, [])}
+        page.close()
+        found[name] = {
+            "errors": errors,
+            "outside": outside,
+            "maths": maths,
+            "figures": figures,
+            "errata": landings,
+        }
+        if os.environ.get("SECEST_SITE_TIMING"):
+            print(f"{name}: {time.perf_counter() - t0:.1f} s", file=sys.stderr)
+    return found
+
+
+def test_every_page_opens_without_error_or_outside_request(browsed: dict[str, Any]) -> None:
+    problems = [f"{n}: {e}" for n, f in browsed.items() for e in f["errors"]]
+    problems += [
+        f"{n}: request leaves the machine: {u}" for n, f in browsed.items() for u in f["outside"]
+    ]
+    assert not problems, "\n".join(problems)
+
+
+def test_maths_is_typeset_on_every_page(browsed: dict[str, Any]) -> None:
+    problems = [p for f in browsed.values() for p in f["maths"]]
+    assert not problems, "\n".join(problems)
+
+
+def test_paper_pages_show_every_manifest_figure(browsed: dict[str, Any]) -> None:
+    assert {f"papers/{key}" for key in paper_keys(ROOT)} <= set(browsed)
+    problems = [p for f in browsed.values() for p in f["figures"]]
+    assert not problems, "\n".join(problems)
+
+
+def test_a_screenshot_of_every_page(browsed: dict[str, Any]) -> None:
+    shots = {p.stem for p in SHOTS.glob("*.png")}
+    assert shots == {name.replace("/", "__") for name in browsed}
+    assert all(p.stat().st_size > 10_000 for p in SHOTS.glob("*.png"))
+
+
+def test_errata_links_land_on_deviations_in_browser(browsed: dict[str, Any]) -> None:
+    """Following each ERRATA link puts its paper's "Deviations from the paper" heading in view."""
+    landings = {(n, frag): hit for n, f in browsed.items() for frag, hit in f["errata"].items()}
+    assert {n for n, _ in landings} == {f"papers/{key}" for key in paper_keys(ROOT)}
+    for (name, frag), hit in landings.items():
+        assert hit["heading"] and hit["heading"].startswith("Deviations from the paper"), (
+            name,
+            frag,
+            hit,
+        )
+        assert -5 <= hit["top"] < 300, f"{name}#{frag}: the heading lands {hit['top']} px from the top"
+
+
+@pytest.mark.parametrize("name", ["index", "papers/lee2020"])
+def test_opens_from_disk_without_network(browser_context: Any, site: Path, name: str) -> None:
+    """``file://`` with every network request refused: the landing page and maths still render."""
+    blocked: list[str] = []
+
+    def refuse(route: Any) -> None:
+        blocked.append(route.request.url)
+        route.abort()
+
+    remote = re.compile(r"^https?://")
+    browser_context.route(remote, refuse)
+    try:
+        page, errors, outside = _open(browser_context, (site / f"{name}.html").as_uri())
+        problems = _check_maths(page, name) + errors + [f"request: {u}" for u in outside + blocked]
+        if name == "index":
+            table = page.locator("table.secest-verdicts")
+            assert table.is_visible()
+            for key in paper_keys(ROOT):
+                assert key in table.inner_text()
+        assert page.locator("mjx-container").count() > 0, f"{name}: no typeset maths"
+        page.close()
+    finally:
+        browser_context.unroute(remote)
+    assert not problems, "\n".join(problems)
+
+
+# ------------------------------------------------------------------------------------------
+# the generators, on inputs the committed files do not (yet) exercise
+# ------------------------------------------------------------------------------------------
+
+
+def test_claim_row_shows_interval_premise_robustness_and_section() -> None:
+    from secest.site import _claim_row
+
+    heads = [
+        (2, "Fig. 4 — position $x_{1,k}$ and its estimates", "fig-4--position--and-its-estimates"),
+        (2, "Claims", "claims"),
+    ]
+    entry = {
+        "paper": "the filter is *stable*",
+        "source": "Theorem 2, (34)",
+        "check": "max |e| <= 1",
+        "measured": {"rate": 0.97, "runs": 300},
+        "key": "rate",
+        "interval": {"low": 0.95, "high": 0.985, "level": 0.95, "method": "Wilson"},
+        "threshold": 0.9,
+        "holds": True,
+        "premise": {"statement": "(42)-(43) hold", "holds": False},
+        "verdict": "undetermined",
+        "robustness": {
+            "fraction_holds": 0.4,
+            "interval": {"low": 0.3, "high": 0.5, "level": 0.95, "method": "Wilson"},
+            "region": {"p": "< 0.2"},
+            "points": 64,
+        },
+        "section": "Fig. 4 — position $x_{1,k}$ and its estimates",
+    }
+    text = "\n".join(_claim_row("ding2020", "C3", entry, heads, "claims"))
+    assert "(claim-ding2020-c3)=" in text
+    assert "{badge}`undetermined`" in text
+    assert "holds in 40 % of the declared space" in text
+    assert "95 % interval \\[0.95, 0.985\\] (Wilson)" in text
+    assert "**premise** (does not hold)" in text
+    assert "source: Theorem 2, (34)" in text
+    assert "the filter is \\*stable\\*" in text  # the paper's words are text, not markup
+    assert "rate: 0.97" in text
+    assert "(papers/ding2020.ipynb#fig-4--position--and-its-estimates)" in text
+    no_section = {k: v for k, v in entry.items() if k not in ("section", "source")}
+    text = "\n".join(_claim_row("ding2020", "C3", no_section, heads, "claims"))
+    assert "[§ Claims](papers/ding2020.ipynb#claims)" in text
+    assert "source: —" in text
+
+
+def test_claim_row_rejects_a_section_that_names_no_heading() -> None:
+    from secest.site import SiteError, _claim_row
+
+    entry = {
+        "paper": "p",
+        "check": "c",
+        "measured": 1,
+        "threshold": 1,
+        "holds": True,
+        "verdict": "holds",
+    }
+    with pytest.raises(SiteError, match="names no heading"):
+        _claim_row(
+            "lee2020", "C1", {**entry, "section": "No such section"}, [(2, "Claims", "claims")], "claims"
+        )
+
+
+def test_format_value_is_short() -> None:
+    from secest.site import format_value
+
+    assert format_value(0.123456789) == "0.1235"
+    assert format_value(True) == "true"
+    assert format_value(list(range(10))) == "[0, 1, 2, 3, 4, 5, … (4 more)]"
+    assert format_value({"a": {"b": 1e-9}, "c": [1, 2]}) == "a.b: 1e-09; c: [1, 2]"
+    assert format_value(None) == "—"
+
+
+def test_protect_table_maths_only_mends_rows_split_inside_maths() -> None:
+    from secest.site import protect_table_maths
+
+    table = "| a | b |\n|---|---|\n| $|z|>3$ | ok |\n| $x$ | `$|` |"
+    fixed = protect_table_maths(table).split("\n")
+    assert fixed[2] == "| $\\vert z\\vert >3$ | ok |"
+    assert fixed[3] == "| $x$ | `$|` |"  # same cell count as the header: left alone
+    assert protect_table_maths("not a table $|x|$") == "not a table $|x|$"
+
+
+def test_heading_anchors_match_the_built_pages(site: Path) -> None:
+    """The anchors secest.site computes for notebook headings (claim links) exist on the pages."""
+    from secest.site import notebook_headings, read_notebook
+
+    for key in paper_keys(ROOT):
+        ids = parsed(site / "papers" / f"{key}.html").ids
+        heads = notebook_headings(read_notebook(ROOT / "notebooks" / f"{key}.ipynb"))
+        missing = [(title, slug) for level, title, slug in heads if level > 1 and slug not in ids]
+        assert not missing, (key, missing)
