@@ -22,7 +22,8 @@ Execution: a Dask ``LocalCluster`` with one single-threaded worker process per
 core by default, or an existing cluster with ``--scheduler tcp://host:port``
 (its workers must run this environment and see this repository's folder).
 Each point runs in its own folder ``build/sweeps/<key>/<id>/``, where ``<id>``
-hashes the point's parameters, the notebook source and the ``secest`` sources:
+hashes the point's parameters, the notebook source and the ``secest`` sources
+(not the tooling: this module, ``verify``, ``site``):
 a re-run reuses every finished point, a changed notebook or library re-runs
 them all. A failed point is reported with its parameters and the last line of
 its error, counted, and makes the command exit non-zero; it is never dropped.
@@ -60,11 +61,17 @@ OUTCOMES = ("holds", "fails", "fails-premise")
 # ---------------------------------------------------------------------------- points and caching
 
 
+TOOLING = frozenset({"sweep.py", "verify.py", "site.py"})
+"""Modules that never run inside a notebook: they do not enter a point's id."""
+
+
 def source_hash(key: str) -> str:
-    """Hash of ``notebooks/<key>.py`` and every ``secest/*.py``: what a point's result depends on."""
+    """Hash of ``notebooks/<key>.py`` and every ``secest/*.py`` a notebook can run (not
+    :data:`TOOLING`): what a point's result depends on."""
     root = repo_root()
     h = hashlib.sha256()
-    for path in [root / "notebooks" / f"{key}.py", *sorted((root / "secest").glob("*.py"))]:
+    library = [p for p in sorted((root / "secest").glob("*.py")) if p.name not in TOOLING]
+    for path in [root / "notebooks" / f"{key}.py", *library]:
         h.update(path.name.encode())
         h.update(path.read_bytes())
     return h.hexdigest()
@@ -399,7 +406,8 @@ def _region(space: spaces.Space, axes: Mapping[str, list], outcomes: Sequence[st
         return describe_region(space, axes, [o == "holds" for o in outcomes])
     where = describe_region(space, axes, [o == "fails-premise" for o in outcomes],
                             words=("the premise fails", "the premise holds"))
-    return f"holds wherever its premise holds ({outcomes.count('holds')} of {len(outcomes)} points); {where}"
+    held = f"{outcomes.count('holds')} of {len(outcomes)} points"
+    return f"holds wherever its premise holds ({held}); {where}"
 
 
 def describe_region(
