@@ -90,7 +90,7 @@ shared_diag_steps = 2  # steps of the printed shared-multiplier LMI (22) run as 
 r_bound = "lumped"  # "lumped": r^T r below N^2 as printed; "per_link": one multiplier per link
 lam2_max = 1000.0  # box on |lambda2| in OP1 (ours, numerical)
 eps_lmi = 1e-6  # strictness margin: every LMI M is imposed as M + eps_lmi I negative semidefinite
-cert_tol = 1e-8  # certificate: max eig of every solved LMI matrix at most cert_tol
+cert_tol = 1e-8  # certificate: max eig of every solved LMI matrix at most -cert_tol (strict LMI)
 solver = "CLARABEL"  # primary SDP solver
 fallback_solver = "SCS"  # visible fallback
 c3_margin = 0.001  # C3: NN counts as better at a node when its RMSE is below 1 - c3_margin times the other (ours)
@@ -679,7 +679,9 @@ def build_op1_problem(*, e1_, eps, links=LINKS, lam2_box=1e3):
 #
 # **Solves.** Every problem is solved by `secest.lmi.solve_certified`. CLARABEL runs first (with
 # tolerances $10^{-7}$, and chordal decomposition off for the tiny, degenerate OP1). The status must
-# be `optimal`, and every LMI matrix must have its largest numpy eigenvalue $\le$ `cert_tol`.
+# be `optimal`, and every LMI matrix $M$ must have its largest numpy eigenvalue $\le-$`cert_tol`:
+# the strict LMI $M<0$ holds beyond `cert_tol` (`certify="strict"`), even where the solver used up
+# part of the margin `eps_lmi` it was given.
 # Otherwise SCS is tried under a visible warning. If that fails too, an `InfeasibleLMIError` names
 # the step and the problem. OP2/OP3 is one joint SDP over all nodes, coupled through
 # $P_{k+1}$, so an infeasible solve cannot be blamed on one node ("joint SDP over nodes 1-3"); a
@@ -718,7 +720,7 @@ def solve(sp: StepProblem, k: int, label: str, opts: dict, fallback: str | None 
     fb = fallback_solver if fallback is None else fallback
     return slmi.solve_certified(sp.problem, sp.lmis, step=k, node=label, solver=solver,
                                 fallback=None if fb == "none" else fb, tol=cert_tol, eps=eps_lmi,
-                                solver_opts=opts, fallback_opts=SCS_OPTS)
+                                certify="strict", solver_opts=opts, fallback_opts=SCS_OPTS)
 
 
 def sample_admissible(rng: np.random.Generator, n_samples: int, S: np.ndarray) -> np.ndarray:
@@ -1120,7 +1122,8 @@ print("tr B_k, shared Gamma_k :", np.round(trB_shared, 3).tolist())
 print("tr B_k, per-node Gamma :", np.round(trB_node, 3).tolist())
 print(f"uncertified steps of the shared run: {len(shared_run['failures'])}")
 _ = plotting.save_data(FIG_DIR, "extra_shared_multipliers", {
-    "k": np.arange(n_sh + 1), "trB_shared": trB_shared, "trB_per_node": trB_node})
+    "k": np.arange(n_sh + 1), "trB_shared": trB_shared, "trB_per_node": trB_node},
+    tolerance={"trB_*": results.LMI_ITERATES})
 
 # %% [markdown]
 # ### Figures 1–8
@@ -1155,7 +1158,8 @@ def state_figure(res: dict, comp: int, est_name: str, stem: str) -> None:
     fig.set_layout_engine("constrained")
     plotting.save_figure(fig, FIG_DIR, stem, data={
         "k": k_axis, "x": res["x"][:, comp],
-        **{f"xhat_node{i + 1}": res["xh"][:, i, comp] for i in range(N)}})
+        **{f"xhat_node{i + 1}": res["xh"][:, i, comp] for i in range(N)}},
+        tolerance={"xhat_node*": results.LMI_ITERATES})
 
 
 def data_limits(values: np.ndarray, pad: float = 0.08) -> tuple[float, float]:
@@ -1190,7 +1194,8 @@ def error_figure(res: dict, comp: int, est_name: str, stem: str,
     ax.legend(fontsize=6, ncol=2, loc="upper center", bbox_to_anchor=(0.5, -0.25), frameon=False)
     fig.set_layout_engine("constrained")
     plotting.save_figure(fig, FIG_DIR, stem, data={
-        "k": k_axis, "band": band, **{f"err_node{i + 1}": res["err"][:, i, comp] for i in range(N)}})
+        "k": k_axis, "band": band, **{f"err_node{i + 1}": res["err"][:, i, comp] for i in range(N)}},
+        tolerance={"band": results.LMI_ITERATES, "err_node*": results.LMI_ITERATES})
 
 
 # %% [markdown]
@@ -1285,7 +1290,8 @@ def overlay_figure() -> None:
         **{f"err_nn_node{i + 1}_c{c + 1}": nn_run["err"][:, i, c]
            for i in range(N) for c in range(2)},
         **{f"err_conv_node{i + 1}_c{c + 1}": conv_run["err"][:, i, c]
-           for i in range(N) for c in range(2)}})
+           for i in range(N) for c in range(2)}},
+        tolerance={"err_*": results.LMI_ITERATES})
 
 
 if plotting.figures_enabled():
@@ -1400,6 +1406,20 @@ def diagnostics_figure() -> None:
         **{f"What_F_link{i + 1}{j + 1}": nn_run["Wn"][:, a] for a, (i, j) in enumerate(LINKS)},
         **{f"thm1_link{i + 1}{j + 1}": nn_run["Wq"][:, a] for a, (i, j) in enumerate(LINKS)},
         "p_op3": p_op3 if op3_run is not None else np.full(T_run + 1, np.nan),
+    }, tolerance={
+        "qf_*": results.Tolerance(
+            rtol=0.05, atol=1e-9,
+            reason="quadratic forms on a log axis, set by interior-point iterates of B_k: up to 0.6 % "
+            "apart under other BLAS kernels"),
+        "maxH_*": results.Tolerance(
+            rtol=0.2, atol=1e-9,
+            reason="largest coupling gain ||H_ij|| (NN design ~1e-4, log axis): a flat LMI direction, "
+            "its interior-point iterate 4 % apart under other BLAS kernels"),
+        "What_F_*": results.Tolerance(
+            rtol=0.0, atol=1e-8,
+            reason="NN weights collapsed to rounding level after k = 0 (<= 3e-9): their values are "
+            "noise, 38 % apart under other BLAS kernels"),
+        **dict.fromkeys(["trB_*", "thm1_*", "p_op3"], results.LMI_ITERATES),
     })
 
 
@@ -1465,7 +1485,7 @@ if extras:
 # | C2 | the errors stay in the required region with probability $\ge p$ (Theorem 3, (11)) | fraction of (node, step) pairs with $\tilde x^\top\mathfrak B_k^{-1}\tilde x\le1$, NN design; holds if its Wilson 95 % lower bound is $\ge p$. **Premise** (checked): Assumption 3, (12)–(13) along the NN run, $\|\delta\|\le e_3$ |
 # | C3 | the conventional estimator "shows worse estimation performance" than the NN-based one under the same falsified innovations (Figs. 5–8 vs 1–4) | per-node RMSE of $\|\tilde x\|$ over $k=1..T$: holds if $\mathrm{RMSE}_{NN}<(1-$`c3_margin`$)\,\mathrm{RMSE}_{conv}$ at **every** node; headline: the worst node's ratio |
 # | C4 | $\mathrm{tr}[\tilde W^\top Q^{-1}\tilde W]\le1$ for all $k$ (Theorem 1) | max over links and steps, with $W=W^\star$. Holds **by construction** here: the maximum is at $k=0$, fixed by the data ($\|I-W^\star\|_F^2/20$), and from $k=1$ on $\hat W\approx0$, $Q=e_1^2I$, so (19) holds for any $W$ allowed by Assumption 2 |
-# | C5 | the RLMIs are solvable at every step (Algorithm 1) | steps without a certified solution (both designs and OP1), and the certificate: largest eigenvalue of every solved LMI matrix $\le10^{-8}$ |
+# | C5 | the RLMIs are solvable at every step (Algorithm 1) | steps without a certified solution (both designs and OP1), and the certificate: largest eigenvalue of every solved LMI matrix $\le-10^{-8}$ (strict) |
 # | X1 | (ours) the error dynamics (54) | $\max|\tilde x_{i,k+1}-(\Xi_i+\tilde\alpha_k\tilde\Xi_i)\zeta_k|$ at the actual $\zeta_k$ |
 # | X2 | (ours) the premise (12)–(13) at this point's $L_i=\aleph_i$ | worst ratio $\|\text{remainder}\|/(s\|\tilde x\|)$ over both runs $\le1$ |
 # | X3 | (ours, E4–E5) the NN mechanism is not reproduced: OP1 collapses the weights, OP2 drops the neighbours | $\max_k|\lambda^{(2)}|$, $\max_{k\ge1}\|\hat W_{ij,k}\|_F$ and $\max\|H_{ij}\|$ of the NN design |
@@ -1491,9 +1511,7 @@ if extras:
 # %%
 SEC_EXAMPLE = "The example (Section IV): both estimators under the same falsified innovations"
 SEC_TAYLOR = r"The missing Taylor scales $L_i$, $\aleph_i$: a declared range"
-TOL_LMI = results.Tolerance(
-    rtol=1e-5, atol=1e-7, reason="trajectories driven by gains from interior-point SDP solves "
-    "(CLARABEL, tolerances 1e-7): another machine changes the last digits of the gains")
+TOL_LMI = results.LMI_ITERATES  # every value below driven by interior-point LMI solves
 claims = {}
 late = k_axis >= min(settle_k, T_run)
 max_late = {name: float(np.max(np.abs(r["err"][late]))) for name, r in
@@ -1547,9 +1565,7 @@ claims["C3"] = results.claim(
               "taylor_scale": float(L_scale)},
     key="worst_node_ratio", threshold=1.0 - c3_margin, holds=len(nodes_better) == N,
     source="Sec. IV, last paragraph; Figs. 1-8", section=SEC_EXAMPLE,
-    tolerance=results.Tolerance(rtol=1e-5, atol=1e-7, reason="RMSEs of trajectories driven by "
-                                "SDP gains solved to 1e-7; the decision can flip only where a "
-                                "node's ratio lies within 1e-5 of the threshold"),
+    tolerance=TOL_LMI,
 )
 thm1_max = float(nn_run["Wq"].max())
 claims["C4"] = results.claim(
@@ -1570,18 +1586,21 @@ claims["C5"] = results.claim(
     paper="Algorithm 1 / Theorems 1-3: the recursive LMIs (18) and (30) are solvable at every "
     "step",
     check="number of steps without a certified solution (OP2 of both designs, OP1) == 0, and the "
-    f"largest eigenvalue of every solved LMI matrix <= {cert_tol:g}",
+    f"largest eigenvalue of every solved LMI matrix <= -{cert_tol:g} (the strict LMIs hold)",
     measured={"uncertified_steps": n_uncert, "solves": len(all_reports) + n_uncert,
               "max_eigenvalue": worst, "fallbacks_to_scs": sum(r.fallback for r in all_reports),
               "statuses": sorted({r.status for r in all_reports}),
               "max_asymmetry": max((max(r.asymmetry.values()) for r in all_reports), default=0.0),
               "max_residual": max((max(r.residual.values()) for r in all_reports), default=0.0)},
-    key="uncertified_steps", threshold={"uncertified_steps": 0, "max_eigenvalue": cert_tol},
-    holds=n_uncert == 0 and worst is not None and worst <= cert_tol,
+    key="uncertified_steps", threshold={"uncertified_steps": 0, "max_eigenvalue": -cert_tol},
+    holds=n_uncert == 0 and worst is not None and worst <= -cert_tol,
     source="Algorithm 1 (step 3 'solve (30)'); Theorems 1-3", section=SEC_EXAMPLE,
-    tolerance=results.Tolerance(rtol=1.0, atol=1e-8, reason="the certified eigenvalues are solver "
-                                "round-off (1e-22 to 1e-8); near the range's upper end the count "
-                                "of uncertified steps depends on the last digits of the data"),
+    tolerance=results.Tolerance(
+        rtol=0.25, atol=1e-6,
+        reason="interior-point diagnostics at the solver's stopping point: residuals and eigenvalue "
+        "margins (~1e-7) may differ by their own size between machines, and near the range's upper "
+        "end the count of uncertified steps depends on the last digits of the data; the "
+        "certification itself is compared exactly through holds"),
 )
 dyn = float(nn_run["dyn_res"].max()) if nn_run["dyn_res"].size else None
 claims["X1"] = results.claim(
@@ -1817,7 +1836,8 @@ def map_figure(rows: list[dict]) -> None:
         "scale": np.concatenate([data[k_][0] for k_ in keys]),
         "median": np.concatenate([data[k_][1] for k_ in keys]),
         "min": np.concatenate([data[k_][2] for k_ in keys]),
-        "max": np.concatenate([data[k_][3] for k_ in keys])})
+        "max": np.concatenate([data[k_][3] for k_ in keys])},
+        tolerance=dict.fromkeys(["median", "min", "max"], results.LMI_ITERATES))
 
 
 sweep_rows = read_robustness("figures/ma2021/robustness.csv")
@@ -1888,7 +1908,7 @@ elif plotting.figures_enabled():
 # | (24)–(28) (CORRECTED) | OCR damaged | row blocks re-derived from (15)–(16) (table above) | checked to machine precision on every certified step (X1) |
 # | $\varrho$, $\bar M$ | $\varrho$ stacks rows; $Q_{ij}\otimes I$ | `A.flatten()`; $\bar M=\mathrm{chol}(Q)\otimes I_{n_\phi}$ | consistent with $\mathrm{tr}[W^\top Q^{-1}W]=\varrho^\top(Q^{-1}\otimes I)\varrho$ |
 # | $r$-vector | all $N^2$ ordered pairs ($d=63$) | links only ($d=43$), bound $r^\top r\le N^2$ kept | the dropped columns are identically zero |
-# | (18) strict, (22) non-strict | | every LMI imposed as $\le-10^{-6}I$ and certified with numpy at $10^{-8}$ | margin above the solver tolerance |
+# | (18) strict, (22) non-strict | | every LMI imposed as $\le-10^{-6}I$ and certified strict with numpy (largest eigenvalue $\le-10^{-8}$) | the margin keeps the solver's iterate inside the strict LMIs |
 # | OP1 | $\lambda^{(1)},\lambda^{(2)}$ "positive" | free, with $|\lambda^{(2)}|\le10^3$ | the box removes an unbounded optimal face when $\varpi\approx0$ and is never active; $\lambda^{(2)}=0$ is optimal anyway (E4) |
 # | OP1 | one problem per link | one separable problem (sum of traces) | same minimisers, one solve per step |
 # | conventional design (MISSING) | "characterised by (3)" | attack-unaware analogue of OP2 | MISSING in the paper; it decides the direction of C3 together with the Taylor scales (X9) |
