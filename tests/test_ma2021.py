@@ -58,8 +58,8 @@ def check_c3(c3: dict) -> None:
     m = c3["measured"]
     nn, conv, ratio = (np.asarray(m[k]) for k in ("rmse_nn", "rmse_conventional", "ratio"))
     assert nn.shape == conv.shape == ratio.shape == (3,)
-    np.testing.assert_allclose(ratio, nn / conv, rtol=1e-12)
-    assert m["worst_node_ratio"] == pytest.approx(ratio.max(), rel=1e-12)
+    np.testing.assert_allclose(ratio, nn / conv, rtol=1e-9)  # claims are written to ~11 digits
+    assert m["worst_node_ratio"] == pytest.approx(ratio.max(), rel=1e-9)
     assert m["mean_nn"] == pytest.approx(nn.mean()) and m["mean_conventional"] == pytest.approx(conv.mean())
     margin = 1.0 - c3["threshold"]
     assert 0.0 <= margin < 1.0
