@@ -24,38 +24,51 @@
 # weight error with the S-procedure, and through Markov's inequality it guarantees
 # $P\{\tilde x_{i,k}\in\mathcal X(0,\mathfrak B_k)\}\ge p$.
 #
-# **Verdict: [Re, partial].** The machinery reproduces: the recursive LMIs are feasible and
-# certified at every step (C5), the NN-based estimator tracks the state (C1), the probabilistic
-# ellipsoid holds at every node and step (C2, very conservatively), the Theorem 1 weight bound
-# holds, by construction on this example (C4), and the re-derived error dynamics hold to machine
-# precision (X1). These guarantees rest on the paper's premise (12)–(13) for the missing Taylor
-# scales $L_i$, $\aleph_i$. We fix them by a rule chosen in advance, the smallest multiple of 0.05
-# for which the premise holds along the runs: $0.15I$ (X2 holds; the earlier default $0.1I$
-# violates it at $k=0$). **The headline comparison C3 does not hold at that scale.** The RMSE of
-# the NN-based estimator is [0.107, 0.057, 0.104] against [0.099, 0.057, 0.100] for the
-# conventional one; NN is better only at node 2, by 0.4 %, and worse on the network average
-# (0.089 against 0.085). On three further $\alpha_k$ realisations the conventional estimator is
-# better at every node, and in C1 its largest late error is the smaller one (0.105 against 0.115).
-# C3 held at $0.1I$, where the premise fails, and it holds at every node under two alternative
-# OCR readings ($E_1$ amplitude 0.1; $\sin 2x^{(2)}$ in $g_1$), so the comparison hinges on missing
-# and illegible values. Either way the mechanism is **not** learning: OP1 sends the NN weights to
-# zero at the first step (E4), and the robust OP2 design switches the neighbour innovations off
-# ($\|H_{ij}\|\approx4\cdot10^{-4}$, E5), so the "NN estimator" is $N$ decoupled local estimators,
-# identical to (3) with the attack-aware gains and no compensation. Figures 1–8 are reproduced
+# **Verdict: [Re, partial]** — the guarantees reproduce wherever their premises hold, but the
+# headline comparison C3 is undetermined by the paper's missing values (it holds at 12 of the 70
+# points of the declared space, only at the two smallest Taylor scales), and the NN compensator is
+# never active.
+#
+# In detail, over the declared space of the missing Taylor scales $L_i=\aleph_i=sI$, two $\alpha_k$
+# realisations and the alternative OCR readings (section "The missing Taylor scales"): the
+# recursive LMIs are certified at every step at 57 of 70 points (C5: not at the top scale 0.34, nor
+# at 3 of the 10 points at 0.284, where the solver's solutions use up the margin to within the
+# strict certificate, a numerical limit, not infeasibility), the errors stay in the probabilistic ellipsoid wherever Theorem 3's premise holds
+# (C2, very conservatively), Theorem 1's weight bound holds (C4, by construction), and the
+# re-derived error dynamics and Theorem 2's bound check exactly (X1, X4, X7). **C3 — "the
+# conventional algorithm shows worse estimation performance" — is undetermined:** it holds at 12 of
+# the 70 points, 8 of the 10 at $s=0.116$, 4 of the 10 at $0.139$, none of the 50 from $0.166$ on
+# and none under the reading 0.05 of "0d5". The 70 points are a fixed grid whose levels were placed
+# knowing that the direction turns between 0.14 and 0.15, so "12 of 70" describes the grid, not a
+# probability. C3 needs the missing conventional design to use its neighbours' innovations, through
+# which the falsified ones reach it (X9), but that is not enough: X9 holds at 22 points and C3 at 12
+# of them. Where the conventional design drops its neighbours (the other 48 points: from $0.166\,I$
+# on, $0.199\,I$ under the $g_1$ reading) the two estimators nearly coincide (per-node RMSE ratios
+# NN/conventional 0.988–1.052 where every step is certified). Either way it is not learning: OP1 sets $\hat W$ to zero at the
+# first step and OP2 switches the neighbours off ($\|H_{ij}\|\le3.2\cdot10^{-3}$) at every point
+# (X3), so the "NN-based estimator" never uses its network. Figures 1–8 are reproduced
 # qualitatively only: $f$, $g_i$, $\bar\alpha$ and the initial values are reconstructions from a
-# garbled OCR, and $L_i$, $\aleph_i$ and the conventional design are missing.
+# garbled OCR.
+#
+# The other verdicts over the declared space (points where the claim holds, of 70): C2 holds
+# wherever its premise holds, 68 (the premise fails at $s=0.116$ under the $g_1$ reading), and so
+# does X7, 58 (its premise, which includes certified steps, fails also at all 10 points at
+# $s=0.34$); the sweep records both as undetermined because the premise varies. C1 68 (not at
+# $s=0.34$ under "0d5" = 0.05, where the uncertified steps keep stale gains); X2 68 (not at the 2 points where C2's premise fails); X6 58 (the
+# printed shared-multiplier LMI is not certified at $k=1$ at 12 points under the readings of
+# $E_1$, $f$, $g_1$; where it is, it is never less conservative); X9 22 (at $s\le0.139$, and at
+# 0.166 under the $g_1$ reading); C4, X1, X3, X4 hold at all 70.
 
 # %% tags=["parameters"]
-mode = "paper"  # "paper": full runs; "fast": short horizon and fewer extras for the tests
+mode = "paper"  # "paper": full runs; "fast": 8 steps and 3 Monte Carlo runs, for the tests (ours)
 T = 40  # horizon [0, T] (RECONSTRUCTED from the 0..40 time axes)
 seed = 0  # seed of the alpha_k realisation (MISSING)
-extra_seeds = 3  # further alpha_k realisations for C2 and the sensitivity table (ours)
-alpha_bar = 0.67  # Prob{alpha_k is 1} (RECONSTRUCTED from the OCR "o: 067")
+alpha_bar = 0.67  # Prob{alpha_k is 1} (RECONSTRUCTED from the OCR "o: 067"; the brief reads 0.6)
 p = 0.8  # probability level of (10)-(11) (PAPER)
 e1 = 3.0  # bound on ||W_ij||_F, Assumption 2 (PAPER)
 e3 = 3.0  # bound on ||delta_j||, Assumption 2 (PAPER)
-# f and g_i as lists of terms [coef, fn, var, freq, shift] = coef * fn(freq * x^(var) + shift), fn in
-# {"x", "sin", "cos"}; every coefficient, superscript and frequency is RECONSTRUCTED from the OCR
+# f and g_i as lists of terms [coef, fn, var, freq, shift] meaning coef * fn(freq * x^(var) + shift),
+# fn in {"x", "sin", "cos"}; every coefficient, superscript and frequency is RECONSTRUCTED from the OCR
 f_terms = [[[0.5, "x", 1, 1, 0], [0.45, "sin", 2, 1, 0], [0.25, "x", 2, 1, 0]],
            [[0.4, "cos", 1, 1, 0], [0.3, "x", 1, 1, 0], [0.6, "x", 2, 1, 0]]]  # "0d5" read 0.45
 g1_terms = [[[0.15, "x", 1, 1, 0], [0.35, "sin", 2, 1, 0], [0.2, "x", 2, 1, 0]],
@@ -66,112 +79,131 @@ g3_terms = [[[0.5, "sin", 1, 1, 0], [0.4, "x", 1, 1, 0], [0.2, "x", 2, 1, 0]],
             [[0.4, "sin", 2, 1, 0], [0.1, "x", 2, 1, 0], [0.3, "x", 1, 1, 0]]]
 E1_amp = 0.01  # amplitude of cos(k+1) in E_1k (RECONSTRUCTED from "0.2401cos"; 0.1 also possible)
 E3_amp = 0.05  # amplitude of sin(k) in E_3k (RECONSTRUCTED)
+ocr_reading = "as read"  # one alternative reading of a garbled value, applied on top of the above (RECONSTRUCTED)
 x0 = [2.0, 2.0]  # initial state; 1st entry PAPER, 2nd MISSING (chosen so that Assumption 3 holds)
 xhat0 = [[1.5, 1.8], [1.7, 1.9], [1.8, 1.5]]  # initial estimates (nodes 2-3 RECONSTRUCTED)
 P0 = [[0.6887, -0.0588], [-0.0588, 0.7390]]  # Assumption 3 (PAPER)
 W0 = [[1.0, 0.0], [0.0, 1.0]]  # initial NN weights, every link (RECONSTRUCTED)
 Q0 = [[20.0, 0.0], [0.0, 20.0]]  # Assumption 3 weight-error shape (PAPER)
-L_scale = None  # scale of L_i in (12) (MISSING); None: the rule below, a number overrides it
-aleph_scale = None  # scale of aleph_i in (13) (MISSING); None: the rule below
-taylor_grid = 0.05  # rule: smallest multiple of this for which (12)-(13) hold along both runs
-taylor_max = 0.5  # the rule gives up above this scale (ours)
+L_scale = 0.116  # L_i is L_scale times I in (12) (MISSING); the lower end of its declared range
+aleph_scale = 0.116  # aleph_i is aleph_scale times I in (13) (MISSING); tied to L_scale in the sweep
 varpi_form = "sum"  # varpi of (17): "sum" over j in N_i as reconstructed, or "per_link" (H_ij only)
 shared_multipliers = False  # one Gamma_k for all nodes as printed (True) or one per node
-shared_diag_steps = 2  # steps of the printed shared-multiplier LMI (22) run as a diagnostic
+shared_diag_steps = 2  # steps of the printed shared-multiplier LMI (22) run as a diagnostic (ours)
 r_bound = "lumped"  # "lumped": r^T r below N^2 as printed; "per_link": one multiplier per link
 lam2_max = 1000.0  # box on |lambda2| in OP1 (ours, numerical)
 eps_lmi = 1e-6  # strictness margin: every LMI M is imposed as M + eps_lmi I negative semidefinite
-cert_tol = 1e-8  # certificate: max eig of every solved LMI matrix at most cert_tol
+cert_tol = 1e-8  # certificate: max eig of every solved LMI matrix at most -cert_tol (strict LMI)
 solver = "CLARABEL"  # primary SDP solver
 fallback_solver = "SCS"  # visible fallback
-op3_scale = 2.0  # fixed ellipsoid B is op3_scale times I for the OP3 run (MISSING)
+c3_margin = 0.001  # C3: NN counts as better at a node when its RMSE is below 1 - c3_margin times the other (ours)
 settle_k = 10  # C1: errors measured from this step on
-track_tol = 0.2  # C1: |error| bound read from the Fig. 3-4 data range
+track_tol = 0.2  # C1: |error| bound for "satisfactory precision" (ours: the paper states no number)
+extras = True  # OP3 run, Monte Carlo check of (29), certificate at the range's upper end (ours)
+mc_runs = 16  # alpha_k realisations of the Monte Carlo check X8; fast mode uses 3 (ours)
+op3_scale = 2.0  # fixed ellipsoid B is op3_scale times I for the OP3 run (MISSING)
 figures = True  # False: no figure or data file is made (robustness sweep points) (ours)
 fig_dir = "figures/ma2021"
 results_path = "figures/ma2021/claims.json"
 
 # %%
 import copy
+import csv
+import json
 import warnings
-from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 import cvxpy as cp
 import matplotlib.pyplot as plt
 import numpy as np
+from IPython.display import Markdown, display
 
-from secest import covariance, graphs, montecarlo, plotting, results
+from secest import covariance, graphs, montecarlo, plotting, results, spaces
 from secest import lmi as slmi
+from secest.validation import ValidationError
 
 print(results.environment_summary())
 print("cvxpy:", cp.__version__, "solvers:", cp.installed_solvers())
 
-run = results.Run("ma2021", globals())
-if mode not in ("paper", "fast"):
-    raise ValueError(f"mode must be 'paper' or 'fast', found {mode!r}")
-if r_bound not in ("lumped", "per_link"):
-    raise ValueError(f"r_bound must be 'lumped' or 'per_link', found {r_bound!r}")
-if varpi_form not in ("sum", "per_link"):
-    raise ValueError(f"varpi_form must be 'sum' or 'per_link', found {varpi_form!r}")
-for _name, _val in (("L_scale", L_scale), ("aleph_scale", aleph_scale)):
-    if _val is not None and not float(_val) > 0:
-        raise ValueError(f"{_name} must be None (rule) or positive, found {_val!r}")
+run = results.Run("ma2021", globals())  # every value checked against notebooks/ma2021.toml
+SPACE = spaces.load("ma2021")
 T_run = int(T) if mode == "paper" else min(int(T), 8)
-n_extra = int(extra_seeds) if mode == "paper" else 1
+n_mc = int(mc_runs) if mode == "paper" else min(int(mc_runs), 3)
 FIG_DIR = results.resolve(fig_dir)
+ROBUSTNESS = "figures/ma2021/robustness.json"  # written by `make robustness NB=ma2021`
 plotting.setup(enabled=figures)
 CLARABEL_OPTS = {"tol_feas": 1e-7, "tol_gap_abs": 1e-7, "tol_gap_rel": 1e-7}
 SCS_OPTS = {"max_iters": 20000}  # bounds the cost of a fallback (a few seconds)
 warnings.filterwarnings("ignore", message="Solution may be inaccurate")  # status is checked
 
+
+def check_terms(name: str, terms: list) -> None:
+    """f_terms, g<i>_terms: two rows (n_x = n_y = 2) of terms [coef, fn, var, freq, shift]."""
+    if len(terms) != 2 or not all(isinstance(row, list) and row for row in terms):
+        raise ValidationError(f"{name} must hold 2 non-empty rows of terms, found {terms!r}")
+    for term in (t for row in terms for t in row):
+        numbers = [term[i] for i in (0, 3, 4)] if isinstance(term, list) and len(term) == 5 else []
+        if not (numbers and term[1] in ("x", "sin", "cos") and term[2] in (1, 2)
+                and all(isinstance(v, int | float) and not isinstance(v, bool) for v in numbers)):
+            raise ValidationError(f"{name}: every term must be [coef, 'x' | 'sin' | 'cos', 1 | 2, "
+                                  f"freq, shift], found {term!r}")
+
+
+def check_matrix(name: str, value: list, shape: tuple, spd: bool = False) -> np.ndarray:
+    """A nested-list parameter as an array of the given shape (symmetric positive definite)."""
+    arr = np.array(value, dtype=object)
+    if arr.shape != shape:
+        raise ValidationError(f"{name} must have shape {shape}, found {value!r}")
+    arr = arr.astype(float)
+    if spd and not (np.allclose(arr, arr.T) and np.linalg.eigvalsh(arr).min() > 0):
+        raise ValidationError(f"{name} must be symmetric positive definite, found {value!r}")
+    return arr
+
+
+for _name, _terms in (("f_terms", f_terms), ("g1_terms", g1_terms), ("g2_terms", g2_terms),
+                      ("g3_terms", g3_terms)):
+    check_terms(_name, _terms)
+check_matrix("xhat0", xhat0, (3, 2))
+check_matrix("P0", P0, (2, 2), spd=True)
+check_matrix("W0", W0, (2, 2))
+check_matrix("Q0", Q0, (2, 2), spd=True)
+
 # %% [markdown]
 # ## Parameter provenance
 #
-# The OCR of the paper interleaves its two PDF columns, so most of Section IV is garbled. The
-# tags are: **PAPER** (legible), **RECONSTRUCTED** (read from a damaged OCR fragment; the fragment
-# is quoted), **MISSING** (not in the paper; our default) and **CORRECTED** (printed, but wrong).
+# The OCR of the paper interleaves its two PDF columns, so most of Section IV is garbled. Every
+# parameter of the cell above is declared in `notebooks/ma2021.toml` with its admissible domain
+# and its tag: **PAPER** (legible), **RECONSTRUCTED** (read from a damaged OCR fragment, which is
+# quoted), **MISSING** (not in the paper; ours is a choice), **CORRECTED** (printed, but wrong) or
+# **ours** (our own addition). Every value the paper does not pin down also has a **declared
+# space**, chosen from the paper's text and assumptions before the sweep was run, with its reason;
+# `make robustness NB=ma2021` runs the notebook at every point of its design and the claims'
+# verdicts are taken over that space. The table is rendered from the TOML file.
+
+# %%
+display(Markdown(spaces.provenance_markdown("ma2021")))
+print(f"design of the declared space: {len(spaces.design(SPACE))} points "
+      f"(python -m secest.sweep --list ma2021)")
+
+# %% [markdown]
+# The model constants that are not parameters:
 #
 # | quantity | value | tag | raw OCR fragment → reading / reason |
 # |---|---|---|---|
 # | $N$, graph | 3 nodes, $\Theta=[[0,1,0],[1,0,1],[0,1,0]]$ | PAPER | "01 0 / -1 0 1 / 01 0" (the "-1" is the bracket and a 1) |
 # | $n_x,n_y,n_v,n_u,n_\phi$ | 2, 2, 1, 1, 2 | RECONSTRUCTED | from the shapes of $B_k$, $E_{i,k}$, $\phi$ |
 # | $B_k$ | $[0.1+0.01\cos(k+1);\ 0.2+0.01\sin k]$ | PAPER | "0.1+ 0.01cos(k + 1) / By, = 0.2+ 0.01 sin(k)" |
-# | $E_{1,k}$ (`E1_amp`) | $[0.25;\ 0.2+0.01\cos(k+1)]$ | RECONSTRUCTED | "[ 0.25 / LR 0.2401cos(k+1)": "+0.01" read as "401". Alternative: "+0.1cos" (`E1_amp` = 0.1), the simpler reading if "4" is a "+" and "01" is "0.1"; it is a row of the sensitivity table |
+# | $E_{1,k}$, $E_{3,k}$ | $[0.25;\ 0.2+a_1\cos(k+1)]$, $[0.25+a_3\sin k;\ 0.15]$ | RECONSTRUCTED | amplitudes $a_1$ = `E1_amp`, $a_3$ = `E3_amp` (table above) |
 # | $E_{2,k}$ | $[0.2;\ 0.15+0.1\sin 2k]$ | PAPER | "0.2 / E26=1 0,15+ 0.1 sin(2k)" |
-# | $E_{3,k}$ (`E3_amp`) | $[0.25+0.05\sin k;\ 0.15]$ | RECONSTRUCTED | "[ 0.25 4 0.05sin(k / B3 = 015 ()}": "4" is "+" |
-# | $f$ (`f_terms`) | $[0.5x^{(1)}+0.45\sin x^{(2)}+0.25x^{(2)};\ 0.4\cos x^{(1)}+0.3x^{(1)}+0.6x^{(2)}]$ | RECONSTRUCTED | "057 +0d5sin(@y)) +0.250 1 / 0.4cos(z; ) + 0.3z, + 0.6z,": superscripts lost (the variable of every term is a parameter; the brief found 31 of 32 assignments bounded, so the data cannot tell them apart). "0d5" read 0.45; alternative 0.05 (the brief's other reading), a row of the sensitivity table |
-# | $g_1$ (`g1_terms`) | $[0.15x^{(1)}+0.35\sin x^{(2)}+0.2x^{(2)};\ 0.5\sin x^{(1)}+0.15x^{(1)}+0.35x^{(2)}]$ | RECONSTRUCTED | "0.1521" + 0.35 sin(2z(") + 0.2z / 0.5 Sln(%(f)) + 0-1551(3) + 0-3551(:)": the "2" after "sin(" read as the superscript of $x^{(2)}$; alternative $\sin(2x^{(2)})$ (frequency 2 in the term list), a row of the sensitivity table |
-# | $g_2$ (`g2_terms`) | $[0.3\cos x^{(1)}+0.3\sin(x^{(2)}+1)+0.4x^{(1)};\ 0.45\cos x^{(2)}+0.25x^{(1)}+0.5x^{(2)}]$ | RECONSTRUCTED | "0.3:05C ) 403 sm(argC ) + 1)+ 0.417,(C ) / 0.45 Cos(x(2)) +0.252% £ 0520" |
-# | $g_3$ (`g3_terms`) | $[0.5\sin x^{(1)}+0.4x^{(1)}+0.2x^{(2)};\ 0.4\sin x^{(2)}+0.1x^{(2)}+0.3x^{(1)}]$ | RECONSTRUCTED | "0.5 sin(az:,(C )) + O.4:c§C )+ 0-2$§c) / 0.4 sin(x,(f)) +0.1x§f) +0.3x§€1)" |
 # | $v_k$, $\mu_k$ ($u_k$) | $0.3\cos 2k$, $0.4\sin k$ | PAPER | "We select v_k = 0.3cos(2k) and u(k) = 0.4sin(k)" |
 # | $V_k$, $U_k$ | 1, 1 | PAPER | |
-# | $e_{1ij}=e_2=e_{3j}$ | 3 | PAPER | "Set e1i = e2 = e3 = 3" (`e1`, `e3`; $e_2$ is never used) |
 # | $\phi(z)$ | $[\tanh z^{(1)};\ \tanh z^{(2)}]$ | PAPER | |
 # | $\chi(z)$ | $[0.15\sin z^{(1)};\ 0.30\cos z^{(2)}]$ | PAPER | "0.15sin(2}) / 0'30COS(Z£213)" |
-# | `p` | 0.8 | PAPER | "Set p = 0.8" |
-# | `alpha_bar` | 0.67 | RECONSTRUCTED | "o= 067". We read "0.67" with the decimal point lost, as in "015" → 0.15 for $E_3$. The brief reads "0.6," (comma misread as 7); 0.6 is a row of the sensitivity table |
-# | `x0` | $[2.0;\ 2.0]$ | PAPER (1st entry), MISSING (2nd entry) | "B0 = 2.0 } … / R [ O I": the 2nd entry has no support in the OCR. It is **chosen** so that Assumption 3 holds at every node (initial quadratic forms 0.44, 0.15, 0.42): 1.0 gives 1.14, 1.17, 0.38 and 0.1 gives 4.1, 4.4, 2.7, both violating it. "x0 = [2, 1]" is a row of the sensitivity table |
-# | `xhat0` | $[1.5;1.8]$, $[1.7;1.9]$, $[1.8;1.5]$ | PAPER (node 1), RECONSTRUCTED (nodes 2–3) | "[ 1.7 1.8 / … 19 } … [ 1.5 ]": two-column layout |
-# | `P0` | $[[0.6887,-0.0588],[-0.0588,0.7390]]$ | PAPER | |
-# | `W0` | $I_2$ on every link | RECONSTRUCTED | "10 } / 101 ’" |
-# | `Q0` | $\mathrm{diag}(20,20)$ | PAPER | |
-# | `T` | 40 | RECONSTRUCTED | every time axis runs 0–40 |
-# | `L_scale`, `aleph_scale` | $L_i=\aleph_i=sI_2$, $s$ by the rule (`None`) | MISSING | the paper gives no Taylor-remainder scales. Rule fixed in advance (`taylor_grid` = 0.05, `taylor_max` = 0.5): the smallest multiple of 0.05 for which the premise (12)–(13), $\|\Delta\|\le1$, holds along both runs (X2). The previous default 0.1 (the brief's "usual size") violates it at $k=0$ (ratios 0.103 for $f$, 0.115 for $g$) and is a row of the sensitivity table, as are 0.05 and 0.2 |
-# | conventional design | attack-unaware OP2 | MISSING | the paper only says "characterised by (3)"; we design (3) with the same LMI, without the attack terms, and run it on the falsified data |
-# | `seed` | 0 | MISSING | $\alpha_k$ is the only randomness; one Bernoulli draw per step, shared by all links |
-# | `shared_multipliers` | False | DEVIATION (design choice) | the printed (22) shares one $\Gamma_k$ among the $N$ inequalities; that is not wrong, only more conservative. One $\Gamma_{i,k}$ per node is a valid relaxation (a separate S-procedure per inequality). The printed form is run for `shared_diag_steps` = 2 steps as a diagnostic (X6) |
-# | `r_bound` | lumped, $r^\top r\le N^2$ | PAPER | (23) as printed |
-# | $\varpi_{i,k}$ of (17) (`varpi_form`) | $\bar\alpha\sum_{j\in\mathcal N_i}\theta_{ij}H_{ij,k}^\top\Psi_{i,k+1}^\top z_{i,k+1}$ ("sum") | RECONSTRUCTED | "a Z 9in5,;€‘1’2;€+12@1€+1 JEN;": $\bar\alpha$, a sum over $j\in\mathcal N_i$, $\theta_{ij}$, $H^\top$, $\Psi^\top_{k+1}$, $z_{k+1}$. Alternative "per_link": only $H_{ij}$ of the link. Immaterial on this example: OP1 returns $\lambda^{(2)}=0$ (E4) |
 # | $P_k$ in Lemma 4 | $P_k=(1-p)\mathfrak B_k$ | CORRECTED (E1) | printed with a factor $\tfrac1{1-p}$ that belongs to the inverses; only this reading gives (11) by Markov's inequality |
 # | OP3 (33) | min $\rho=1-p_{k+1}$ with $-\rho\mathfrak B$ in (30) | CORRECTED (E2) | printed "min $q_k=1/(1-p_k)$" is not convex and points the wrong way |
-# | `taylor_grid`, `taylor_max` | 0.05, 0.5 | MISSING | grid and ceiling of the Taylor-scale rule |
-# | `shared_diag_steps` | 2 | MISSING | length of the shared-multiplier diagnostic (X6); from $k=2$ on the solvers no longer certify that LMI |
-# | `eps_lmi` | $10^{-6}$ | MISSING | (18) is strict; the margin must exceed the solver tolerance ($10^{-7}$) for the numpy certificate at `cert_tol` = $10^{-8}$ |
-# | `lam2_max` | $10^3$ | MISSING | box on $\lambda^{(2)}$; without it OP1 has an unbounded optimal face when $\varpi\approx0$ (never active) |
-# | `op3_scale` | $\mathfrak B=2I$ | MISSING | fixed ellipsoid for OP3 |
-# | `settle_k`, `track_tol` | 10, 0.2 | MISSING | C1: errors within the ±0.2 band of the Fig. 3–4 data after the transient |
-
+# | (24)–(28) | row blocks of $\Xi_k$, $\tilde\Xi_k$ re-derived from (15)–(16) | RECONSTRUCTED | the OCR is damaged; where it is legible (e.g. $(\Phi_k-G_k\Psi_k-H_k\dots)S_k$ in (27), $(G_k+H_k)E(I_N\otimes I)$ in (28)) it agrees with the re-derived blocks; checked to machine precision on the run (X1) |
+# | conventional design | attack-unaware OP2 | MISSING | the paper only says "characterised by (3)"; we design (3) with the same LMI, without the attack terms, and run it on the falsified data. Other readings are plausible (e.g. an attack-aware OP2 without the NN terms; the NN design's own gains with $\hat W=0$ would coincide with the NN estimator, X3); none is swept, so C3's map is conditional on this one |
+# | ideal weight $W_{ij}$ | $W^\star$, least-squares fit of $\chi$ | MISSING | needed only to evaluate C4 and X1 |
 # %% [markdown]
 # ## Setup: network, plant, noises (1)–(2), attack (4)–(5), neural network (6)–(7)
 #
@@ -201,19 +233,41 @@ LINKS = [(i, j) for i in range(N) for j in range(N) if THETA[i, j] != 0]  # (rec
 NBRS = [[j for j in range(N) if THETA[i, j] != 0] for i in range(N)]
 
 
-# the reading of the damaged example in use; `reading(...)` swaps it for the sensitivity rows
-READING = {"f": f_terms, "g": [g1_terms, g2_terms, g3_terms], "E1_amp": E1_amp}
+def read_example(name: str) -> dict:
+    """The reading of the damaged example in use: the parameters cell with the single
+    alternative `ocr_reading` applied (the TOML lists the alternatives and their OCR fragments)."""
+    f_t, g1_t, e1_amp = copy.deepcopy(f_terms), copy.deepcopy(g1_terms), float(E1_amp)
+    abar = 0.6 if name == "alpha_bar: 0.6" else float(alpha_bar)  # "o= 067" read as "0.6,"
+    if name == "E1: +0.1cos(k+1)":  # "0.2401cos" read as 0.2 + 0.1cos(k+1)
+        e1_amp = 0.1
+    elif name in ("f: 0d5 as 0.05", "g1: sin(2x2)"):
+        owner = "f_terms" if name.startswith("f") else "g1_terms"
+        sin_terms = [t for t in (f_t if owner == "f_terms" else g1_t)[0] if t[1] == "sin"]
+        if not sin_terms:
+            raise ValidationError(f"ocr_reading {name!r} needs a sin term in row 1 of {owner}")
+        if owner == "f_terms":
+            sin_terms[0][0] = 0.05  # "0d5" read as 0.05 instead of 0.45
+        else:
+            sin_terms[0][3] = 2  # "sin(2z" read as sin(2 x^(2)) instead of sin x^(2)
+    return {"f": f_t, "g": [g1_t, g2_terms, g3_terms], "E1_amp": e1_amp, "alpha_bar": abar}
+
+
+READING = read_example(ocr_reading)
+ALPHA_BAR = READING["alpha_bar"]  # Prob{alpha_k = 1} in use
+print(f"OCR reading in use: {ocr_reading!r} (alpha_bar = {ALPHA_BAR:g}, E_1 amplitude "
+      f"{READING['E1_amp']:g})")
 _FN = {"x": (lambda u: u, lambda u: np.ones_like(u)), "sin": (np.sin, np.cos),
        "cos": (np.cos, lambda u: -np.sin(u))}
 
 
-def _map(terms, x):
-    """sum of coef * fn(freq * x^(var) + shift) per row (the term lists of the parameters cell)."""
+def _map(terms: list, x: np.ndarray) -> np.ndarray:
+    """Sum of coef * fn(freq * x^(var) + shift) per row (the term lists of the parameters cell)."""
     return np.array([sum(c * _FN[fn][0](w * x[v - 1] + b) for c, fn, v, w, b in row)
                      for row in terms])
 
 
-def _jac(terms, x):
+def _jac(terms: list, x: np.ndarray) -> np.ndarray:
+    """Jacobian of `_map(terms, .)` at x."""
     J = np.zeros((len(terms), NX))
     for r, row in enumerate(terms):
         for c, fn, v, w, b in row:
@@ -221,35 +275,24 @@ def _jac(terms, x):
     return J
 
 
-def f(x):
+def f(x: np.ndarray) -> np.ndarray:
     """Plant map f of (1) (RECONSTRUCTED); terms `f_terms`."""
     return _map(READING["f"], x)
 
 
-def jac_f(x):
+def jac_f(x: np.ndarray) -> np.ndarray:
     """Phi_{i,k} = df/dx at the estimate, (12)."""
     return _jac(READING["f"], x)
 
 
-def g(i, x):
+def g(i: int, x: np.ndarray) -> np.ndarray:
     """Sensor map g_i of (1), node i = 0, 1, 2 (RECONSTRUCTED); terms `g<i+1>_terms`."""
     return _map(READING["g"][i], x)
 
 
-def jac_g(i, x):
+def jac_g(i: int, x: np.ndarray) -> np.ndarray:
     """Psi_{i,k} = dg_i/dx at the estimate, (13)."""
     return _jac(READING["g"][i], x)
-
-
-@contextmanager
-def reading(**changes):
-    """Temporarily replace entries of READING (alternative OCR readings, sensitivity table)."""
-    old = {key: READING[key] for key in changes}
-    READING.update(changes)
-    try:
-        yield
-    finally:
-        READING.update(old)
 
 
 # the Jacobians are checked against central differences
@@ -260,11 +303,13 @@ assert np.allclose(_fd[0], jac_f(_xt), atol=1e-8)
 assert all(np.allclose(_fd[i + 1], jac_g(i, _xt), atol=1e-8) for i in range(N))
 
 
-def B_mat(k):
+def B_mat(k: int) -> np.ndarray:
+    """Process-noise input B_k of (1) (PAPER)."""
     return np.array([[0.1 + 0.01 * np.cos(k + 1)], [0.2 + 0.01 * np.sin(k)]])
 
 
-def E_mat(i, k):
+def E_mat(i: int, k: int) -> np.ndarray:
+    """Measurement-noise input E_{i,k} of (1); E_1 and E_3 RECONSTRUCTED (amplitudes as parameters)."""
     if i == 0:
         return np.array([[0.25], [0.2 + READING["E1_amp"] * np.cos(k + 1)]])
     if i == 1:
@@ -272,20 +317,22 @@ def E_mat(i, k):
     return np.array([[0.25 + E3_amp * np.sin(k)], [0.15]])
 
 
-def v_noise(k):
+def v_noise(k: int) -> np.ndarray:
+    """Process noise v_k (PAPER)."""
     return np.array([0.3 * np.cos(2 * k)])
 
 
-def mu_noise(k):
+def mu_noise(k: int) -> np.ndarray:
+    """Measurement noise mu_k (u_k in Section IV), shared by all sensors (PAPER)."""
     return np.array([0.4 * np.sin(k)])
 
 
-def phi(z):
+def phi(z: np.ndarray) -> np.ndarray:
     """Activation phi(z) = tanh, elementwise (PAPER)."""
     return np.tanh(z)
 
 
-def chi(z):
+def chi(z: np.ndarray) -> np.ndarray:
     """Injected function chi(z) of (4) (PAPER); unknown to the estimators."""
     return np.array([0.15 * np.sin(z[0]), 0.30 * np.cos(z[1])])
 
@@ -300,6 +347,12 @@ assert max(abs(v_noise(k)[0]) for k in range(T + 1)) <= 1.0
 # $21\times21$ grid of $[-1,1]^2$, which covers every innovation of the run. $\tanh$ is odd and
 # $0.3\cos z^{(2)}$ is even, so the second row of $\chi$ cannot be fitted and the residual
 # $\delta\approx0.3$ is carried by $e_3$.
+#
+# **Assumption 3** (initial conditions) is checked at this run's values:
+# $(x_0-\hat x_{i,0})^\top P_0^{-1}(x_0-\hat x_{i,0})\le1$ at every node and
+# $\mathrm{tr}[\tilde W_{ij,0}^\top Q_{ij,0}^{-1}\tilde W_{ij,0}]\le1$ with $W=W^\star$. It is part of
+# the premise of Theorem 3 (C2). The second entry of $x_0$ is illegible; the values for which the
+# first part holds at every node are printed, since they bound the plausible readings.
 
 # %%
 grid = np.linspace(-1.0, 1.0, 21)
@@ -311,13 +364,22 @@ print("W* =", np.round(W_star, 4).tolist(), f"||W*||_F = {np.linalg.norm(W_star)
 print(f"max ||delta|| on the grid = {delta_grid:.3f} <= e3 = {e3}")
 
 
-# Assumption 3 at k = 0 for the chosen (MISSING) 2nd entry of x0 and two alternatives
-for x2 in (x0[1], 1.0, 0.1):
-    e0 = np.array([x0[0], x2]) - np.asarray(xhat0, float)
-    q0 = np.einsum("na,ab,nb->n", e0, np.linalg.inv(P0), e0)
-    print(f"x0 = [{x0[0]}, {x2}]: (x0 - xhat_i0)^T P0^-1 (x0 - xhat_i0) = {np.round(q0, 2).tolist()}"
-          f" -> Assumption 3 {'holds' if np.all(q0 <= 1) else 'FAILS'}")
+def assumption3_forms(x_init: list, xh_init: list) -> np.ndarray:
+    """(x0 - xhat_i0)^T P0^-1 (x0 - xhat_i0) per node (Assumption 3, first part)."""
+    e0 = np.asarray(x_init, float) - np.asarray(xh_init, float)
+    return np.einsum("na,na->n", e0, np.linalg.solve(np.asarray(P0, float), e0.T).T)
 
+
+A3_forms = assumption3_forms(x0, xhat0)
+A3_weight = float(np.trace((W_star - np.asarray(W0)).T
+                           @ np.linalg.solve(np.asarray(Q0), W_star - np.asarray(W0))))
+A3_holds = bool(np.all(A3_forms <= 1.0) and A3_weight <= 1.0)
+print(f"x0 = {x0}: Assumption 3 quadratic forms {np.round(A3_forms, 3).tolist()}, "
+      f"weight part {A3_weight:.3f} -> Assumption 3 {'holds' if A3_holds else 'FAILS'}")
+x2_grid = np.round(np.arange(0.0, 4.0001, 0.01), 2)
+x2_ok = [x2 for x2 in x2_grid if np.all(assumption3_forms([x0[0], x2], xhat0) <= 1.0)]
+print("2nd entries of x0 for which the first part holds at every node: "
+      + (f"[{min(x2_ok):.2f}, {max(x2_ok):.2f}] (step 0.01)" if x2_ok else "none"))
 # %% [markdown]
 # ## The two estimators, (3) and (8)
 #
@@ -347,7 +409,8 @@ def estimator_update(F, G, H, xh_k, z, z_recv, What, alpha_bar_, compensate):
 # $f(x_k)=f(\hat x_{i,k})+\Phi_{i,k}\tilde x_{i,k}+L_i\Delta_{1i}\tilde x_{i,k}$ and
 # $g_i(x_k)=g_i(\hat x_{i,k})+\Psi_{i,k}\tilde x_{i,k}+\aleph_i\Delta_{2i}\tilde x_{i,k}$ with
 # $\|\Delta\|\le1$. The OCR letter in front of $\Delta_2$ is $\aleph$. The scales $L_i,\aleph_i$ are
-# not given (MISSING); they are fixed by the rule of the section "The missing Taylor scales" below.
+# not given (MISSING): $L_i=\aleph_i=sI_2$ with $s$ in a declared range (section "The missing Taylor
+# scales" below).
 #
 # **Induction variables (proof of Theorem 2).** $P_k=S_kS_k^\top$ is shared by all nodes, and
 # $\tilde x_{i,k}=S_ks_{i,k}$ with $E\{s_{i,k}^\top s_{i,k}\}\le1$. Further
@@ -619,18 +682,32 @@ def build_op1_problem(*, e1_, eps, links=LINKS, lam2_box=1e3):
 #
 # **Solves.** Every problem is solved by `secest.lmi.solve_certified`. CLARABEL runs first (with
 # tolerances $10^{-7}$, and chordal decomposition off for the tiny, degenerate OP1). The status must
-# be `optimal`, and every LMI matrix must have its largest numpy eigenvalue $\le$ `cert_tol`.
+# be `optimal`, and every LMI matrix $M$ must have its largest numpy eigenvalue $\le-$`cert_tol`:
+# the strict LMI $M<0$ holds beyond `cert_tol` (`certify="strict"`), even where the solver used up
+# part of the margin `eps_lmi` it was given.
 # Otherwise SCS is tried under a visible warning. If that fails too, an `InfeasibleLMIError` names
 # the step and the problem. OP2/OP3 is one joint SDP over all nodes, coupled through
 # $P_{k+1}$, so an infeasible solve cannot be blamed on one node ("joint SDP over nodes 1-3"); a
 # failed certificate names the node whose LMI (30) violates it. The run then keeps the previous gains, doubles $P$ and counts the step
 # (brief §7), and C5 reports the count.
 
+#
+# **An exact check of (29) (X7).** $\alpha_k$ is the only random quantity (E8). Given everything
+# up to step $k$, $\tilde x_{i,k+1}$ takes one of two values, for $\alpha_k=0$ and $\alpha_k=1$, so
+# $E_{\alpha_k}\{\tilde x_{i,k+1}^\top P_{k+1}^{-1}\tilde x_{i,k+1}\mid\text{past}\}=(1-\bar\alpha)q_{i,0}+\bar\alpha q_{i,1}$
+# is computed exactly at every step by running the update on both branches with the solved gains.
+# By the Schur complement (55) and the S-procedure, (30) bounds it by 1 at every step where the
+# realised $\zeta_k$ satisfies the constraints of (23): $\tilde x_{l,k}^\top P_k^{-1}\tilde x_{l,k}\le1$ at
+# every node (the induction hypothesis), (12)–(13), $\|\delta\|\le e_3$ and Theorem 1's weight
+# ellipsoid. This is a deterministic check of Theorem 2 along the run; the Monte Carlo check over
+# realisations (X8) is an extra below.
+
 # %%
 PROBLEMS = {}  # cache: (kind, constants) -> StepProblem, built once per configuration
 
 
-def get_problem(kind, **const):
+def get_problem(kind: str, **const) -> StepProblem:
+    """The per-step problem of `kind` ("nn", "conv" or "op1"), built once per configuration."""
     key = (kind, *sorted(const.items()))
     if key not in PROBLEMS:
         if kind == "op1":
@@ -640,13 +717,16 @@ def get_problem(kind, **const):
     return PROBLEMS[key]
 
 
-def solve(sp, k, label, opts):
+def solve(sp: StepProblem, k: int, label: str, opts: dict, fallback: str | None = None):
+    """Solve and certify one per-step problem; `fallback` overrides the `fallback_solver`
+    parameter, and "none" disables the fallback."""
+    fb = fallback_solver if fallback is None else fallback
     return slmi.solve_certified(sp.problem, sp.lmis, step=k, node=label, solver=solver,
-                                fallback=fallback_solver, tol=cert_tol, eps=eps_lmi,
+                                fallback=None if fb == "none" else fb, tol=cert_tol, eps=eps_lmi,
                                 certify="strict", solver_opts=opts, fallback_opts=SCS_OPTS)
 
 
-def sample_admissible(rng, n_samples, S):
+def sample_admissible(rng: np.random.Generator, n_samples: int, S: np.ndarray) -> np.ndarray:
     """Random zeta on the boundary of every S-procedure constraint of (23) (X4).
 
     ||s_l|| = 1, ||p_1l|| = ||p_2l|| = ||S s_l||, |v| = |mu| = 1 (V = U = 1),
@@ -665,275 +745,375 @@ def sample_admissible(rng, n_samples, S):
     return np.concatenate([q.reshape(n_samples, -1) for q in parts], axis=1)
 
 
-def alpha_sequence(rng, n_steps, abar):
+def alpha_sequence(rng: np.random.Generator, n_steps: int, abar: float) -> np.ndarray:
     """One Bernoulli(abar) draw per step, shared by every link."""
     return (rng.random(n_steps) < abar).astype(float)
 
 
-def simulate(*, alpha, estimator, abar=alpha_bar, L_s=L_scale, A_s=aleph_scale, x_init=x0,
-             xh_init=xhat0, design="op2", B_fixed=None, check_dynamics=False,
-             shared=shared_multipliers):
-    """Run one estimator over the horizon under the falsified innovations alpha_k chi(z).
-
-    estimator: "nn" (8) with OP2/OP3 + OP1 + (17); "conv" (3) with the attack-unaware design;
-    "aware0" (3) with the attack-aware gains of (30) but no compensation (W_hat = 0, Q = e1^2 I).
-    L_s, A_s = None (the default parameters) use the scale chosen by the rule (`taylor_scale`).
-    The remainder ratios of (12)-(13) along the run are always recorded (X2 and the rule).
-    """
-    n_steps = alpha.size
-    L_s = taylor_scale if L_s is None else L_s
-    A_s = taylor_scale if A_s is None else A_s
-    nn_design = estimator in ("nn", "aware0")
-    sp = get_problem("conv" if estimator == "conv" else "nn", alpha_bar_=abar, e3_=e3,
-                     eps=eps_lmi, shared=shared, r_bound_=r_bound, design=design)
-    op1 = get_problem("op1", e1_=e1, eps=eps_lmi, lam2_box=lam2_max)
-    Ls, As = L_s * np.eye(NX), A_s * np.eye(NY, NX)
+def plant_trajectory(x_init: list, n_steps: int) -> np.ndarray:
+    """x_0..x_n of (1): x_{k+1} = f(x_k) + B_k v_k."""
     x = np.zeros((n_steps + 1, NX))
     x[0] = x_init
     for k in range(n_steps):
-        x[k + 1] = f(x[k]) + B_mat(k) @ v_noise(k)  # (1)
-    xh = np.zeros((n_steps + 1, N, NX))
-    xh[0] = np.asarray(xh_init, float)
-    P = np.asarray(P0, float)
-    Ps = np.zeros((n_steps + 1, NX, NX))
-    Ps[0] = P
-    if estimator == "aware0":
-        What = {lk: np.zeros((NY, NPHI)) for lk in LINKS}
-        Q = {lk: e1**2 * np.eye(NY) for lk in LINKS}
-    else:
-        What = {lk: np.asarray(W0, float).copy() for lk in LINKS}
-        Q = {lk: np.asarray(Q0, float).copy() for lk in LINKS}
-    rec = {k2: [] for k2 in ("reports", "failures")}
-    Wn = np.zeros((n_steps + 1, len(LINKS)))
-    Wq = np.zeros((n_steps + 1, len(LINKS)))  # tr[W~^T Q^-1 W~] with W = W*
-    lam = np.zeros((n_steps, len(LINKS), 2))
-    Hn = np.zeros(n_steps)
-    rho = np.full(n_steps + 1, np.nan)
-    dyn_res, ratio_f, ratio_g, delta_n, sampled_q = [], [], [], [], []
-    sample_rng = montecarlo.spawn_rngs(seed, 64)[63]  # X4 only; independent of the alpha_k draws
+        x[k + 1] = f(x[k]) + B_mat(k) @ v_noise(k)
+    return x
 
-    def weight_stats(k):
-        Wn[k] = [np.linalg.norm(What[lk]) for lk in LINKS]
-        Wq[k] = [np.trace((W_star - What[lk]).T @ np.linalg.solve(Q[lk], W_star - What[lk]))
-                 for lk in LINKS]
 
-    weight_stats(0)
+def innovations(x_k: np.ndarray, xh_k: np.ndarray, k: int) -> np.ndarray:
+    """z_{i,k} = y_{i,k} - g_i(x^_{i,k}) for every node, y_{i,k} = g_i(x_k) + E_{i,k} mu_k."""
+    return np.array([g(i, x_k) + E_mat(i, k) @ mu_noise(k) - g(i, xh_k[i]) for i in range(N)])
+
+
+def set_step_data(sp: StepProblem, k: int, xh_k: np.ndarray, S: np.ndarray, ph: np.ndarray,
+                  What: dict, Mbar: dict, nn_design: bool) -> None:
+    """Step-k values of the cp.Parameters of OP2/OP3 (the DPP products of the brief, section 7)."""
+    sp.params["StS"].value = S.T @ S
+    sp.params["B"].value = B_mat(k)
+    for i in range(N):
+        sp.params["fhat"][i].value = f(xh_k[i])
+        sp.params["xhat"][i].value = xh_k[i]
+        sp.params["PhiS"][i].value = jac_f(xh_k[i]) @ S
+        sp.params["PsiS"][i].value = jac_g(i, xh_k[i]) @ S
+        sp.params["E"][i].value = E_mat(i, k)
+    if nn_design:
+        for (i, j) in LINKS:
+            sp.params["c1"][(i, j)].value = What[(i, j)] @ (ph[j] - ph[i])
+            sp.params["c2"][(i, j)].value = What[(i, j)] @ ph[j]
+            sp.params["Cr"][(i, j)].value = np.kron(np.eye(NY), ph[j][None, :]) @ Mbar[(i, j)]
+
+
+def compensation(H: dict, What: dict, ph: np.ndarray, abar: float) -> float:
+    """max_i ||abar sum_j theta_ij H_ij W^_ij phi(z_i)||: what the NN compensator subtracts in (8)."""
+    return max(np.linalg.norm(sum(abar * THETA[i, j] * H[(i, j)] @ What[(i, j)] @ ph[i]
+                                  for j in NBRS[i])) for i in range(N))
+
+
+def conditional_expectation(F, G, H, xh_k, z, What, abar, compensate, x_next, P_next):
+    """E_{alpha_k}{x~_(i,k+1)^T P_(k+1)^-1 x~_(i,k+1) | past} per node, exactly (X7): the
+    update on both branches alpha_k = 0 and 1, weighted 1 - abar and abar."""
+    out = np.zeros(N)
+    for a, weight in ((0.0, 1.0 - abar), (1.0, abar)):
+        z_recv = np.array([z[j] + a * chi(z[j]) for j in range(N)])
+        e = x_next - estimator_update(F, G, H, xh_k, z, z_recv, What, abar, compensate)
+        out += weight * np.einsum("na,na->n", e, np.linalg.solve(P_next, e.T).T)
+    return out
+
+
+def op1_step(op1: StepProblem, k: int, H: dict, x_next: np.ndarray, xh_next: np.ndarray,
+             ph: np.ndarray, What: dict, Mbar: dict, abar: float) -> dict:
+    """Steps 5-7 of Algorithm 1: varpi of (17), OP1 (31), the tuning law (17).
+
+    Returns the new W^, Q and (lambda1, lambda2) per link, or raises InfeasibleLMIError."""
+    z1 = innovations(x_next, xh_next, k + 1)
+    varpi = {}
+    for (i, j) in LINKS:
+        Psi1 = jac_g(i, xh_next[i])
+        terms = NBRS[i] if varpi_form == "sum" else [j]  # (17), RECONSTRUCTED
+        varpi[(i, j)] = abar * sum(THETA[i, jj] * H[(i, jj)].T @ Psi1.T @ z1[i] for jj in terms)
+        op1.params["a"][(i, j)].value = np.kron(varpi[(i, j)], ph[i])
+        op1.params["Mbar"][(i, j)].value = Mbar[(i, j)]
+    rep = solve(op1, k, "all links (OP1)", {**CLARABEL_OPTS, "chordal_decomposition_enable": False})
+    out = {"W": {}, "Q": {}, "lam": {}, "report": rep}
+    for lk in LINKS:
+        l1, l2 = float(op1.vars[lk]["l1"].value), float(op1.vars[lk]["l2"].value)
+        out["W"][lk] = l1 * What[lk] + l2 * np.outer(varpi[lk], ph[lk[0]])  # (17)
+        out["Q"][lk] = covariance.symmetrize(op1.vars[lk]["Q"].value)
+        out["lam"][lk] = (l1, l2)
+    return out
+
+
+def remainders(x_k: np.ndarray, xh_k: np.ndarray) -> tuple:
+    """x~_(i,k) and the Taylor remainders of (12) for f and (13) for g_i at every node."""
+    xt = x_k - xh_k
+    rem_f = [f(x_k) - f(xh_k[i]) - jac_f(xh_k[i]) @ xt[i] for i in range(N)]
+    rem_g = [g(i, x_k) - g(i, xh_k[i]) - jac_g(i, xh_k[i]) @ xt[i] for i in range(N)]
+    return xt, rem_f, rem_g
+
+
+
+def dynamics_residual(sp: StepProblem, k: int, S: np.ndarray, xt, rem_f, rem_g, z, ph, What,
+                      Mbar, Ls, As, alpha_k: float, abar: float, err_next) -> list:
+    """X1: max |x~_(i,k+1) - (Xi_i + (alpha_k - abar) Xi~_i) zeta_k| per node, (54), with zeta_k
+    built from the actual remainders, delta = chi - W* phi and r = Mbar^-1 rho(W* - W^)."""
+    dl = [chi(z[j]) - W_star @ ph[j] for j in range(N)]
+    zeta = np.concatenate(
+        [[1.0]] + [np.linalg.solve(S, xt[i]) for i in range(N)]
+        + [np.linalg.solve(Ls, rem_f[i]) for i in range(N)]
+        + [np.linalg.solve(As, rem_g[i]) for i in range(N)]
+        + [v_noise(k), mu_noise(k)] + dl
+        + [np.linalg.solve(Mbar[lk], (W_star - What[lk]).flatten()) for lk in LINKS])
+    res = []
+    for i in range(N):
+        Xi, Xit = sp.rows[i]
+        pred = (Xi.value + (alpha_k - abar) * Xit.value) @ zeta
+        res.append(float(np.max(np.abs(pred - err_next[i]))))
+    return res
+
+
+def sampled_bound(sp: StepProblem, rng: np.random.Generator, S: np.ndarray, P_next: np.ndarray,
+                  abar: float) -> list:
+    """X4: max over 256 admissible zeta of zeta^T (Xi^T P^-1 Xi + sigma^2 Xi~^T P^-1 Xi~) zeta
+    per node, the left side of (29) implied by (30)."""
+    Z = sample_admissible(rng, 256, S)
+    P_inv = np.linalg.inv(P_next)
+    out = []
+    for i in range(N):
+        Y, Yt = Z @ sp.rows[i][0].value.T, Z @ sp.rows[i][1].value.T
+        qv = (np.sum((Y @ P_inv) * Y, axis=1)
+              + abar * (1.0 - abar) * np.sum((Yt @ P_inv) * Yt, axis=1))
+        out.append(float(qv.max()))
+    return out
+
+
+def simulate(*, alpha: np.ndarray, estimator: str, abar: float | None = None,
+             scale: tuple | None = None, design: str = "op2", B_fixed: np.ndarray | None = None,
+             check_dynamics: bool = False, shared: bool | None = None,
+             fallback: str | None = None) -> dict:
+    """Run one estimator over the horizon under the falsified innovations alpha_k chi(z), (5).
+
+    Parameters
+    ----------
+    alpha : the realisation alpha_0..alpha_(n-1) (one draw per step, shared by every link).
+    estimator : "nn" for (8) with OP2/OP3 (30), OP1 (31) and the tuning law (17); "conv" for (3)
+        with the attack-unaware design.
+    abar, scale, shared : ALPHA_BAR, (L_scale, aleph_scale) and shared_multipliers by default.
+    design : "op2" (32) or "op3" (33, corrected, with the fixed ellipsoid B_fixed).
+    check_dynamics : evaluate X1 (54) and X4 along the run (NN design only).
+    fallback : override the fallback solver ("none" disables it).
+
+    Returns
+    -------
+    dict of trajectories (x, xh, err, P, Bell), the normalised errors qf = x~^T B^-1 x~ and
+    qP = x~^T P^-1 x~, the exact conditional expectation of (29) per step (cond, X7), the
+    Taylor-remainder ratios (X2), gains and weights (X3), and the solver reports (C5).
+    """
+    abar = ALPHA_BAR if abar is None else abar
+    L_s, A_s = (L_scale, aleph_scale) if scale is None else scale
+    shared = shared_multipliers if shared is None else shared
+    nn, n_steps = estimator == "nn", alpha.size
+    sp = get_problem("nn" if nn else "conv", alpha_bar_=abar, e3_=e3, eps=eps_lmi, shared=shared,
+                     r_bound_=r_bound, design=design)
+    op1 = get_problem("op1", e1_=e1, eps=eps_lmi, lam2_box=lam2_max)
+    Ls, As = L_s * np.eye(NX), A_s * np.eye(NY, NX)
     for i in range(N):
         sp.params["L"][i].value, sp.params["aleph"][i].value = Ls, As
     sp.params["Vinv"].value, sp.params["Uinv"].value = V_inv, U_inv
     if design == "op3":
         sp.params["Bell"].value = np.asarray(B_fixed, float)
+    x = plant_trajectory(x0, n_steps)
+    xh = np.zeros((n_steps + 1, N, NX))
+    xh[0] = np.asarray(xhat0, float)
+    P = np.asarray(P0, float)
+    What = {lk: np.asarray(W0, float).copy() for lk in LINKS}
+    Q = {lk: np.asarray(Q0, float).copy() for lk in LINKS}
     F = [np.zeros((NX, NX)) for _ in range(N)]
     G = [np.zeros((NX, NY)) for _ in range(N)]
     H = {lk: np.zeros((NX, NY)) for lk in LINKS}
+    nl = len(LINKS)
+    out = {"P": np.zeros((n_steps + 1, NX, NX)), "Wn": np.zeros((n_steps + 1, nl)),
+           "Wq": np.zeros((n_steps + 1, nl)), "trQ": np.zeros((n_steps + 1, nl)),
+           "lam": np.zeros((n_steps, nl, 2)), "Hn": np.zeros(n_steps), "comp": np.zeros(n_steps),
+           "rho": np.full(n_steps + 1, np.nan), "cond": np.full((n_steps, N), np.nan)}
+    rec = {key: [] for key in ("reports", "failures", "dyn_res", "ratio_f", "ratio_g", "delta_n",
+                               "sampled_q")}
+    sample_rng = montecarlo.spawn_rngs(seed, 64)[63]  # X4 only; independent of the alpha_k draws
+
+    def weight_stats(k: int) -> None:
+        out["Wn"][k] = [np.linalg.norm(What[lk]) for lk in LINKS]
+        out["Wq"][k] = [np.trace((W_star - What[lk]).T @ np.linalg.solve(Q[lk], W_star - What[lk]))
+                        for lk in LINKS]
+        out["trQ"][k] = [np.trace(Q[lk]) for lk in LINKS]
+
+    weight_stats(0)
+    out["P"][0] = P
+    label = f"joint SDP over nodes 1-{N} ({design.upper()}, {estimator})"
     for k in range(n_steps):
         S = np.linalg.cholesky(covariance.symmetrize(P))  # P_k = S_k S_k^T
-        z = np.array([g(i, x[k]) + E_mat(i, k) @ mu_noise(k) - g(i, xh[k, i]) for i in range(N)])
+        z = innovations(x[k], xh[k], k)
         z_recv = np.array([z[j] + alpha[k] * chi(z[j]) for j in range(N)])  # (5)
         ph = phi(z)
-        sp.params["StS"].value = S.T @ S
-        sp.params["B"].value = B_mat(k)
-        for i in range(N):
-            sp.params["fhat"][i].value = f(xh[k, i])
-            sp.params["xhat"][i].value = xh[k, i]
-            sp.params["PhiS"][i].value = jac_f(xh[k, i]) @ S
-            sp.params["PsiS"][i].value = jac_g(i, xh[k, i]) @ S
-            sp.params["E"][i].value = E_mat(i, k)
         Mbar = {lk: np.kron(np.linalg.cholesky(covariance.symmetrize(Q[lk])), np.eye(NPHI))
                 for lk in LINKS}
-        if nn_design:
-            for (i, j) in LINKS:
-                sp.params["c1"][(i, j)].value = What[(i, j)] @ (ph[j] - ph[i])
-                sp.params["c2"][(i, j)].value = What[(i, j)] @ ph[j]
-                sp.params["Cr"][(i, j)].value = np.kron(np.eye(NY), ph[j][None, :]) @ Mbar[(i, j)]
+        set_step_data(sp, k, xh[k], S, ph, What, Mbar, nn)
         # OP2/OP3 is one SDP over all nodes, coupled through P_{k+1} (and the multipliers when
         # shared): a failed solve cannot be blamed on one node. A failed certificate names the node.
-        label = f"joint SDP over nodes 1-{N} ({design.upper()}, {estimator})"
         try:
-            rep = solve(sp, k, label, CLARABEL_OPTS)
-            rec["reports"].append(rep)
-            solved = True
+            rec["reports"].append(solve(sp, k, label, CLARABEL_OPTS, fallback))
             F = [v.value.copy() for v in sp.vars["F"]]
             G = [v.value.copy() for v in sp.vars["G"]]
             H = {lk: sp.vars["H"][lk].value.copy() for lk in LINKS}
-            P_next = covariance.symmetrize(np.asarray(sp.vars["P"].value))
+            P_next, solved = covariance.symmetrize(np.asarray(sp.vars["P"].value)), True
             if design == "op3":
-                rho[k + 1] = float(sp.vars["rho"].value)
+                out["rho"][k + 1] = float(sp.vars["rho"].value)
         except slmi.InfeasibleLMIError as err:  # keep the previous gains, double P (brief §7)
             rec["failures"].append(str(err))
-            print("INFEASIBLE:", err)
-            P_next = 2.0 * P
-            solved = False
-        Hn[k] = max(np.linalg.norm(H[lk], 2) for lk in LINKS)
-        xh[k + 1] = estimator_update(F, G, H, xh[k], z, z_recv, What, abar,
-                                     compensate=(estimator == "nn"))
-        xt = x[k] - xh[k]  # (12)-(13): remainders of the linearisation at x^_(i,k)
-        rem_f = [f(x[k]) - f(xh[k, i]) - jac_f(xh[k, i]) @ xt[i] for i in range(N)]
-        rem_g = [g(i, x[k]) - g(i, xh[k, i]) - jac_g(i, xh[k, i]) @ xt[i] for i in range(N)]
-        ratio_f.extend(np.linalg.norm(rem_f[i]) / np.linalg.norm(xt[i]) for i in range(N))
-        ratio_g.extend(np.linalg.norm(rem_g[i]) / np.linalg.norm(xt[i]) for i in range(N))
-        if check_dynamics and estimator == "nn":  # X1: (54) with the actual zeta
-            dl = [chi(z[j]) - W_star @ ph[j] for j in range(N)]
-            delta_n.extend(np.linalg.norm(d) for d in dl)
-            zeta = np.concatenate(
-                [[1.0]] + [np.linalg.solve(S, xt[i]) for i in range(N)]
-                + [np.linalg.solve(Ls, rem_f[i]) for i in range(N)]
-                + [np.linalg.solve(As, rem_g[i]) for i in range(N)]
-                + [v_noise(k), mu_noise(k)] + dl
-                + [np.linalg.solve(Mbar[lk], (W_star - What[lk]).flatten()) for lk in LINKS])
-            x_err_next = x[k + 1] - xh[k + 1]
-            for i in range(N):
-                Xi, Xit = sp.rows[i]
-                pred = (Xi.value + (alpha[k] - abar) * Xit.value) @ zeta
-                dyn_res.append(float(np.max(np.abs(pred - x_err_next[i]))))
-            if solved:  # X4: (30) => (29) on sampled admissible zeta
-                Z = sample_admissible(sample_rng, 256, S)
-                P_inv = np.linalg.inv(P_next)
-                sig2 = abar * (1.0 - abar)
-                for i in range(N):
-                    Y, Yt = Z @ sp.rows[i][0].value.T, Z @ sp.rows[i][1].value.T
-                    qv = np.sum((Y @ P_inv) * Y, axis=1) + sig2 * np.sum((Yt @ P_inv) * Yt, axis=1)
-                    sampled_q.append(float(qv.max()))
+            print("NOT CERTIFIED:", str(err).splitlines()[0])
+            P_next, solved = 2.0 * P, False
+        out["Hn"][k] = max(np.linalg.norm(H[lk], 2) for lk in LINKS)
+        out["comp"][k] = compensation(H, What, ph, abar) if nn else 0.0
+        xh[k + 1] = estimator_update(F, G, H, xh[k], z, z_recv, What, abar, compensate=nn)
+        xt, rem_f, rem_g = remainders(x[k], xh[k])
+        for rem, key in ((rem_f, "ratio_f"), (rem_g, "ratio_g")):
+            rec[key].extend(np.linalg.norm(rem[i]) / max(np.linalg.norm(xt[i]), 1e-300)
+                            for i in range(N))
+        if solved:
+            out["cond"][k] = conditional_expectation(F, G, H, xh[k], z, What, abar, nn, x[k + 1],
+                                                     P_next)
+        if check_dynamics and nn:
+            rec["delta_n"].extend(np.linalg.norm(chi(z[j]) - W_star @ ph[j]) for j in range(N))
+            if solved:  # X1 and X4 on the gains actually used (a failed step keeps the old ones)
+                rec["dyn_res"].extend(dynamics_residual(sp, k, S, xt, rem_f, rem_g, z, ph, What,
+                                                        Mbar, Ls, As, alpha[k], abar,
+                                                        x[k + 1] - xh[k + 1]))
+                rec["sampled_q"].extend(sampled_bound(sp, sample_rng, S, P_next, abar))
         P = P_next
-        Ps[k + 1] = P
-        if estimator == "nn":  # steps 5-7: varpi, OP1 (31), tuning law (17)
-            z1 = np.array([g(i, x[k + 1]) + E_mat(i, k + 1) @ mu_noise(k + 1) - g(i, xh[k + 1, i])
-                           for i in range(N)])
-            varpi = {}
-            for (i, j) in LINKS:
-                Psi1 = jac_g(i, xh[k + 1, i])
-                terms = NBRS[i] if varpi_form == "sum" else [j]  # (17), RECONSTRUCTED
-                varpi[(i, j)] = abar * sum(THETA[i, jj] * H[(i, jj)].T @ Psi1.T @ z1[i]
-                                           for jj in terms)
-                op1.params["a"][(i, j)].value = np.kron(varpi[(i, j)], ph[i])
-                op1.params["Mbar"][(i, j)].value = Mbar[(i, j)]
+        out["P"][k + 1] = P
+        if nn:
             try:
-                rep1 = solve(op1, k, "all links (OP1)", {**CLARABEL_OPTS,
-                                                          "chordal_decomposition_enable": False})
-                rec["reports"].append(rep1)
-                for a, lk in enumerate(LINKS):
-                    l1, l2 = float(op1.vars[lk]["l1"].value), float(op1.vars[lk]["l2"].value)
-                    What[lk] = l1 * What[lk] + l2 * np.outer(varpi[lk], ph[lk[0]])  # (17)
-                    Q[lk] = covariance.symmetrize(op1.vars[lk]["Q"].value)
-                    lam[k, a] = (l1, l2)
+                upd = op1_step(op1, k, H, x[k + 1], xh[k + 1], ph, What, Mbar, abar)
+                rec["reports"].append(upd["report"])
+                What, Q = upd["W"], upd["Q"]
+                out["lam"][k] = [upd["lam"][lk] for lk in LINKS]
             except slmi.InfeasibleLMIError as err:
                 rec["failures"].append(str(err))
-                print("INFEASIBLE:", err)
+                print("NOT CERTIFIED:", str(err).splitlines()[0])
         weight_stats(k + 1)
     err = x[:, None, :] - xh
-    Bell = Ps / (1.0 - p) if design == "op2" else np.broadcast_to(np.asarray(B_fixed), Ps.shape)
-    Bell = np.array(Bell)
+    Bell = out["P"] / (1.0 - p) if design == "op2" else np.broadcast_to(
+        np.asarray(B_fixed, float), out["P"].shape).copy()
     Bell[0] = np.asarray(P0) / (1.0 - p)
-    qf = montecarlo.nees(err, Bell[:, None, :, :])  # x~^T B_k^-1 x~ per (k, node)
-    return {"x": x, "xh": xh, "err": err, "P": Ps, "Bell": Bell, "qf": qf, "Hn": Hn, "Wn": Wn,
-            "Wq": Wq, "lam": lam, "rho": rho, "reports": rec["reports"],
-            "failures": rec["failures"], "dyn_res": np.array(dyn_res),
-            "ratio_f": np.array(ratio_f), "ratio_g": np.array(ratio_g),
-            "delta_n": np.array(delta_n), "sampled_q": np.array(sampled_q)}
+    out.update({key: np.array(val) for key, val in rec.items() if key not in ("reports", "failures")})
+    out.update({"x": x, "xh": xh, "err": err, "Bell": Bell, "reports": rec["reports"],
+                "failures": rec["failures"],
+                "qf": montecarlo.nees(err, Bell[:, None, :, :]),  # x~^T B_k^-1 x~ per (k, node)
+                "qP": montecarlo.nees(err, out["P"][:, None, :, :])})  # x~^T P_k^-1 x~
+    return out
 
 
-def rmse(res):
+def rmse(res: dict) -> np.ndarray:
     """Per-node RMSE of ||x~_{i,k}|| over k = 1..T."""
     return np.sqrt(np.mean(np.sum(res["err"][1:] ** 2, axis=2), axis=0))
 
 
 # %% [markdown]
-# ## The missing Taylor scales $L_i$, $\aleph_i$: a rule fixed in advance
+# ## The missing Taylor scales $L_i$, $\aleph_i$: a declared range
 #
-# The paper gives no values for $L_i$, $\aleph_i$ in (12)–(13), but Theorems 2–3 rest on them: the
+# The paper gives no values for $L_i$, $\aleph_i$ in (12)–(13), yet Theorems 2–3 rest on them: the
 # remainders must satisfy $\|f(x)-f(\hat x_i)-\Phi_i\tilde x_i\|\le\|L_i\tilde x_i\|$, i.e.
-# $\|\Delta_{1i}\|\le1$, and likewise for $g_i$ with $\aleph_i$. A scale under which this premise
-# fails voids the guarantee, so we do not pick one by taste. **Rule** (fixed before looking at the
-# comparison): $L_i=\aleph_i=sI_2$ with $s$ the smallest multiple of `taylor_grid` $=0.05$ such that
-# $\|\text{remainder}\|\le s\|\tilde x_{i,k}\|$ for $f$ and every $g_i$, at every node and step of
-# **both** runs (the NN design (30) and the conventional design, which uses the same
-# linearisation). The trajectory depends on $s$, so each candidate is run; candidates below the
-# ratios at $k=0$ are rejected without a run, because $\hat x_{i,0}$ is given and the $k=0$ ratio
-# does not depend on $s$. The earlier default $s=0.1$ (the brief's "usual size") violates the premise
-# at $k=0$ and is kept as a sensitivity row.
+# $\|\Delta_{1i}\|\le1$, and likewise for $g_i$ with $\aleph_i$. We take $L_i=\aleph_i=sI_2$ and
+# declare a range for $s$ from the premise and the certificate, not from the comparison:
+#
+# * **Lower end: the premise's limit.** At $k=0$ the state and the estimates are given, so the
+#   ratio $\|\text{remainder}\|/\|\tilde x_{i,0}\|$ does not depend on the design, and every $s$
+#   below its maximum $r_0$ over the nodes and over $f$, $g_i$ voids the premise at the first step.
+#   On the as-read example $r_0=0.1154$ (computed below), so the range starts at $0.116$.
+# * **Upper end: the certificate.** A larger $s$ inflates the remainder terms of (30); the
+#   ellipsoid then grows geometrically along the run and the solver stops certifying the steps. A
+#   scan of the as-read example (seed 0, $\bar\alpha=0.67$, both designs, no SCS fallback)
+#   certified every step at $s=0.30$, $0.32$ and $0.34$ ($\mathrm{tr}\,\mathfrak B_{40}\approx830$ at
+#   $0.34$, against $\approx7$ at $0.15$) and failed at 11 + 10 steps at $0.36$, 22 + 19 at $0.40$
+#   and 30 + 28 at $0.50$, the ceiling of the earlier rule. The range ends at $0.34$; in paper mode
+#   the extras re-check $0.34$ and $0.36$ on the NN design. C5 records any point of the design
+#   where a step is not certified. That scan used the earlier certificate, largest eigenvalue
+#   $\le+10^{-8}$. The LMIs are now certified strict (largest eigenvalue $\le-10^{-8}$, see
+#   "Solves"), and under it CLARABEL's solutions at $0.34$ use up the margin $10^{-6}$ to within
+#   $10^{-8}$ at some step at every point: the sweep finds uncertified steps at all 10 points at
+#   $0.34$ and at 3 of the 10 at $0.284$ (C5). The range was not changed after seeing this; on the
+#   as-read example the last level certified at every step is now $0.284$.
+# * **Levels.** The sweep steps the range geometrically ($s$ is a scale) in 7 levels, 0.116,
+#   0.139, 0.166, 0.199, 0.238, 0.284 and 0.340: the fewest whose neighbouring levels bracket the
+#   reversal of C3 between 0.14 and 0.15 reported in issue 15. The levels were thus placed knowing
+#   where C3 turns (the ends were not: they come from the premise and the certificate), so the
+#   number of points where C3 holds is set by this choice (5 of the 7 levels lie above the turn)
+#   and is reported per level, not as a sampled fraction. With 2 seeds and 5 OCR readings
+#   (one alternative at a time) that is 70 points. Each point is a papermill run of about 7–9 s of
+#   CPU (kernel start included, measured on a loaded machine), so the sweep takes about 4–5 min on
+#   2 idle cores, this notebook's budget. Denser designs cost in proportion: 13 levels (a factor
+#   1.1 apart) × 4 seeds × 5 readings = 260 points, about 17 min; the 16 combinations of the four
+#   alternative readings instead of one at a time, × 7 levels × 2 seeds = 224 points, about 15 min.
+#   Sweep points run without the SCS fallback (`fallback_solver = "none"` in the TOML's `[sweep]
+#   base`), a change made after the first sweep, for cost: there SCS was tried 68 times and
+#   certified no step (it stops at its iteration cap short of the $10^{-8}$ certificate), while
+#   its attempts took more CPU than the rest of the sweep. An uncertified step is counted the same
+#   way with or without the attempt, so no claim changes.
+# * **Default.** `L_scale` = `aleph_scale` = 0.116, the lower end: the least conservative scale
+#   the premise admits, i.e. the earlier rule "the smallest scale satisfying (12)–(13)" without
+#   its 0.05 grid. It is one point of the range and decides no verdict: the claims' verdicts are
+#   taken over the declared space.
+#
+# **How the scale was chosen before, and when.** The first version of this notebook (commit
+# 6acd55d) used $s=0.1$, the brief's "usual size", under which the premise fails at $k=0$; it
+# already reported that with $s=0.15$ the comparison C3 reverses at nodes 1 and 3, and the brief
+# (§4.3) said the same ("0.15 covers it but changes the comparison"). About an hour later, commit
+# 04bab43 introduced "the smallest multiple of 0.05 for which (12)–(13) hold along both runs",
+# called it "a rule fixed in advance", and with it reported that C3 does not hold. The rule was
+# written after the reversal at 0.15 was known, so it was not fixed in advance of the outcome, and
+# its 0.05 grid decided the headline: C3 holds at every node for every scale from the premise's
+# limit up to 0.14 on the as-read example with seed 0 (issue 15; with seed 1 it already fails at
+# 0.139). The range above and its levels were committed in `notebooks/ma2021.toml` before the sweep
+# was run (git history is the record) and have not been changed since, but they were not chosen
+# blind: the brief and issue 15 had already reported the turn between 0.14 and 0.15, and the
+# levels were placed to bracket it. C3's verdict is the map over them.
 
 
 # %%
-def remainder_ratios_k0(x_init, xh_init):
-    """||remainder|| / ||x~|| of (12) for f and (13) for g_i at k = 0 (independent of the design)."""
-    x_i, out = np.asarray(x_init, float), []
+def remainder_ratios_k0(x_init: list, xh_init: list) -> tuple[float, float]:
+    """max over nodes of ||remainder|| / ||x~|| at k = 0 for f (12) and for g_i (13); independent
+    of the design because x_0 and the x^_(i,0) are given."""
+    x_i, rf, rg = np.asarray(x_init, float), [], []
     for i, xh_i in enumerate(np.asarray(xh_init, float)):
         xt = x_i - xh_i
-        out.append(np.linalg.norm(f(x_i) - f(xh_i) - jac_f(xh_i) @ xt) / np.linalg.norm(xt))
-        out.append(np.linalg.norm(g(i, x_i) - g(i, xh_i) - jac_g(i, xh_i) @ xt) / np.linalg.norm(xt))
-    return max(out)
+        rf.append(np.linalg.norm(f(x_i) - f(xh_i) - jac_f(xh_i) @ xt) / np.linalg.norm(xt))
+        rg.append(np.linalg.norm(g(i, x_i) - g(i, xh_i) - jac_g(i, xh_i) @ xt) / np.linalg.norm(xt))
+    return float(max(rf)), float(max(rg))
 
 
-def select_taylor_scale(alpha, check_dynamics=False, **kw):
-    """The rule above: smallest s on the grid taylor_grid * {1, 2, ...} for which (12)-(13) hold
-    with L_i = aleph_i = s I along the NN run and the conventional run. Returns the scale, both runs
-    and the candidates tried as (s, worst ratio)."""
-    r0 = remainder_ratios_k0(kw.get("x_init", x0), kw.get("xh_init", xhat0))
-    m, history = max(1, int(np.ceil(r0 / taylor_grid - 1e-9))), []
-    while True:
-        s = round(m * taylor_grid, 10)
-        if s > taylor_max:
-            raise RuntimeError(f"no Taylor scale up to taylor_max = {taylor_max} satisfies (12)-(13): "
-                               f"{history}")
-        r_nn = simulate(alpha=alpha, estimator="nn", L_s=s, A_s=s, check_dynamics=check_dynamics,
-                        **kw)
-        r_cv = simulate(alpha=alpha, estimator="conv", L_s=s, A_s=s, **kw)
-        worst = float(max(r[key].max() for r in (r_nn, r_cv) for key in ("ratio_f", "ratio_g")))
-        history.append((s, worst))
-        if worst <= s:
-            return s, r_nn, r_cv, history
-        m += 1
-
-
-alpha_rule = alpha_sequence(montecarlo.spawn_rngs(seed, 1)[0], T_run, alpha_bar)  # = alphas[0]
-taylor_scale = None
-if L_scale is None and aleph_scale is None:
-    taylor_scale, rule_nn, rule_conv, rule_history = select_taylor_scale(alpha_rule,
-                                                                         check_dynamics=True)
-elif L_scale is not None and aleph_scale is not None:  # explicit override, no rule
-    rule_history = []
-    rule_nn = simulate(alpha=alpha_rule, estimator="nn", check_dynamics=True)
-    rule_conv = simulate(alpha=alpha_rule, estimator="conv")
-else:
-    raise ValueError("L_scale and aleph_scale must both be None (rule) or both be numbers")
-L_used = taylor_scale if L_scale is None else float(L_scale)
-aleph_used = taylor_scale if aleph_scale is None else float(aleph_scale)
-print(f"k = 0 remainder ratio (design-independent): {remainder_ratios_k0(x0, xhat0):.4f}")
-print("candidates (s, worst ratio along both runs):",
-      [(c, round(w, 4)) for c, w in rule_history])
-print(f"L_i = {L_used:g} I, aleph_i = {aleph_used:g} I"
-      + (" (rule)" if taylor_scale is not None else " (override, no rule)"))
+r0_f, r0_g = remainder_ratios_k0(x0, xhat0)
+scale_axis = SPACE.parameters["L_scale"].space
+print(f"premise's lower limit at this run's reading and x0: r0 = {max(r0_f, r0_g):.5f} "
+      f"(f: {r0_f:.5f}, g: {r0_g:.5f})")
+print(f"declared range of L_scale (aleph_scale tied): [{scale_axis.low:g}, {scale_axis.high:g}], "
+      f"levels {[round(v, 4) for v in scale_axis.grid_values()]}")
+premise_k0 = L_scale >= r0_f and aleph_scale >= r0_g
+print(f"this run: L_i = {L_scale:g} I, aleph_i = {aleph_scale:g} I -> (12)-(13) at k = 0 "
+      + ("hold" if premise_k0 else "FAIL (Theorems 2-3 do not apply: C2 fails its premise)"))
 
 # %% [markdown]
 # ## The example (Section IV): both estimators under the same falsified innovations
 #
-# The two runs at the chosen scale are the ones the rule accepted.
+# One realisation of $\alpha_k$ (`seed`), shared by both estimators, as in the paper's Figs. 1–8.
 
 # %%
-rngs = montecarlo.spawn_rngs(seed, 1 + n_extra)
-alphas = [alpha_sequence(r, T_run, alpha_bar) for r in rngs]
-alpha_main = alphas[0]
-assert np.array_equal(alpha_main, alpha_rule)
+alpha_main = alpha_sequence(montecarlo.spawn_rngs(seed, 1)[0], T_run, ALPHA_BAR)
 print(f"alpha_k = 1 at {int(alpha_main.sum())} of {T_run} steps")
-nn_run, conv_run = rule_nn, rule_conv  # the NN run is the last OP2 solved: X5 reads its last step
-# X5: the DPP problem re-solved with parameters equals a freshly built one (last step)
-cached = get_problem("nn", alpha_bar_=alpha_bar, e3_=e3, eps=eps_lmi, shared=shared_multipliers,
-                     r_bound_=r_bound, design="op2")
-fresh = build_op2_problem(nn=True, alpha_bar_=alpha_bar, e3_=e3, eps=eps_lmi,
-                          shared=shared_multipliers, r_bound_=r_bound)
-values = {q.name(): q.value for q in cached.problem.parameters()}
-for q in fresh.problem.parameters():
-    q.value = values[q.name()]
-P_cached = np.asarray(cached.vars["P"].value)
-solve(fresh, T_run - 1, "fresh build (X5)", CLARABEL_OPTS)
-dpp_gap = float(np.max(np.abs(np.asarray(fresh.vars["P"].value) - P_cached)))
-print(f"X5: |P(re-solved DPP) - P(fresh build)| = {dpp_gap:.2e}")
-print(f"X4: max sampled E_alpha x~'P^-1 x~ over admissible zeta = {nn_run['sampled_q'].max():.4f}")
+nn_run = simulate(alpha=alpha_main, estimator="nn", check_dynamics=True)
+conv_run = simulate(alpha=alpha_main, estimator="conv")
+# X5 (an extra: a software check, not a claim about the unknowns): the DPP problem re-solved
+# with parameters equals a freshly built one at the last NN step
+last_certified = not any(f"step {T_run - 1}," in msg for msg in nn_run["failures"])
+dpp_gap = None
+if extras and last_certified:
+    cached = get_problem("nn", alpha_bar_=ALPHA_BAR, e3_=e3, eps=eps_lmi,
+                         shared=shared_multipliers, r_bound_=r_bound, design="op2")
+    fresh = build_op2_problem(nn=True, alpha_bar_=ALPHA_BAR, e3_=e3, eps=eps_lmi,
+                              shared=shared_multipliers, r_bound_=r_bound)
+    values = {q.name(): q.value for q in cached.problem.parameters()}
+    for q in fresh.problem.parameters():
+        q.value = values[q.name()]
+    solve(fresh, T_run - 1, "fresh build (X5)", CLARABEL_OPTS)
+    dpp_gap = float(np.max(np.abs(np.asarray(fresh.vars["P"].value)
+                                  - np.asarray(cached.vars["P"].value))))
+    print(f"X5: |P(re-solved DPP) - P(fresh build)| = {dpp_gap:.2e}")
 k_axis = np.arange(T_run + 1)
 for name, r in (("NN (8)", nn_run), ("conventional (3)", conv_run)):
     print(f"{name:>17}: RMSE per node = {np.round(rmse(r), 4).tolist()}, "
           f"max x~'B^-1 x~ = {r['qf'].max():.4f}, tr B_T = {np.trace(r['Bell'][-1]):.3f}, "
-          f"max ||H|| = {r['Hn'].max():.2e}, infeasible steps = {len(r['failures'])}")
+          f"max ||H|| = {r['Hn'].max():.2e}, median ||H|| = {np.median(r['Hn']):.3f}, "
+          f"uncertified steps = {len(r['failures'])}")
+print("RMSE ratio NN / conventional per node:", np.round(rmse(nn_run) / rmse(conv_run), 4).tolist())
+print(f"X4: max sampled E_alpha x~'P^-1 x~ over admissible zeta = {nn_run['sampled_q'].max():.4f}")
+print(f"X7: max exact E_alpha(k) x~'P^-1 x~ = {np.nanmax(nn_run['cond']):.4f} (NN design), "
+      f"{np.nanmax(conv_run['cond']):.4f} (conventional design, not a bound under attack)")
 
 # %% [markdown]
 # ### The printed shared multipliers (22), first steps
@@ -962,17 +1142,22 @@ _ = plotting.save_data(FIG_DIR, "extra_shared_multipliers", {
 # ### Figures 1–8
 #
 # One marker style per node, as in the paper. The state figures show the true state $x^{(l)}_k$ and
-# the three estimates $\hat x^{(l)}_{i,k}$. In the error figures the shaded band is the projection of
-# the required ellipsoid onto component $l$, $|\tilde x^{(l)}|\le\sqrt{[\mathfrak B_k]_{ll}}$, for that
-# estimator's own design. For the conventional design this "region" comes from an attack-unaware
-# LMI and guarantees nothing under attack.
+# the three estimates $\hat x^{(l)}_{i,k}$. In the error figures the axes follow the errors, as the
+# paper's do (its axes run from −0.8 to 1); the shaded band is the projection of the required
+# ellipsoid onto component $l$, $|\tilde x^{(l)}|\le\sqrt{[\mathfrak B_k]_{ll}}$, for that estimator's own
+# design. It is drawn, not fitted: where it is wider than the errors it fills the axes, and its
+# smallest half-width is given in the legend. For the conventional design this "region" comes
+# from an attack-unaware LMI and guarantees nothing under attack.
 
 # %%
 MARKERS = {0: ("x", "--"), 1: ("o", "-."), 2: ("^", ":")}
 
 
-def state_figure(res, comp, est_name, stem):
-    fig, ax = plt.subplots(figsize=(plotting.COLUMN_WIDTH, 2.5))
+def state_figure(res: dict, comp: int, est_name: str, stem: str) -> None:
+    """Figs. 1-2, 5-6: x^(l)_k and the estimates x^^(l)_(i,k) of every node."""
+    if not plotting.figures_enabled():  # sweep points: nothing is drawn
+        return
+    fig, ax = plt.subplots(figsize=(plotting.COLUMN_WIDTH, 3.0))
     ax.plot(k_axis, res["x"][:, comp], "k-", lw=1.6, label=f"$x^{{({comp + 1})}}_k$")
     for i in range(N):
         mk, ls = MARKERS[i]
@@ -981,38 +1166,49 @@ def state_figure(res, comp, est_name, stem):
     ax.set_xlabel("time step $k$")
     ax.set_ylabel(f"state $x^{{({comp + 1})}}$ and estimates [–]")
     ax.set_title(f"{est_name}: $x^{{({comp + 1})}}_k$ and its estimates")
-    ax.legend(fontsize=7, ncol=2, loc="upper right")
+    ax.legend(fontsize=6.5, ncol=2, loc="upper center", bbox_to_anchor=(0.5, -0.25), frameon=False)
     ax.set_xlim(0, T_run)
+    fig.set_layout_engine("constrained")
     plotting.save_figure(fig, FIG_DIR, stem, data={
         "k": k_axis, "x": res["x"][:, comp],
         **{f"xhat_node{i + 1}": res["xh"][:, i, comp] for i in range(N)}},
         tolerance={"xhat_node*": results.LMI_ITERATES})
-    plt.show()
 
 
-def error_figure(res, comp, est_name, stem,
-                 band_label=r"required region $\pm\sqrt{[\mathfrak{B}_k]_{ll}}$"):
+def data_limits(values: np.ndarray, pad: float = 0.08) -> tuple[float, float]:
+    """Axis limits that follow the data, with a relative margin."""
+    lo, hi = float(np.min(values)), float(np.max(values))
+    span = max(hi - lo, 1e-3 * max(abs(lo), abs(hi), 1.0))
+    return lo - pad * span, hi + pad * span
+
+
+def error_figure(res: dict, comp: int, est_name: str, stem: str,
+                 band_label: str = r"required region $|\tilde x^{(l)}|\leq\sqrt{[\mathfrak{B}_k]_{ll}}$"
+                 ) -> None:
+    """Figs. 3-4, 7-8: x~^(l)_(i,k) per node on the errors' own scale, the region shaded."""
+    if not plotting.figures_enabled():
+        return
     band = np.sqrt(res["Bell"][:, comp, comp])
-    fig, ax = plt.subplots(figsize=(plotting.COLUMN_WIDTH, 2.5))
-    ax.fill_between(k_axis, -band, band, color="tab:green", alpha=0.15, label=band_label)
+    fig, ax = plt.subplots(figsize=(plotting.COLUMN_WIDTH, 3.0))
+    lo, hi = data_limits(res["err"][:, :, comp])
+    ax.fill_between(k_axis, -band, band, color="tab:green", alpha=0.12, lw=0,
+                    label=f"{band_label}\n(half-width $\\geq${band.min():.2f}: fills the axes)"
+                    if band.min() > max(abs(lo), abs(hi)) else band_label)
     for i in range(N):
         mk, ls = MARKERS[i]
         ax.plot(k_axis, res["err"][:, i, comp], ls=ls, marker=mk, ms=3.5, mfc="none", lw=0.9,
-                label=f"Node {i + 1}")
+                label=f"node {i + 1}")
     ax.axhline(0.0, color="k", lw=0.5)
     ax.set_xlabel("time step $k$")
     ax.set_ylabel(f"estimation error $\\tilde x^{{({comp + 1})}}_{{i,k}}$ [–]")
     ax.set_title(f"{est_name}: error $\\tilde x^{{({comp + 1})}}_{{i,k}}$")
-    ax.plot(k_axis, band, color="tab:green", lw=0.8, ls="--")
-    ax.plot(k_axis, -band, color="tab:green", lw=0.8, ls="--")
-    lim = 1.15 * float(band.max())
-    ax.set_ylim(-lim, lim)
+    ax.set_ylim(lo, hi)
     ax.set_xlim(0, T_run)
-    ax.legend(fontsize=7, ncol=2, loc="lower right")
+    ax.legend(fontsize=6, ncol=2, loc="upper center", bbox_to_anchor=(0.5, -0.25), frameon=False)
+    fig.set_layout_engine("constrained")
     plotting.save_figure(fig, FIG_DIR, stem, data={
         "k": k_axis, "band": band, **{f"err_node{i + 1}": res["err"][:, i, comp] for i in range(N)}},
         tolerance={"band": results.LMI_ITERATES, "err_node*": results.LMI_ITERATES})
-    plt.show()
 
 
 # %% [markdown]
@@ -1066,6 +1262,55 @@ error_figure(conv_run, 1, "conventional (3)", "fig8_conv_error2",
              band_label="own region (attack-unaware)")
 
 # %% [markdown]
+# ### Extra — the comparison of Figs. 5–8 with Figs. 1–4, overlaid
+#
+# The paper's point is the difference between the two estimators under the same falsified
+# innovations, which side-by-side figures hide. Each panel overlays the error of one component at
+# one node for both estimators; the title gives the two per-node RMSEs of C3 (over $k=1..T$, the
+# Euclidean norm of $\tilde x$). Steps with $\alpha_k=1$ (injection) are marked on the time axis.
+
+# %%
+def overlay_figure() -> None:
+    """Errors of both estimators overlaid, per node (columns) and component (rows)."""
+    fig, axs = plt.subplots(2, N, figsize=(plotting.PAGE_WIDTH, 4.4), sharex=True, sharey="row")
+    e_nn_, e_conv_ = rmse(nn_run), rmse(conv_run)
+    for comp in range(2):
+        lo, hi = data_limits(np.concatenate([nn_run["err"][:, :, comp],
+                                             conv_run["err"][:, :, comp]]))
+        for i in range(N):
+            ax = axs[comp, i]
+            for n_att, k in enumerate(np.flatnonzero(alpha_main == 1)):  # update k -> k+1
+                ax.axvspan(k, k + 1, color="0.9", lw=0, label=None if n_att else
+                           r"$\alpha_k=1$: the update $k\to k+1$ uses falsified innovations")
+            ax.plot(k_axis, nn_run["err"][:, i, comp], "-", color="tab:blue", lw=1.1,
+                    label="NN-based (8)")
+            ax.plot(k_axis, conv_run["err"][:, i, comp], "--", color="tab:red", lw=1.1,
+                    label="conventional (3)")
+            ax.axhline(0.0, color="k", lw=0.4)
+            ax.set_ylim(lo, hi)
+            ax.set_xlim(0, T_run)
+            if comp == 0:
+                ax.set_title(f"node {i + 1}: RMSE {e_nn_[i]:.4f} (NN), {e_conv_[i]:.4f} (conv.)",
+                             fontsize=7)
+            else:
+                ax.set_xlabel("time step $k$")
+        axs[comp, 0].set_ylabel(f"$\\tilde x^{{({comp + 1})}}_{{i,k}}$ [–]")
+    handles, labels = axs[0, 0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncols=3, fontsize=7, frameon=False)
+    fig.set_layout_engine("constrained")
+    plotting.save_figure(fig, FIG_DIR, "extra_nn_vs_conventional", data={
+        "k": k_axis, "alpha": np.append(alpha_main, np.nan),
+        **{f"err_nn_node{i + 1}_c{c + 1}": nn_run["err"][:, i, c]
+           for i in range(N) for c in range(2)},
+        **{f"err_conv_node{i + 1}_c{c + 1}": conv_run["err"][:, i, c]
+           for i in range(N) for c in range(2)}},
+        tolerance={"err_*": results.LMI_ITERATES})
+
+
+if plotting.figures_enabled():
+    overlay_figure()
+
+# %% [markdown]
 # ## Extra — diagnostics: what the designs actually do
 #
 # Six panels, not in the paper. (a) The normalised errors
@@ -1074,241 +1319,283 @@ error_figure(conv_run, 1, "conventional (3)", "fig8_conv_error2",
 # (d) The NN weights $\|\hat W_{ij,k}\|_F$. (e) The Theorem 1 quantity
 # $\mathrm{tr}[\tilde W^\top Q^{-1}\tilde W]$ with $W=W^\star$. (f) The probability $p_k=1-\rho_k$
 # guaranteed by the corrected OP3 for the fixed ellipsoid $\mathfrak B=$ `op3_scale`$\cdot I$, run
-# on the same data; $p_k\le0$ means $\rho_k\ge1$, a void bound at that step (reported, not clipped).
+# on the same data (an extra). A step with $\rho_k\ge1$ guarantees nothing: it is marked "void" on
+# the axis, not drawn as a negative probability.
 
 # %%
-op3_run = simulate(alpha=alpha_main, estimator="nn", design="op3", B_fixed=op3_scale * np.eye(NX))
-p_op3 = 1.0 - op3_run["rho"]
-frac_op3 = float(np.mean(op3_run["qf"][1:] <= 1.0))
-print(f"OP3: steps with rho_k >= 1 (bound void): {int(np.sum(op3_run['rho'][1:] >= 1.0))}")
-print(f"OP3 (B = {op3_scale} I): p_k from {np.nanmax(p_op3):.3f} down to {np.nanmin(p_op3):.3f}; "
-      f"fraction of (i, k >= 1) inside: {frac_op3:.3f}; infeasible steps: "
-      f"{len(op3_run['failures'])}")
+op3_run = None
+if extras:
+    op3_run = simulate(alpha=alpha_main, estimator="nn", design="op3",
+                       B_fixed=op3_scale * np.eye(NX))
+    p_op3 = 1.0 - op3_run["rho"]
+    void = op3_run["rho"] >= 1.0
+    print(f"OP3 (B = {op3_scale:g} I): p_k from {np.nanmax(p_op3):.3f} down to "
+          f"{np.nanmin(p_op3):.3f}; steps with rho_k >= 1 (bound void): {int(void.sum())} of "
+          f"{T_run}; fraction of (i, k >= 1) inside B: {np.mean(op3_run['qf'][1:] <= 1.0):.3f}; "
+          f"uncertified steps: {len(op3_run['failures'])}")
 
-fig, axs = plt.subplots(2, 3, figsize=(plotting.PAGE_WIDTH, 4.6))
-ax = axs[0, 0]
-for i in range(N):
-    ax.semilogy(k_axis, nn_run["qf"][:, i], "-", color=f"C{i}", lw=0.8, label=f"node {i + 1}")
-    ax.semilogy(k_axis, conv_run["qf"][:, i], ":", color=f"C{i}", lw=0.8)
-ax.plot([], [], "k-", lw=0.8, label="NN design")
-ax.plot([], [], "k:", lw=0.8, label="conventional")
-ax.axhline(1.0, color="r", lw=1.0, label="threshold 1 of (11)")
-ax.set_ylim(1e-7, 1e7)
-ax.set_title(r"(a) $\tilde x^\top\mathfrak{B}_k^{-1}\tilde x$")
-ax.legend(fontsize=5.5, ncol=2, loc="upper center")
-ax = axs[0, 1]
-ax.plot(k_axis, np.trace(nn_run["Bell"], axis1=1, axis2=2), label="NN design (30)")
-ax.plot(k_axis, np.trace(conv_run["Bell"], axis1=1, axis2=2), "--", label="conventional design")
-ax.set_title(r"(b) $\mathrm{tr}\,\mathfrak{B}_k$")
-ax.legend(fontsize=7)
-ax = axs[0, 2]
-ax.semilogy(k_axis[:-1], nn_run["Hn"], label="NN design (30)")
-ax.semilogy(k_axis[:-1], conv_run["Hn"], "--", label="conventional design")
-ax.set_title(r"(c) $\max_{ij}\|H_{ij,k}\|_2$")
-ax.legend(fontsize=7)
-ax = axs[1, 0]
-for a, (i, j) in enumerate(LINKS):
-    ax.semilogy(k_axis, np.maximum(nn_run["Wn"][:, a], 1e-16), lw=0.9, label=f"link {i + 1}←{j + 1}")
-ax.set_title(r"(d) $\|\hat W_{ij,k}\|_F$ (floored at $10^{-16}$)")
-ax.legend(fontsize=7)
-ax = axs[1, 1]
-for a, (i, j) in enumerate(LINKS):
-    ax.semilogy(k_axis, nn_run["Wq"][:, a], lw=0.9, label=f"link {i + 1}←{j + 1}")
-ax.axhline(1.0, color="r", lw=1.0, label="bound (19)")
-ax.set_title(r"(e) $\mathrm{tr}[\tilde W^\top Q^{-1}\tilde W]$, $W=W^\star$")
-ax.set_ylim(1e-3, 10)
-ax.legend(fontsize=7)
-ax = axs[1, 2]
-ax.plot(k_axis[1:], p_op3[1:], "o-", ms=2.5, label=f"OP3, $\\mathfrak{{B}}={op3_scale:g}I$")
-ax.axhline(p, color="k", ls="--", lw=0.8, label=f"p = {p} (OP2)")
-ax.axhline(0.0, color="r", lw=0.8, ls=":", label=r"$\rho_k\geq1$: void")
-ax.set_title(r"(f) guaranteed $p_k = 1-\rho_k$ (corrected OP3)")
-ax.set_ylim(min(0.0, float(np.nanmin(p_op3))) - 0.1, 1)
-ax.legend(fontsize=6.5, loc="upper right", bbox_to_anchor=(1.0, 0.76))
-for ax in axs.flat:
-    ax.set_xlabel("time step $k$")
-axs[0, 0].set_ylabel("value [–]")
-axs[1, 0].set_ylabel("value [–]")
-fig.tight_layout()
-plotting.save_figure(fig, FIG_DIR, "extra_diagnostics", data={
-    "k": k_axis,
-    **{f"qf_nn_node{i + 1}": nn_run["qf"][:, i] for i in range(N)},
-    **{f"qf_conv_node{i + 1}": conv_run["qf"][:, i] for i in range(N)},
-    "trB_nn": np.trace(nn_run["Bell"], axis1=1, axis2=2),
-    "trB_conv": np.trace(conv_run["Bell"], axis1=1, axis2=2),
-    "maxH_nn": np.append(nn_run["Hn"], np.nan), "maxH_conv": np.append(conv_run["Hn"], np.nan),
-    **{f"What_F_link{i + 1}{j + 1}": nn_run["Wn"][:, a] for a, (i, j) in enumerate(LINKS)},
-    **{f"thm1_link{i + 1}{j + 1}": nn_run["Wq"][:, a] for a, (i, j) in enumerate(LINKS)},
-    "p_op3": p_op3,
-}, tolerance={
-    "qf_*": results.Tolerance(
-        rtol=0.05, atol=1e-9,
-        reason="quadratic forms on a log axis, set by interior-point iterates of B_k: up to 0.6 % "
-        "apart under other BLAS kernels"),
-    "maxH_*": results.Tolerance(
-        rtol=0.2, atol=1e-9,
-        reason="largest coupling gain ||H_ij|| (NN design ~1e-4, log axis): a flat LMI direction, "
-        "its interior-point iterate 4 % apart under other BLAS kernels"),
-    "What_F_*": results.Tolerance(
-        rtol=0.0, atol=1e-8,
-        reason="NN weights collapsed to rounding level after k = 0 (<= 3e-9): their values are noise, "
-        "38 % apart under other BLAS kernels"),
-    "*": results.LMI_ITERATES,
-})
-plt.show()
+
+def log_limits(values: np.ndarray, include: float | None = None) -> tuple[float, float]:
+    """Log-axis limits that follow the positive data (and `include`), without empty decades."""
+    v = np.asarray(values, float)
+    v = v[np.isfinite(v) & (v > 0)]
+    if include is not None:
+        v = np.append(v, include)
+    return float(v.min()) / 1.6, float(v.max()) * 1.6
+
+
+def diagnostics_figure() -> None:
+    """Panels (a)-(f) of the diagnostics figure; blue: NN design (30), red: conventional design."""
+    fig, axs = plt.subplots(2, 3, figsize=(plotting.PAGE_WIDTH, 6.0))
+    below = {"loc": "upper center", "bbox_to_anchor": (0.5, -0.3), "fontsize": 6, "frameon": False}
+    ax = axs[0, 0]
+    for i in range(N):
+        mk = MARKERS[i][0]
+        ax.semilogy(k_axis, nn_run["qf"][:, i], "-", marker=mk, ms=2.5, mfc="none",
+                    color="tab:blue", lw=0.8, label=f"node {i + 1}, NN design")
+        ax.semilogy(k_axis, conv_run["qf"][:, i], ":", marker=mk, ms=2.5, mfc="none",
+                    color="tab:red", lw=0.8, label=f"node {i + 1}, conventional")
+    ax.axhline(1.0, color="k", lw=1.0, label="threshold 1 of (11)")
+    ax.set_ylim(*log_limits(np.concatenate([nn_run["qf"], conv_run["qf"]]), include=1.0))
+    ax.set_title(r"(a) $\tilde x^\top\mathfrak{B}_k^{-1}\tilde x$")
+    ax.legend(ncol=2, **below)
+    ax = axs[0, 1]
+    ax.plot(k_axis, np.trace(nn_run["Bell"], axis1=1, axis2=2), color="tab:blue",
+            label="NN design (30)")
+    ax.plot(k_axis, np.trace(conv_run["Bell"], axis1=1, axis2=2), "--", color="tab:red",
+            label="conventional design")
+    ax.set_title(r"(b) $\mathrm{tr}\,\mathfrak{B}_k$")
+    ax.legend(ncol=1, **below)
+    ax = axs[0, 2]
+    ax.semilogy(k_axis[:-1], nn_run["Hn"], color="tab:blue", label="NN design (30)")
+    ax.semilogy(k_axis[:-1], conv_run["Hn"], "--", color="tab:red", label="conventional design")
+    ax.set_ylim(*log_limits(np.concatenate([nn_run["Hn"], conv_run["Hn"]])))
+    ax.set_title(r"(c) $\max_{ij}\|H_{ij,k}\|_2$")
+    ax.legend(ncol=1, **below)
+    link_styles = ["-", "--", "-.", ":"]
+    ax = axs[1, 0]
+    W_floor = 1e-16
+    for a, (i, j) in enumerate(LINKS):
+        ax.semilogy(k_axis, np.maximum(nn_run["Wn"][:, a], W_floor), ls=link_styles[a % 4],
+                    lw=0.9 + 0.3 * a, label=f"link {i + 1}←{j + 1}")
+    ax.set_ylim(*log_limits(np.maximum(nn_run["Wn"], W_floor)))
+    ax.set_title(r"(d) $\|\hat W_{ij,k}\|_F$ (floor $10^{-16}$)")
+    ax.legend(ncol=2, **below)
+    ax = axs[1, 1]
+    for a, (i, j) in enumerate(LINKS):
+        ax.semilogy(k_axis, nn_run["Wq"][:, a], ls=link_styles[a % 4], lw=0.9 + 0.3 * a,
+                    label=f"link {i + 1}←{j + 1}")
+    ax.axhline(1.0, color="k", lw=1.0, label="bound (19)")
+    ax.set_ylim(*log_limits(nn_run["Wq"], include=1.0))
+    ax.set_title(r"(e) $\mathrm{tr}[\tilde W^\top Q^{-1}\tilde W]$, $W=W^\star$")
+    ax.legend(ncol=2, **below)
+    ax = axs[1, 2]
+    if op3_run is not None:
+        ok = ~void[1:]
+        ax.plot(k_axis[1:][ok], p_op3[1:][ok], "o-", ms=2.5, color="tab:blue",
+                label=f"OP3, $\\mathfrak{{B}}={op3_scale:g}I$")
+        ax.plot(k_axis[1:][~ok], np.zeros(int((~ok).sum())), "x", color="k", ms=4,
+                label=r"void: $\rho_k\geq1$")
+        ax.axhline(p, color="k", ls="--", lw=0.8, label=f"p = {p} of OP2")
+        ax.set_ylim(-0.04, 1.0)
+        ax.legend(ncol=2, **below)
+    else:
+        ax.text(0.5, 0.5, "OP3 not run (extras off)", ha="center", va="center",
+                transform=ax.transAxes)
+    ax.set_title(r"(f) guaranteed $p_k = 1-\rho_k$ (OP3)")
+    for ax in axs.flat:
+        ax.set_xlabel("time step $k$")
+        ax.set_xlim(0, T_run)
+    axs[0, 0].set_ylabel("value [–]")
+    axs[1, 0].set_ylabel("value [–]")
+    fig.set_layout_engine("constrained")
+    plotting.save_figure(fig, FIG_DIR, "extra_diagnostics", data={
+        "k": k_axis,
+        **{f"qf_nn_node{i + 1}": nn_run["qf"][:, i] for i in range(N)},
+        **{f"qf_conv_node{i + 1}": conv_run["qf"][:, i] for i in range(N)},
+        "trB_nn": np.trace(nn_run["Bell"], axis1=1, axis2=2),
+        "trB_conv": np.trace(conv_run["Bell"], axis1=1, axis2=2),
+        "maxH_nn": np.append(nn_run["Hn"], np.nan), "maxH_conv": np.append(conv_run["Hn"], np.nan),
+        **{f"What_F_link{i + 1}{j + 1}": nn_run["Wn"][:, a] for a, (i, j) in enumerate(LINKS)},
+        **{f"thm1_link{i + 1}{j + 1}": nn_run["Wq"][:, a] for a, (i, j) in enumerate(LINKS)},
+        "p_op3": p_op3 if op3_run is not None else np.full(T_run + 1, np.nan),
+    }, tolerance={
+        "qf_*": results.Tolerance(
+            rtol=0.05, atol=1e-9,
+            reason="quadratic forms on a log axis, set by interior-point iterates of B_k: up to 0.6 % "
+            "apart under other BLAS kernels"),
+        "maxH_*": results.Tolerance(
+            rtol=0.2, atol=1e-9,
+            reason="largest coupling gain ||H_ij|| (NN design ~1e-4, log axis): a flat LMI direction, "
+            "its interior-point iterate 4 % apart under other BLAS kernels"),
+        "What_F_*": results.Tolerance(
+            rtol=0.0, atol=1e-8,
+            reason="NN weights collapsed to rounding level after k = 0 (<= 3e-9): their values are "
+            "noise, 38 % apart under other BLAS kernels"),
+        **dict.fromkeys(["trB_*", "thm1_*", "p_op3"], results.LMI_ITERATES),
+    })
+
+
+if plotting.figures_enabled():
+    diagnostics_figure()
 
 # %% [markdown]
-# ## Extra — sensitivity of the headline comparison to the missing values
+# ## Extra — the certificate at the upper end of the declared scale range
 #
-# Each row changes one missing value or one alternative OCR reading and reruns both estimators.
-# Rows marked "rule" re-apply the Taylor-scale rule to their own runs (the premise of (12)–(13)
-# depends on $f$, $g_i$ and the trajectory); rows marked "fixed" impose a scale, and the column
-# "(12)-(13)" says whether the premise then holds along both runs. The columns are the per-node
-# RMSE of the NN-based estimator (8) and of the comparison design, their network averages and the
-# nodes at which NN is better. The comparison design is the attack-unaware conventional design
-# except in the row "attack-aware (3)". That row runs (3) with the gains of LMI (30) and no
-# compensation ($\hat W\equiv0$, $Q=e_1^2I$, no OP1), which isolates what the NN compensator adds.
-# The last columns are the fraction of (node, step) pairs inside the NN design's ellipsoid,
-# $\mathrm{tr}\,\mathfrak B_T$ of the NN design and the number of infeasible steps.
+# In paper mode, the NN design is run on this point's data at the range's upper end and 0.02
+# above it, without the SCS fallback, and the steps the certificate rejects are counted (see "The
+# missing Taylor scales"). This re-checks the reason for the upper end at the as-read point; the
+# sweep records C5 at every point of the range.
 
 # %%
-f_0d5 = copy.deepcopy(f_terms)
-f_0d5[0][1][0] = 0.05  # "0d5" read as 0.05 instead of 0.45
-g1_sin2 = copy.deepcopy(g1_terms)
-g1_sin2[0][1][3] = 2  # "sin(2z" read as sin(2 x^(2)) instead of sin x^(2)
-# (label, simulate keywords, reading changes, comparison, scale: "rule" or a number)
-sens_rows = [("default", {}, {}, "conv", "rule")]
-if mode == "paper":
-    sens_rows += [
-        ("L_i = aleph_i = 0.05 I", {}, {}, "conv", 0.05),
-        ("L_i = aleph_i = 0.1 I (previous default)", {}, {}, "conv", 0.1),
-        ("L_i = aleph_i = 0.2 I", {}, {}, "conv", 0.2),
-        ("alpha_bar = 0.6", {"abar": 0.6}, {}, "conv", "rule"),
-        ("x0 = [2, 1]", {"x_init": [2.0, 1.0]}, {}, "conv", "rule"),
-        ("E_1 amplitude 0.1 ('+0.1cos')", {}, {"E1_amp": 0.1}, "conv", "rule"),
-        ("f: '0d5' read 0.05", {}, {"f": f_0d5}, "conv", "rule"),
-        ("g_1: sin(2 x^(2))", {}, {"g": [g1_sin2, g2_terms, g3_terms]}, "conv", "rule"),
-        ("attack-aware (3), W_hat = 0", {}, {}, "aware0", "rule"),
-    ]
-else:
-    sens_rows += [("L_i = aleph_i = 0.1 I (previous default)", {}, {}, "conv", 0.1)]
-sens_rows += [(f"alpha realisation {s_ + 1}", {"alpha_idx": s_ + 1}, {}, "conv", "rule")
-              for s_ in range(n_extra)]
+if extras and mode == "paper":
+    for s_chk in (scale_axis.high, round(scale_axis.high + 0.02, 6)):
+        chk = simulate(alpha=alpha_main, estimator="nn", scale=(s_chk, s_chk), fallback="none")
+        print(f"s = {s_chk:g}: {len(chk['failures'])} of {2 * T_run} NN solves not certified, "
+              f"tr B_T = {np.trace(chk['Bell'][-1]):.3g}")
 
-table = []
-for label, kw, changes, comp, scale in sens_rows:
-    kw = dict(kw)
-    idx = kw.pop("alpha_idx", 0)
-    abar_row = kw.get("abar", alpha_bar)
-    a_seq = alphas[idx] if abar_row == alpha_bar else alpha_sequence(
-        montecarlo.spawn_rngs(seed, 1)[0], T_run, abar_row)
-    with reading(**changes):
-        if label == "default":
-            s_row, r_nn, r_cmp = taylor_scale, nn_run, conv_run
-        elif scale == "rule":
-            s_row, r_nn, r_cmp, _ = select_taylor_scale(a_seq, **kw)
-            if comp != "conv":
-                r_cmp = simulate(alpha=a_seq, estimator=comp, L_s=s_row, A_s=s_row, **kw)
-        else:
-            s_row = scale
-            r_nn = simulate(alpha=a_seq, estimator="nn", L_s=s_row, A_s=s_row, **kw)
-            r_cmp = simulate(alpha=a_seq, estimator=comp, L_s=s_row, A_s=s_row, **kw)
-    worst = float(max(r[key].max() for r in (r_nn, r_cmp) for key in ("ratio_f", "ratio_g")))
-    e_nn, e_cmp = rmse(r_nn), rmse(r_cmp)
-    table.append({
-        "label": label, "comparison": comp, "scale": s_row,
-        "scale_from": "rule" if scale == "rule" else "fixed", "premise": worst <= s_row,
-        "nn": e_nn, "cmp": e_cmp,
-        "nn_better": [int(i + 1) for i in range(N) if e_nn[i] < e_cmp[i]],
-        "frac_inside": float(np.mean(r_nn["qf"] <= 1.0)),
-        "trB_T": float(np.trace(r_nn["Bell"][-1])),
-        "infeasible": len(r_nn["failures"]) + len(r_cmp["failures"]),
-    })
-print("| row | L_i = aleph_i | (12)-(13) | NN RMSE (nodes 1-3) | comparison RMSE | mean NN / cmp "
-      "| NN better at | inside | tr B_T (NN) | infeasible |")
-print("|---|---|---|---|---|---|---|---|---|---|")
-for row in table:
-    print(f"| {row['label']} ({row['comparison']}) | {row['scale']:g} ({row['scale_from']}) | "
-          f"{'holds' if row['premise'] else 'FAILS'} | {np.round(row['nn'], 4).tolist()} | "
-          f"{np.round(row['cmp'], 4).tolist()} | {row['nn'].mean():.4f} / {row['cmp'].mean():.4f} | "
-          f"{row['nn_better']} | {row['frac_inside']:.3f} | {row['trB_T']:.2f} | "
-          f"{row['infeasible']} |")
-_ = plotting.save_data(FIG_DIR, "extra_sensitivity", {
-    "row": np.array([r["label"] for r in table]),
-    "comparison": np.array([r["comparison"] for r in table]),
-    "taylor_scale": np.array([r["scale"] for r in table]),
-    "scale_from": np.array([r["scale_from"] for r in table]),
-    "premise_holds": np.array([int(r["premise"]) for r in table]),
-    "rmse_nn": np.array([r["nn"] for r in table]),
-    "rmse_comparison": np.array([r["cmp"] for r in table]),
-    "n_nodes_nn_better": np.array([len(r["nn_better"]) for r in table]),
-    "frac_inside": np.array([r["frac_inside"] for r in table]),
-    "trB_T_nn": np.array([r["trB_T"] for r in table]),
-    "infeasible_steps": np.array([r["infeasible"] for r in table]),
-}, tolerance=dict.fromkeys(["rmse_*", "frac_inside", "trB_T_nn"], results.LMI_ITERATES))
+# %% [markdown]
+# ## Extra — Monte Carlo check of (29) over $\alpha_k$ realisations (X8)
+#
+# Theorem 2 states $E\{\tilde x_{i,k+1}^\top P_{k+1}^{-1}\tilde x_{i,k+1}\}\le1$ (29), the expectation
+# being over $\alpha$ (E8). The NN design is run on `mc_runs` independent realisations (the first
+# is the main run); each run has its own data-dependent $P_k$. Per node and step the mean of
+# $\tilde x^\top P_k^{-1}\tilde x$ over the runs gets a Student-t 95 % interval; **X8 holds if the
+# largest upper bound over $(i,k)$ is at most 1**. The fraction of runs inside $\mathfrak B_k$ is
+# reported per $(i,k)$ with its Wilson interval (Theorem 3 per node and step), not decided: when
+# every run is inside, the interval's lower end is above $p=0.8$ only from 16 runs on (0.806 with 16,
+# 0.44 with the 3 of fast mode).
+#
+# **This Monte Carlo is nearly degenerate.** The NN design barely uses its neighbours
+# ($\|H_{ij}\|\approx3\cdot10^{-4}$, X3), and the neighbours' innovations are the only place where
+# $\alpha_k$ enters, so the realisations give almost the same errors and ellipsoids: the Student-t
+# interval at the worst $(i,k)$ is about $10^{-11}$ wide (printed below). X8 confirms (29) but adds
+# little to the exact check X7 along one run.
+
+# %%
+mc = None
+if extras:
+    mc_alphas = [alpha_sequence(r, T_run, ALPHA_BAR) for r in montecarlo.spawn_rngs(seed, n_mc)]
+    mc_runs_list = [nn_run] + [simulate(alpha=a, estimator="nn") for a in mc_alphas[1:]]
+    qP_mc = np.stack([r["qP"][1:] for r in mc_runs_list])  # (runs, k = 1..T, node)
+    inside = np.stack([r["qf"][1:] <= 1.0 for r in mc_runs_list])
+    mean_qP = qP_mc.mean(axis=0)
+    upper = np.array([[montecarlo.mean_interval(qP_mc[:, k, i])[1] for i in range(N)]
+                      for k in range(T_run)])
+    k_w, i_w = np.unravel_index(int(np.argmax(upper)), upper.shape)
+    frac_ki = inside.mean(axis=0)
+    k_f, i_f = np.unravel_index(int(np.argmin(frac_ki)), frac_ki.shape)
+    mc = {"runs": n_mc, "max_upper": float(upper.max()), "max_mean": float(mean_qP.max()),
+          "worst": (int(k_w) + 1, int(i_w) + 1),
+          "interval": montecarlo.mean_interval(qP_mc[:, k_w, i_w]),
+          "min_fraction_inside": float(frac_ki.min()),
+          "wilson_min_fraction": montecarlo.wilson_interval(int(inside[:, k_f, i_f].sum()), n_mc),
+          "uncertified": sum(len(r["failures"]) for r in mc_runs_list)}
+    print(f"X8: {n_mc} realisations; max over (i, k) of the mean of x~'P^-1 x~ = "
+          f"{mc['max_mean']:.4f}, largest 95 % upper bound = {mc['max_upper']:.4f} "
+          f"(interval width {mc['max_upper'] - mc['interval'][0]:.1e}) "
+          f"(node {mc['worst'][1]}, k = {mc['worst'][0]}); smallest fraction inside B_k = "
+          f"{mc['min_fraction_inside']:.3f} (Wilson {np.round(mc['wilson_min_fraction'], 3).tolist()})")
 
 # %% [markdown]
 # ## Claims
 #
-# | id | paper | what we measure |
+# | id | paper | what we measure, and the rule |
 # |---|---|---|
-# | C1 | each node tracks both states with the NN estimator (Figs. 1–4); the conventional one "with certain precision" (Figs. 5–8) | $\max|\tilde x^{(l)}_{i,k}|$ of (8) for $k\ge$ `settle_k` against `track_tol`; the conventional value and which of the two is smaller are reported |
-# | C2 | the errors stay in the required region with probability $\ge p$ (Theorem 3, (11)) | fraction of (node, step) pairs with $\tilde x^\top\mathfrak B_k^{-1}\tilde x\le1$, NN design, against $p$ (plus the extra $\alpha$ realisations) |
-# | C3 | the NN estimator beats the conventional one under the same falsified innovations (Figs. 5–8 vs 1–4) | per-node RMSE over $k=1..T$ (the brief's check): holds if (8) has the lower RMSE at **every** node; the network average is reported as extra information |
+# | C1 | each node tracks both states "with a satisfactory precision" with the NN estimator (Figs. 1–4); the conventional one "with certain precision" (Figs. 5–8) | $\max|\tilde x^{(l)}_{i,k}|$ of (8) for $k\ge$ `settle_k` against `track_tol` (0.2), **ours**: the paper states no number (its OCR keeps only the error axes' ticks, −0.8 to 1); the conventional value and which of the two is smaller are reported |
+# | C2 | the errors stay in the required region with probability $\ge p$ (Theorem 3, (11)) | fraction of (node, step) pairs with $\tilde x^\top\mathfrak B_k^{-1}\tilde x\le1$, NN design; holds if its Wilson 95 % lower bound is $\ge p$. The pairs include $k=0$, fixed by Assumption 3 (not by Theorem 3), where the largest form sits. **Premise** (checked): Assumption 3, (12)–(13) along the NN run, $\|\delta\|\le e_3$ |
+# | C3 | the conventional estimator "shows worse estimation performance" than the NN-based one under the same falsified innovations (Figs. 5–8 vs 1–4) | per-node RMSE of $\|\tilde x\|$ over $k=1..T$: holds if $\mathrm{RMSE}_{NN}<(1-$`c3_margin`$)\,\mathrm{RMSE}_{conv}$ at **every** node; headline: the worst node's ratio |
 # | C4 | $\mathrm{tr}[\tilde W^\top Q^{-1}\tilde W]\le1$ for all $k$ (Theorem 1) | max over links and steps, with $W=W^\star$. Holds **by construction** here: the maximum is at $k=0$, fixed by the data ($\|I-W^\star\|_F^2/20$), and from $k=1$ on $\hat W\approx0$, $Q=e_1^2I$, so (19) holds for any $W$ allowed by Assumption 2 |
-# | C5 | the RLMIs are solvable at every step (Algorithm 1) | infeasible steps (both designs and OP1) and the certificate: largest eigenvalue of every solved LMI matrix $\le10^{-8}$ |
+# | C5 | (implied by the example) the RLMIs are solvable at every step: Theorems 1–3 are conditional on it, Algorithm 1 assumes it | steps without a certified solution (both designs and OP1), and the certificate: largest eigenvalue of every solved LMI matrix $\le-10^{-8}$ (strict) |
 # | X1 | (ours) the error dynamics (54) | $\max|\tilde x_{i,k+1}-(\Xi_i+\tilde\alpha_k\tilde\Xi_i)\zeta_k|$ at the actual $\zeta_k$ |
-# | X2 | (ours) the premise (12)–(13) of Theorems 2–3 with the chosen $L_i=\aleph_i$ | fraction of (node, step) of both runs with $\|\text{remainder}\|\le$ scale $\cdot\|\tilde x\|$ (the rule makes it 1 unless the scales are overridden) |
-# | X3 | (ours) the mechanism: OP1 collapses the weights (E4), OP2 drops the neighbours (E5) | $\max_{k\ge1}\|\hat W_{ij,k}\|_F$ and $\max\|H_{ij}\|$ of both designs |
-# | X4 | (ours) Theorem 2: the solved (30) bounds $E_\alpha\{\tilde x^\top P^{-1}\tilde x\}$ by 1 (29) | the quadratic form on 256 random admissible $\zeta$ per step (boundary of every constraint) |
-# | X5 | (ours) DPP re-solve equals a fresh build | $\max|P_{k+1}|$ difference at the last step |
+# | X2 | (ours) the premise (12)–(13) at this point's $L_i=\aleph_i$ | worst ratio $\|\text{remainder}\|/(s\|\tilde x\|)$ over both runs $\le1$ |
+# | X3 | (ours, E4–E5) the NN mechanism is not reproduced: OP1 collapses the weights, OP2 drops the neighbours | $\max_k|\lambda^{(2)}|$, $\max_{k\ge1}\|\hat W_{ij,k}\|_F$ and $\max\|H_{ij}\|$ of the NN design |
+# | X4 | (ours) Theorem 2: the solved (30) bounds $E_\alpha\{\tilde x^\top P^{-1}\tilde x\}$ by 1 (29) for admissible $\zeta$ | the quadratic form on 256 random admissible $\zeta$ per step (boundary of every constraint) |
+# | X5 | (ours) DPP re-solve equals a fresh build | $\max|P_{k+1}|$ difference at the last step (premise: that step is certified) |
 # | X6 | (ours) the printed shared multipliers (22) against per-node multipliers | $\mathrm{tr}\,\mathfrak B_k$ of both over the first `shared_diag_steps` steps, every solve certified |
+# | X7 | (ours) (29) along the run, exactly | $E_{\alpha_k}\{\tilde x_{i,k+1}^\top P_{k+1}^{-1}\tilde x_{i,k+1}\mid\text{past}\}\le1$ at every node and step (premise: the constraints of (23) hold at every step) |
+# | X8 | (ours, extra) (29) over realisations | Monte Carlo over `mc_runs` realisations: largest Student-t 95 % upper bound of the mean of $\tilde x^\top P_k^{-1}\tilde x$ over $(i,k)$ $\le1$ |
+# | X9 | (ours, brief E5) the attack-unaware conventional design uses its neighbours | median over $k$ of $\max_{ij}\|H_{ij,k}\|$ of the conventional design $\ge0.5$ |
 #
 # C6 (the cost per step, Remark 7) is a timing and belongs to the benchmark suite (`make bench`).
+# Every claim is measured at this run's point; `make robustness` measures it at every point of the
+# declared space, and the verdict written to `claims.json` is the one over that space (X5 and X8
+# are extras, not swept: their verdict is this point's). Over the 70 points of the grid (counts,
+# not sampled fractions: the levels are fixed, see "The missing Taylor scales"): **C3 undetermined,
+# holds at 12** (8 of 10 at $s=0.116$, 4 of 10 at 0.139, none from 0.166 on, none under "0d5" =
+# 0.05); C2 holds wherever its premise holds (68; the premise fails at $s=0.116$ under the $g_1$
+# reading) and X7 likewise (58; its premise fails also at all 10 points at $s=0.34$), both
+# recorded as undetermined; C5 undetermined, 57 (not at $s=0.34$, nor at 0.284 under "0d5" =
+# 0.05 and with $\bar\alpha=0.6$, seed 0: a limit of the strict certificate); C1 undetermined, 68
+# (not at $s=0.34$ under "0d5" = 0.05); X2 undetermined, 68 (not where C2's premise fails); X6 undetermined, 58 (the
+# shared LMI is not certified at $k=1$ at 12 points under the readings of $E_1$, $f$, $g_1$; where
+# it is, it is never less conservative); X9 undetermined, 22 (at $s\le0.139$, and at 0.166 under the
+# $g_1$ reading); C4, X1, X3, X4 hold at all 70. The cell below prints each verdict with the
+# sweep's count and region.
 
 # %%
+SEC_EXAMPLE = "The example (Section IV): both estimators under the same falsified innovations"
+SEC_TAYLOR = r"The missing Taylor scales $L_i$, $\aleph_i$: a declared range"
+TOL_LMI = results.LMI_ITERATES  # every value below driven by interior-point LMI solves
 claims = {}
 late = k_axis >= min(settle_k, T_run)
 max_late = {name: float(np.max(np.abs(r["err"][late]))) for name, r in
             (("nn", nn_run), ("conv", conv_run))}
 claims["C1"] = results.claim(
     paper="Figs. 1-4: the NN-based estimator (8) estimates both state components at every node "
-    "with satisfactory precision (the conventional one, Figs. 5-8, 'with certain precision')",
+    "'with a satisfactory precision' (the conventional one, Figs. 5-8, is 'also capable of providing "
+    "state estimation with certain precision')",
     check=f"max |x~^(l)_(i,k)| of (8) over nodes, components and k >= {min(settle_k, T_run)} "
-    f"<= {track_tol} (the Fig. 3-4 data range); the conventional estimator's value is reported",
-    measured={**max_late, "nn_smaller_than_conv": max_late["nn"] < max_late["conv"]},
+    f"<= track_tol = {track_tol} (ours: the paper states no number for 'satisfactory precision', "
+    "and its OCR keeps no figure data, only the error axes' tick labels -0.8..1); the conventional "
+    "estimator's value is reported (it may exceed track_tol: the paper claims only 'certain "
+    "precision' for it)",
+    measured={**max_late, "nn_smaller_than_conv": max_late["nn"] < max_late["conv"]}, key="nn",
     threshold=track_tol, holds=max_late["nn"] <= track_tol,
-    tolerance=results.LMI_ITERATES,
+    source="Sec. IV, Figs. 1-4 (and Figs. 5-8)", section=SEC_EXAMPLE, tolerance=TOL_LMI,
 )
-frac = float(np.mean(nn_run["qf"] <= 1.0))
-frac_seeds = [float(np.mean(row["frac_inside"])) for row in table if "realisation" in row["label"]]
+inside = nn_run["qf"] <= 1.0
+c2_lo, c2_hi = montecarlo.wilson_interval(int(inside.sum()), inside.size)
+ratio_f_nn = nn_run["ratio_f"].max() / L_scale
+ratio_g_nn = nn_run["ratio_g"].max() / aleph_scale
+premise_c2 = A3_holds and max(ratio_f_nn, ratio_g_nn) <= 1.0 and nn_run["delta_n"].max() <= e3
 claims["C2"] = results.claim(
-    paper="Theorem 3: P{x~_(i,k)^T B_k^-1 x~_(i,k) <= 1} >= p = 0.8 at every node and step",
-    check="fraction of (node, step) pairs, k = 0..T, inside the OP2 ellipsoid B_k of the NN "
-    "design >= p (also on the extra alpha_k realisations); max of the quadratic form reported. "
-    f"Valid only where the premise (12)-(13) holds (X2, L_i = aleph_i = {L_used:g} I)",
-    measured={"fraction": frac, "max_quadratic_form": float(nn_run["qf"].max()),
-              "fraction_extra_realisations": frac_seeds,
+    paper="Theorem 3, (10)-(11): P{x~_(i,k)^T B_k^-1 x~_(i,k) <= 1} >= p = 0.8 at every node and "
+    "step ('both the estimation errors are confined within the required range')",
+    check="fraction of (node, step) pairs, k = 0..T, inside the OP2 ellipsoid B_k of the NN design "
+    "(k = 0 included: it is fixed by Assumption 3, not by Theorem 3, and the largest form is there) "
+    "on this realisation; holds if the lower end of its Wilson 95 % interval is >= p (the interval "
+    "treats the pairs as a sample; they are not independent, so it overstates the confidence)",
+    measured={"fraction": float(inside.mean()), "inside": int(inside.sum()), "pairs": inside.size,
+              "max_quadratic_form": float(nn_run["qf"].max()),
               "fraction_conventional_design": float(np.mean(conv_run["qf"] <= 1.0))},
-    threshold=p,
-    holds=frac >= p and all(fs >= p for fs in frac_seeds),
-    tolerance=results.LMI_ITERATES,
+    key="fraction", interval=results.interval(c2_lo, c2_hi, method="wilson"),
+    threshold=p, holds=c2_lo >= p,
+    premise=(f"Assumption 3 at k = 0 (quadratic forms {np.round(A3_forms, 3).tolist()} <= 1, "
+             f"weight part {A3_weight:.3f} <= 1), (12)-(13) along the NN run (worst remainder "
+             f"ratio over the scale: f {ratio_f_nn:.3f}, g {ratio_g_nn:.3f} <= 1) and "
+             f"||delta_j|| <= e3 (max {nn_run['delta_n'].max():.3f})", bool(premise_c2)),
+    source="Theorem 3, (10)-(11); Sec. IV, Figs. 3-4", section=SEC_EXAMPLE, tolerance=TOL_LMI,
 )
 e_nn, e_conv = rmse(nn_run), rmse(conv_run)
-nodes_better = [i + 1 for i in range(N) if e_nn[i] < e_conv[i]]
+ratio_c3 = e_nn / e_conv
+nodes_better = [i + 1 for i in range(N) if ratio_c3[i] < 1.0 - c3_margin]
 claims["C3"] = results.claim(
-    paper="Section IV: under identical falsified innovations the conventional estimator (3) "
-    "shows worse estimation performance than the NN-based estimator (8)",
-    check="per-node RMSE (k = 1..T) of (8) < that of (3) at every node (the brief's per-node "
-    "check); the network averages are reported as extra information, not used for holds",
-    measured={"rmse_nn": e_nn, "rmse_conventional": e_conv, "nodes_nn_better": nodes_better,
+    paper="Sec. IV: 'in comparison to our developed approach, the conventional algorithm shows "
+    "worse estimation performance in the existence of falsified innovations' (Figs. 5-8 against "
+    "Figs. 1-4)",
+    check="per-node RMSE of ||x~_(i,k)|| over k = 1..T, both estimators on the same realisation "
+    "(the paper names no measure; the brief's check); holds if RMSE_NN < (1 - c3_margin) RMSE_conv "
+    f"at every node, c3_margin = {c3_margin:g} (ours: a tie within solver noise is not 'worse'). "
+    "Headline: the worst node's ratio RMSE_NN / RMSE_conv. The conventional design is MISSING in "
+    "the paper (ours: the attack-unaware OP2)",
+    measured={"worst_node_ratio": float(ratio_c3.max()), "ratio": ratio_c3, "rmse_nn": e_nn,
+              "rmse_conventional": e_conv, "nodes_nn_better": nodes_better,
               "mean_nn": float(e_nn.mean()), "mean_conventional": float(e_conv.mean()),
-              "mean_nn_better": bool(e_nn.mean() < e_conv.mean()),
-              "relative_difference": (e_nn - e_conv) / e_conv,
-              "taylor_scale": L_used},
-    threshold="rmse_nn < rmse_conventional at every node",
-    holds=len(nodes_better) == N,
-    tolerance=results.LMI_ITERATES,
+              "taylor_scale": float(L_scale)},
+    key="worst_node_ratio", threshold=1.0 - c3_margin, holds=len(nodes_better) == N,
+    source="Sec. IV, last paragraph; Figs. 1-8", section=SEC_EXAMPLE,
+    tolerance=TOL_LMI,
 )
 thm1_max = float(nn_run["Wq"].max())
 claims["C4"] = results.claim(
@@ -1317,149 +1604,351 @@ claims["C4"] = results.claim(
     "Holds by construction: the max is at k = 0, fixed by the data (||I - W*||_F^2 / 20); from "
     "k = 1 on W_hat ~ 0 and Q = e1^2 I, so (19) holds for any W allowed by Assumption 2",
     measured=thm1_max, threshold=1.0, holds=thm1_max <= 1.0,
-    tolerance=results.LMI_ITERATES,
+    premise=(f"Assumption 3, weight part: tr[W~_0^T Q_0^-1 W~_0] = {A3_weight:.3f} <= 1 with W = W*, "
+             f"and ||W*||_F = {np.linalg.norm(W_star):.3f} <= e1 (Assumption 2)",
+             bool(A3_weight <= 1.0 and np.linalg.norm(W_star) <= e1)),
+    source="Theorem 1, (18)-(19)", section=SEC_EXAMPLE, tolerance=TOL_LMI,
 )
 all_reports = nn_run["reports"] + conv_run["reports"]
-worst = max(r.worst_eig for r in all_reports)
-n_infeasible = len(nn_run["failures"]) + len(conv_run["failures"])
+n_uncert = len(nn_run["failures"]) + len(conv_run["failures"])
+worst = max((r.worst_eig for r in all_reports), default=None)
 claims["C5"] = results.claim(
-    paper="Algorithm 1 / Theorems 1-3: the recursive LMIs (18) and (30) are solvable at every "
-    "step",
+    paper="Algorithm 1 / Theorems 1-3 (conditional on the solvability of (18) and (30); the example "
+    "implies it): the recursive LMIs are solvable at every step",
     check="number of steps without a certified solution (OP2 of both designs, OP1) == 0, and the "
-    f"largest eigenvalue of every solved LMI matrix <= {cert_tol:g}",
-    measured={"infeasible_steps": n_infeasible, "solves": len(all_reports),
+    f"largest eigenvalue of every solved LMI matrix <= -{cert_tol:g} (the strict LMIs hold)",
+    measured={"uncertified_steps": n_uncert, "solves": len(all_reports) + n_uncert,
               "max_eigenvalue": worst, "fallbacks_to_scs": sum(r.fallback for r in all_reports),
               "statuses": sorted({r.status for r in all_reports}),
-              "max_asymmetry": max(max(r.asymmetry.values()) for r in all_reports),
-              "max_residual": max(max(r.residual.values()) for r in all_reports),
-              "max_iterations": max(r.iterations or 0 for r in all_reports)},
-    threshold={"infeasible_steps": 0, "max_eigenvalue": cert_tol},
-    holds=n_infeasible == 0 and worst <= cert_tol,
+              "max_asymmetry": max((max(r.asymmetry.values()) for r in all_reports), default=0.0),
+              "max_residual": max((max(r.residual.values()) for r in all_reports), default=0.0)},
+    key="uncertified_steps", threshold={"uncertified_steps": 0, "max_eigenvalue": -cert_tol},
+    holds=n_uncert == 0 and worst is not None and worst <= -cert_tol,
+    source="Algorithm 1 (step 3 'solve (30)'); Theorems 1-3", section=SEC_EXAMPLE,
     tolerance=results.Tolerance(
         rtol=0.25, atol=1e-6,
-        reason="interior-point diagnostics at the solver's stopping point: iteration counts may differ "
-        "by a few and residuals / eigenvalue margins (~1e-7) by their own size between machines; "
-        "the certification itself is compared exactly through holds"),
+        reason="interior-point diagnostics at the solver's stopping point: residuals and eigenvalue "
+        "margins (~1e-7) may differ by their own size between machines, and near the range's upper "
+        "end the count of uncertified steps depends on the last digits of the data; the "
+        "certification itself is compared exactly through holds"),
 )
+dyn = float(nn_run["dyn_res"].max()) if nn_run["dyn_res"].size else None
 claims["X1"] = results.claim(
     paper="(ours) error dynamics (54) with the row blocks re-derived from (15)-(16)",
-    check="max |x~_(i,k+1) - (Xi_i + (alpha_k - alpha_bar) Xi~_i) zeta_k| over nodes and steps, "
+    check="max |x~_(i,k+1) - (Xi_i + (alpha_k - alpha_bar) Xi~_i) zeta_k| over nodes and certified "
+    "steps (an uncertified step keeps the previous gains, so (54) with its solution does not apply), "
     "zeta_k built from the actual remainders, delta = chi - W* phi and r = Mbar^-1 rho(W* - W_hat)",
-    measured=float(nn_run["dyn_res"].max()), threshold=1e-10,
-    holds=float(nn_run["dyn_res"].max()) <= 1e-10,
+    measured=dyn, threshold=1e-10, holds=dyn is not None and dyn <= 1e-10,
+    source="ours; (15)-(16), (24)-(28), (54)", section=SEC_EXAMPLE,
+    tolerance=results.Tolerance(rtol=1.0, atol=1e-12, reason="a residual at round-off level"),
 )
 rat_f = np.concatenate([nn_run["ratio_f"], conv_run["ratio_f"]])
 rat_g = np.concatenate([nn_run["ratio_g"], conv_run["ratio_g"]])
-cover_f, cover_g = float(np.mean(rat_f <= L_used)), float(np.mean(rat_g <= aleph_used))
+x2_worst = float(max(rat_f.max() / L_scale, rat_g.max() / aleph_scale))
 claims["X2"] = results.claim(
     paper="(ours) the premise of Theorems 2-3: Taylor remainders (12)-(13) with ||Delta|| <= 1, "
-    "i.e. ||remainder|| <= ||L_i|| ||x~|| with the chosen L_i = aleph_i",
-    check="fraction of (node, step) pairs of the NN and the conventional run where the f- and "
-    "g-remainders are within the scale == 1; the scale comes from the rule (smallest multiple of "
-    f"{taylor_grid:g} satisfying it) unless overridden; max ratios and max ||delta_j|| <= e3 "
-    "reported",
-    measured={"fraction_f": cover_f, "fraction_g": cover_g,
+    "i.e. ||remainder|| <= s ||x~|| with L_i = L_scale I and aleph_i = aleph_scale I",
+    check="worst ratio ||remainder|| / (s ||x~||) over the (node, step) pairs of the NN and the "
+    "conventional run, for f with L_scale and g_i with aleph_scale, <= 1; the k = 0 ratios (the "
+    "lower end of the declared range) and the coverage fractions are reported",
+    measured={"worst_ratio_over_scale": x2_worst,
+              "fraction_f": float(np.mean(rat_f <= L_scale)),
+              "fraction_g": float(np.mean(rat_g <= aleph_scale)),
               "max_ratio_f": float(rat_f.max()), "max_ratio_g": float(rat_g.max()),
-              "max_ratio_f_nn": float(nn_run["ratio_f"].max()),
-              "max_ratio_g_nn": float(nn_run["ratio_g"].max()),
-              "k0_ratio": float(remainder_ratios_k0(x0, xhat0)),
-              "candidates": [[c, w] for c, w in rule_history],
+              "k0_ratio_f": r0_f, "k0_ratio_g": r0_g,
               "max_delta": float(nn_run["delta_n"].max())},
-    threshold={"L_scale": L_used, "aleph_scale": aleph_used, "grid": taylor_grid, "e3": e3,
-               "from_rule": taylor_scale is not None},
-    holds=cover_f == 1.0 and cover_g == 1.0,
-    tolerance=results.LMI_ITERATES,
+    key="worst_ratio_over_scale", threshold=1.0, holds=x2_worst <= 1.0,
+    source="ours; the premise (12)-(13) of Theorems 2-3", section=SEC_TAYLOR, tolerance=TOL_LMI,
 )
+lam2 = float(np.abs(nn_run["lam"][..., 1]).max())
 w_after = float(nn_run["Wn"][1:].max())
+h_nn = float(nn_run["Hn"].max())
+trQ_dev = float(np.max(np.abs(nn_run["trQ"][1:] - NY * e1**2)) / (NY * e1**2))
 claims["X3"] = results.claim(
-    paper="(ours, brief E4-E5) the NN compensation is inactive: OP1 sets W_hat to ~0 at k = 1 "
-    "and the robust design (30) drops the neighbour innovations",
-    check="max_(k>=1) ||W_hat_(ij,k)||_F <= 1e-6 and max ||H_ij|| of (30) below 1e-2 while the "
-    "conventional design's is above 0.5",
-    measured={"max_What_after_k0": w_after, "max_H_nn": float(nn_run["Hn"].max()),
-              "max_H_conventional": float(conv_run["Hn"].max()),
-              "lambda1_k0": nn_run["lam"][0, :, 0], "lambda2_k0": nn_run["lam"][0, :, 1]},
-    threshold={"What": 1e-6, "H_nn": 1e-2, "H_conventional": 0.5},
-    holds=w_after <= 1e-6 and nn_run["Hn"].max() < 1e-2 and conv_run["Hn"].max() > 0.5,
-    tolerance=results.LMI_ITERATES,
+    paper="(ours, brief E4-E5) the NN mechanism is not reproduced: the feasible set of (18) is "
+    "symmetric in lambda2, so OP1 returns lambda2 = 0 and (with Q_0 = 20 I > e1^2 I) lambda1 = 0, "
+    "W_hat = 0 from k = 1 on; and the robust OP2 (30) drops the neighbour innovations",
+    check="max_k |lambda2| <= 1e-6, max_(k>=1) ||W_hat_(ij,k)||_F <= 1e-6 and max_k ||H_ij,k|| of "
+    "the NN design <= 1e-2; reported: the compensation actually subtracted in (8), lambda1 at "
+    "k = 0 and the deviation of tr Q_(ij,k), k >= 1, from n_y e1^2 (E4 predicts Q = e1^2 I)",
+    measured={"max_What_after_k0": w_after, "max_abs_lambda2": lam2, "max_H_nn": h_nn,
+              "lambda1_k0": nn_run["lam"][0, :, 0],
+              "max_compensation": float(nn_run["comp"].max()),
+              "max_compensation_after_k0": float(nn_run["comp"][1:].max(initial=0.0)),
+              "trQ_relative_deviation_after_k0": trQ_dev},
+    key="max_What_after_k0", threshold={"lambda2": 1e-6, "What": 1e-6, "H_nn": 1e-2},
+    holds=lam2 <= 1e-6 and w_after <= 1e-6 and h_nn <= 1e-2,
+    source="ours; brief E4-E5 on (17), (18), (31) and (30)", section=SEC_EXAMPLE,
+    tolerance=results.Tolerance(rtol=1.0, atol=1e-8, reason="values at solver round-off (W_hat, "
+                                "lambda2 ~ 1e-11) differ between machines; the thresholds are "
+                                "orders of magnitude above"),
 )
-q_max = float(nn_run["sampled_q"].max())
+q_max = float(nn_run["sampled_q"].max()) if nn_run["sampled_q"].size else float("nan")
 claims["X4"] = results.claim(
     paper="(ours) Theorem 2: LMI (30) implies E_alpha{x~_(i,k+1)^T P_(k+1)^-1 x~_(i,k+1)} <= 1 (29) "
     "for every zeta admissible under the S-procedure constraints of (23)",
-    check="max over steps, nodes and 256 random zeta per step on the boundary of every "
+    check="max over certified steps, nodes and 256 random zeta per step on the boundary of every "
     "constraint of zeta^T (Xi^T P^-1 Xi + sigma^2 Xi~^T P^-1 Xi~) zeta <= 1",
-    measured=q_max, threshold=1.0, holds=q_max <= 1.0,
-    tolerance=results.LMI_ITERATES,
+    measured=q_max if np.isfinite(q_max) else None, threshold=1.0,
+    holds=bool(np.isfinite(q_max) and q_max <= 1.0),
+    source="ours; Theorem 2, (29)-(30), (55)", section=SEC_EXAMPLE, tolerance=TOL_LMI,
 )
-claims["X5"] = results.claim(
-    paper="(ours) DPP: the per-step problem built once with cp.Parameters and re-solved gives the "
-    "same solution as a freshly built problem",
-    check="max |P_(k+1) re-solved - P_(k+1) fresh| at the last step <= 1e-6",
-    measured=dpp_gap, threshold=1e-6, holds=dpp_gap <= 1e-6,
-    tolerance=results.LMI_ITERATES,
-)
+if extras:
+    claims["X5"] = results.claim(
+        paper="(ours) DPP: the per-step problem built once with cp.Parameters and re-solved gives the "
+        "same solution as a freshly built problem",
+        check="max |P_(k+1) re-solved - P_(k+1) fresh| at the last step <= 1e-6",
+        measured=dpp_gap, threshold=1e-6, holds=dpp_gap is not None and dpp_gap <= 1e-6,
+        premise=("the last step of the NN run is certified (else there is no solution to compare)",
+                 last_certified),
+        source="ours", section=SEC_EXAMPLE,
+        tolerance=results.Tolerance(rtol=1.0, atol=1e-6, reason="difference of two solver runs"),
+    )
 claims["X6"] = results.claim(
     paper="(ours) the printed LMI (22) with one multiplier set Gamma_k shared by all nodes is a "
     "special case of per-node multipliers, so it is never less conservative",
-    check=f"tr B_k of the shared and the per-node design over k = 0..{n_sh} on the same data "
-    "(shared >= per-node at every step), every shared solve certified",
-    measured={"trB_shared": trB_shared, "trB_per_node": trB_node,
-              "uncertified_steps_shared": len(shared_run["failures"])},
-    threshold="trB_shared >= trB_per_node - 1e-6",
+    check=f"every shared solve over k = 0..{n_sh} certified (headline: uncertified shared steps, "
+    "threshold 0) and tr B_k of the shared design >= that of the per-node design - 1e-6 at every "
+    "step on the same data (min_excess)",
+    measured={"min_excess": float(np.min(trB_shared - trB_node)), "trB_shared": trB_shared,
+              "trB_per_node": trB_node, "uncertified_steps_shared": len(shared_run["failures"])},
+    key="uncertified_steps_shared", threshold=0,
     holds=bool(np.all(trB_shared >= trB_node - 1e-6)) and not shared_run["failures"],
-    tolerance=results.LMI_ITERATES,
+    source="ours; (22) as printed", section="The printed shared multipliers (22), first steps",
+    tolerance=TOL_LMI,
 )
-results.write_claims(results_path, claims)
-for cid, c in claims.items():
-    print(cid, "holds" if c["holds"] else "DOES NOT HOLD")
+steps = np.arange(T_run)
+step_ok = ((nn_run["qP"][:-1] <= 1.0).all(axis=1)
+           & (nn_run["ratio_f"].reshape(T_run, N) <= L_scale).all(axis=1)
+           & (nn_run["ratio_g"].reshape(T_run, N) <= aleph_scale).all(axis=1)
+           & (nn_run["delta_n"].reshape(T_run, N) <= e3).all(axis=1)
+           & (nn_run["Wq"][:-1] <= 1.0).all(axis=1)
+           & np.isfinite(nn_run["cond"]).all(axis=1))
+cond_ok = nn_run["cond"][step_ok]
+x7 = float(cond_ok.max()) if cond_ok.size else None
+claims["X7"] = results.claim(
+    paper="(ours) Theorem 2, (29): E{x~_(i,k+1)^T P_(k+1)^-1 x~_(i,k+1)} <= 1, the expectation over "
+    "alpha_k (E8), given the past",
+    check="max over nodes and the steps whose premise holds of the exact conditional expectation "
+    "(1 - alpha_bar) q_0 + alpha_bar q_1 (both branches of alpha_k computed) <= 1; the premise of a "
+    "step: x~_(l,k)^T P_k^-1 x~_(l,k) <= 1 at every node, (12)-(13), ||delta|| <= e3, Theorem 1's "
+    "ellipsoid, a certified solve",
+    measured={"max_conditional_expectation": x7, "steps_checked": int(step_ok.sum()),
+              "steps": T_run,
+              "max_conventional_design": float(np.nanmax(conv_run["cond"]))
+              if np.isfinite(conv_run["cond"]).any() else None},
+    key="max_conditional_expectation", threshold=1.0, holds=x7 is not None and x7 <= 1.0,
+    premise=("the constraints of (23) hold at every step of the run "
+             f"({int(step_ok.sum())} of {T_run} steps)", bool(step_ok.all())),
+    source="ours; Theorem 2, (29), E8", section=SEC_EXAMPLE, tolerance=TOL_LMI,
+)
+if mc is not None:
+    claims["X8"] = results.claim(
+        paper="(ours) Theorem 2, (29): E{x~_(i,k+1)^T P_(k+1)^-1 x~_(i,k+1)} <= 1 over the "
+        "realisations of alpha",
+        check=f"Monte Carlo over {mc['runs']} realisations (NN design, each with its own P_k): "
+        "per node and step the Student-t 95 % interval of the mean of x~^T P_k^-1 x~; holds if the "
+        "largest upper bound over (i, k >= 1) is <= 1. Reported: the smallest fraction of runs "
+        "inside B_k over (i, k) with its Wilson interval (Theorem 3 per node and step; not decided). "
+        "Nearly degenerate: the NN design ignores alpha (||H|| ~ 3e-4), so the runs barely differ",
+        measured={"max_upper_95": mc["max_upper"], "max_mean": mc["max_mean"],
+                  "worst_step_node": list(mc["worst"]), "runs": mc["runs"],
+                  "min_fraction_inside": mc["min_fraction_inside"],
+                  "wilson_min_fraction": list(mc["wilson_min_fraction"]),
+                  "uncertified_steps": mc["uncertified"]},
+        key="max_upper_95", interval=results.interval(*mc["interval"], method="student-t"),
+        threshold=1.0, holds=mc["max_upper"] <= 1.0,
+        source="ours; Theorem 2, (29)", section="Extra — Monte Carlo check of (29) over "
+        r"$\alpha_k$ realisations (X8)", tolerance=TOL_LMI,
+    )
+h_conv_med = float(np.median(conv_run["Hn"]))
+claims["X9"] = results.claim(
+    paper="(ours, brief E5) the attack-unaware conventional design uses its neighbours' innovations "
+    "(||H|| ~ 1.5-2 in the brief), which the attack then reaches",
+    check="median over k of max_ij ||H_ij,k|| of the conventional design >= 0.5 (ours)",
+    measured={"median_H_conventional": h_conv_med, "max_H_conventional": float(conv_run["Hn"].max()),
+              "median_H_nn": float(np.median(nn_run["Hn"]))},
+    key="median_H_conventional", threshold=0.5, holds=h_conv_med >= 0.5,
+    source="ours; brief E5", section=SEC_EXAMPLE, tolerance=TOL_LMI,
+)
+results.write_claims(results_path, claims, robustness=ROBUSTNESS)
+written = json.loads(results.resolve(results_path).read_text())
+for cid, c in written.items():
+    extra_info = ""
+    if "robustness" in c:
+        rb = c["robustness"]
+        extra_info = (f"; over the declared space: {c['verdict']} ({rb['outcomes']['holds']}/"
+                      f"{rb['points']}" + (f": {rb['region']})" if c["verdict"] == "undetermined"
+                                           else ")"))
+    print(f"{cid}: at this point {results.point_verdict(c)}{extra_info}")
+
+# %% [markdown]
+# ## C3 over the declared space: the map
+#
+# **C3 is undetermined.** Over the 70 points of the declared space (7 Taylor scales × 2
+# realisations × 5 OCR readings) it holds at 12. These are counts on a fixed grid whose levels were
+# placed knowing where C3 turns (section "The missing Taylor scales"), not a sampled fraction. Per
+# scale level, out of 10 points: 8 at $s=0.116$, 4 at 0.139, none from 0.166 to 0.340. Per reading,
+# out of 14: 3 as read, 2 with $\bar\alpha=0.6$, 3 with $E_1$'s "+0.1cos", none with "0d5" read 0.05
+# (there NN is worse at node 2 by 0.4–1.6 % even at the smallest scales), 4 with $\sin 2x^{(2)}$
+# in $g_1$. Where C3 holds, NN's per-node RMSE is 0.6–44 % below the conventional one. The
+# sweep's best one-axis rule, "L_scale ≤ 0.116", is right at 91 % of the points.
+#
+# The lower panels show what C3 needs, not what decides it. C3 holds only where the attack-unaware
+# conventional design leans on its neighbours (X9: median $\max\|H_{ij,k}\|$ 1.29–1.53 there), so
+# that the falsified innovations reach it. That is necessary, not sufficient: X9 holds at 22
+# points, and at 10 of them C3 still fails (the conventional design's median gain 1.01–1.44): all 4
+# under "0d5" = 0.05 at $s\le0.139$, both seeds under the $g_1$ reading at 0.166, and 4 points at
+# 0.139 (seed 1 as read and under $E_1$'s "+0.1cos", both seeds with $\bar\alpha=0.6$). From
+# $s=0.166$ on (0.199 under the $g_1$ reading) the conventional design switches its neighbours off
+# as well (median $\le0.38$), and the two estimators nearly coincide: per-node RMSE ratios
+# between 0.988 and 1.052 at the 35 of those 48 points where every step is certified (worst node
+# 1.006–1.052); at the other 13 (C5 fails) the runs follow our fallback, not either design, and
+# the ratios spread from 0.78 to 1.15. So the direction of C3 is
+# set by the missing scales $L_i$, $\aleph_i$, the missing conventional design and the
+# realisation, not by the paper's method. The scale 0.15 of the earlier rule lies between the
+# levels 0.139 and 0.166, where the direction turns.
+#
+# The figure is drawn from `figures/ma2021/robustness.csv`, the table `make robustness` writes
+# (one row per point of the design: each claim's outcome and headline value). Top: the worst
+# node's RMSE ratio NN / conventional (C3's headline; C3 holds below the dashed line) against the
+# Taylor scale, one panel per OCR reading; the line is the median over the $\alpha_k$ realisations
+# (seeds) and the band their range. Bottom: what C3 needs, the conventional design's median
+# neighbour gain (X9's headline). The star is this run's point. The per-node ratios of
+# every point are in its claims (`build/sweeps/ma2021/<point>/claims.json` after a sweep; the
+# committed `claims.json` for the default point).
+
+# %%
+def read_robustness(path: str) -> list[dict]:
+    """The finished rows of the sweep table, or [] when it has not been made."""
+    full = results.resolve(path)
+    if not full.exists():
+        return []
+    with full.open(newline="") as fh:
+        return [row for row in csv.DictReader(fh) if row["status"] == "ok"]
+
+
+def map_series(rows: list[dict], reading: str, column: str) -> tuple:
+    """Scales, median and range over the seeds of `column` at one OCR reading."""
+    sel = [r for r in rows if r.get("ocr_reading", reading) == reading and r[column] != ""]
+    scales = sorted({float(r["L_scale"]) for r in sel})
+    vals = [[float(r[column]) for r in sel if float(r["L_scale"]) == s_] for s_ in scales]
+    return (np.array(scales), np.array([np.median(v) for v in vals]),
+            np.array([min(v) for v in vals]), np.array([max(v) for v in vals]))
+
+
+def map_figure(rows: list[dict]) -> None:
+    """C3's headline and X9's headline against the Taylor scale, one panel per OCR reading."""
+    readings = list(dict.fromkeys(r.get("ocr_reading", ocr_reading) for r in rows))
+    fig, axs = plt.subplots(2, len(readings), figsize=(plotting.PAGE_WIDTH, 4.4), sharex=True,
+                            sharey="row", squeeze=False)
+    data = {}
+    for col, reading_ in enumerate(readings):
+        for row, (column, colour) in enumerate((("C3.value", "tab:blue"), ("X9.value", "tab:red"))):
+            s_, med, lo_, hi_ = map_series(rows, reading_, column)
+            axs[row, col].fill_between(s_, lo_, hi_, color=colour, alpha=0.2, lw=0,
+                                       label="range over the seeds")
+            axs[row, col].plot(s_, med, "o-", color=colour, ms=2.5, lw=1.0,
+                               label="median over the seeds")
+            data[f"{column} | {reading_}"] = (s_, med, lo_, hi_)
+        axs[0, col].axhline(1.0 - c3_margin, color="k", ls="--", lw=0.8,
+                            label="C3 holds below: 1 - c3_margin")
+        for row in range(2):
+            axs[row, col].axvline(0.15, color="0.5", ls="-.", lw=0.8,
+                                  label="0.15, the earlier 0.05-grid rule's scale")
+        axs[1, col].axhline(0.5, color="k", ls=":", lw=0.8, label="X9 threshold 0.5")
+        axs[0, col].set_title(reading_, fontsize=7.5)
+        axs[1, col].set_xlabel("Taylor scale $s$ [–]")
+        if reading_ == ocr_reading:
+            axs[0, col].plot(L_scale, ratio_c3.max(), "*", color="k", ms=8, label="this run")
+            axs[1, col].plot(L_scale, h_conv_med, "*", color="k", ms=8)
+    axs[0, 0].set_ylabel("C3: worst node's RMSE\nratio NN / conv. [–]")
+    axs[1, 0].set_ylabel("X9: conv. design's\nmedian $\\max\\|H_{ij,k}\\|$ [–]")
+    handles, labels = axs[0, 0].get_legend_handles_labels()
+    handles2, labels2 = axs[1, 0].get_legend_handles_labels()
+    extra = [(h, lab) for h, lab in zip(handles2, labels2, strict=True) if lab.startswith("X9")]
+    fig.legend(handles + [h for h, _ in extra], labels + [lab for _, lab in extra],
+               loc="outside lower center", ncols=3, fontsize=6.5, frameon=False)
+    fig.set_layout_engine("constrained")
+    keys = sorted(data)
+    plotting.save_figure(fig, FIG_DIR, "extra_c3_map", data={
+        "series": np.array([k_ for k_ in keys for _ in data[k_][0]]),
+        "scale": np.concatenate([data[k_][0] for k_ in keys]),
+        "median": np.concatenate([data[k_][1] for k_ in keys]),
+        "min": np.concatenate([data[k_][2] for k_ in keys]),
+        "max": np.concatenate([data[k_][3] for k_ in keys])},
+        tolerance=dict.fromkeys(["median", "min", "max"], results.LMI_ITERATES))
+
+
+sweep_rows = read_robustness("figures/ma2021/robustness.csv")
+if not sweep_rows:
+    print("figures/ma2021/robustness.csv not found: run `make robustness NB=ma2021` for the map")
+elif plotting.figures_enabled():
+    map_figure(sweep_rows)
 
 # %% [markdown]
 # ## Discussion
 #
-# * **The Taylor scales decide the headline.** The premise (12)–(13) of Theorems 2–3 needs
-#   $\|\text{remainder}\|\le s\|\tilde x\|$. At $k=0$ the estimates are given, and the ratios are
-#   0.103 ($f$) and 0.115 ($g$) whatever the design, so every $s<0.115$ voids the guarantee at the
-#   first step. The rule picks $s=0.15$, and the premise then holds at every node and step of both
-#   runs (X2). At this scale the conventional design also becomes cautious ($\|H\|\approx1.6$
-#   instead of 1.9) and its RMSE drops to the level of the NN design. C3 fails per node (NN better
-#   only at node 2, by 0.4 %) and on the network average (0.089 against 0.085), and the three
-#   further $\alpha_k$ realisations favour the conventional estimator at every node. At $s=0.2$
-#   the two are equal to within 1 %.
-# * **Where C3 held, it held through robustness, not learning.** OP1 is a convex problem in which
-#   $\lambda^{(2)}=0$ is always at least as good as any other value: (18) is invariant under
-#   $\lambda^{(2)}\to-\lambda^{(2)}$ (E4). With $Q_0=20I$ and $e_1=3$ the S-procedure radius
-#   $\lambda^{(1)}\sqrt{20}+(1-\lambda^{(1)})\cdot3$ is smallest at $\lambda^{(1)}=0$. Hence
-#   $\hat W_{ij,1}=0$, $Q_{ij,k}\to9I$, and the compensation $\bar\alpha\hat W\phi(z_i)$ is zero from
-#   $k=1$ on (X3, panel d). The robust design (30) pays a worst-case price
-#   $\approx\sqrt{\bar\alpha}e_3\|H\|$ for every neighbour innovation, so it sets
-#   $\|H_{ij}\|\approx4\cdot10^{-4}$ (panel c) and the network decouples. The attack-unaware design
-#   uses $\|H\|\approx1.6$–$1.9$: neighbour innovations help it because they partly cancel the shared
-#   measurement noise $\mu_k$, and they hurt it when $\alpha_k=1$, since $0.3\cos z^{(2)}\approx0.3$
-#   is almost a constant bias. The row "attack-aware (3), W_hat = 0" gives the same RMSE as the NN
-#   estimator to four digits: everything the comparison shows is due to the attack-aware gains.
-# * **Alternative OCR readings.** With $E_1$'s amplitude read as 0.1 or the $g_1$ term read as
-#   $\sin 2x^{(2)}$, NN is better at all three nodes (by 1–6 %); with "0d5" read as 0.05 only at
-#   node 1. With $x_0=[2;1]$ (Assumption 3 fails at nodes 1–2) the rule gives $s=0.2$ and the
-#   conventional estimator is better at every node. $\bar\alpha=0.6$ does not change the NN design,
-#   whose gains switch the attacked channels off.
-# * **C2 is very conservative.** The largest normalised error is about 0.09 against the threshold
-#   1, and it occurs at $k=0$, where $\mathfrak B_0=P_0/(1-p)$ is fixed by Assumption 3. The LMI
-#   budgets for the worst case $V_k=1$, while $|v_k|\le0.3$, and for $e_3=3$, while
-#   $\|\delta\|\le0.3$. The LMI itself is tight: on sampled $\zeta$ at the boundary of every
-#   S-procedure constraint, the quadratic form of (55) reaches 0.9996 (X4). The slack comes from
-#   the admissible set (the bounds $V$, $U$, $e_3$, $N^2$), not from the S-procedure.
+# * **What C3 measures here.** Where C3 holds, it holds through the attack-aware gains, not
+#   through learning. OP1 is a convex problem in which $\lambda^{(2)}=0$ is always at least as good
+#   as any other value: (18) is invariant under $\lambda^{(2)}\to-\lambda^{(2)}$ (E4), and an
+#   interior-point solver returns the symmetric point. With $Q_0=20I$ and $e_1=3$ the S-procedure
+#   radius $\lambda^{(1)}\sqrt{20}+(1-\lambda^{(1)})\cdot3$ is smallest at $\lambda^{(1)}=0$. Hence
+#   $\hat W_{ij,1}=0$, $Q_{ij,k}=e_1^2I$ from $k=1$ on, and the compensation
+#   $\bar\alpha\hat W\phi(z_i)$ is zero from then on (X3, panel d; the compensation actually
+#   subtracted is below $10^{-13}$ after $k=0$ at every point of the sweep). The robust design (30)
+#   pays a worst-case price $\approx\sqrt{\bar\alpha}e_3\|H\|$ for every neighbour innovation, so it
+#   sets $\|H_{ij}\|$ between $2\cdot10^{-4}$ and $3.2\cdot10^{-3}$ (panel c) and the network decouples. The attack-unaware
+#   design uses its neighbours (X9) while the Taylor scale is small: their innovations partly
+#   cancel the shared measurement noise $\mu_k$, and they carry the attack when $\alpha_k=1$, since
+#   $0.3\cos z^{(2)}\approx0.3$ is almost a constant bias. A larger $s$ inflates the remainder terms
+#   of the attack-unaware LMI as well, until it drops the neighbours too.
+# * **The record.** The earlier verdict "C3 does not hold" rested on the scale 0.15 that a
+#   0.05-grid rule picked after the reversal at 0.15 was known (section "The missing Taylor
+#   scales"); the map shows that the same rule on a finer grid would have picked a scale where
+#   C3 holds. Neither choice is the paper's: it gives no $L_i$, $\aleph_i$.
+# * **Premises.** C2 is Theorem 3's statement; it is recorded with its premise (Assumption 3,
+#   (12)–(13) along the run, $\|\delta\|\le e_3$). In the declared space the premise fails only
+#   at $s=0.116$ under the $g_1$ reading $\sin 2x^{(2)}$, whose remainder ratio at $k=0$ exceeds
+#   0.116 (X2): there C2 is "fails-premise", not "holds". At $x_0=[2;1]$ (outside the declared
+#   space, run by the tests) Assumption 3 fails at nodes 1–2 (quadratic forms 1.14 and 1.17), and
+#   so does C2's premise. C2 never fails where its premise holds. There it is very conservative:
+#   the largest normalised error is about 0.09 against the threshold 1, at $k=0$, where
+#   $\mathfrak B_0=P_0/(1-p)$ is fixed by Assumption 3, not by Theorem 3 (C2's pooled fraction
+#   includes $k=0$; from $k=1$ on the forms are smaller still); the LMI budgets for $V_k=1$ while
+#   $|v_k|\le0.3$ and for $e_3=3$ while $\|\delta\|\le0.3$. The LMI itself is tight: on sampled
+#   $\zeta$ at the boundary of every S-procedure constraint the quadratic form of (55) reaches
+#   0.99–0.999 (X4), and along the run the exact conditional expectation of (29) stays below 0.25
+#   (X7).
+# * **The upper end of the scale range.** Under the strict certificate no point at $s=0.34$ is
+#   certified at every step (4 to 38 uncertified steps per point), nor 3 of the 10 at 0.284 (under
+#   "0d5" = 0.05 and with $\bar\alpha=0.6$, seed 0). This is a limit of the certificate, not
+#   infeasibility: OP2 is feasible in exact arithmetic ($\mathfrak B_{k+1}$ is free, brief §7), and
+#   CLARABEL reports "optimal", but at the first rejected step of each run the largest eigenvalue of
+#   an LMI matrix lies between $-10^{-8}$ and $0$: the solver used up the margin $10^{-6}$ it was
+#   given, and the strict certificate ($\le-10^{-8}$) rejects it, where the earlier one ($\le+10^{-8}$)
+#   accepted it. After that our fallback keeps the previous gains and doubles $P$ (brief §7), and
+#   later steps drift further (largest eigenvalues up to $4\cdot10^{-2}$). So C5 holds at 57 of 70
+#   points; C1 fails at 2 of them ($s=0.34$ under "0d5" = 0.05) because of the stale gains, and
+#   X7's premise fails at all 10 points at 0.34, and at $s=0.116$ under the $g_1$ reading.
+# * **Shared multipliers (X6).** The printed (22) with one $\Gamma_k$ roughly doubles
+#   $\mathrm{tr}\,\mathfrak B_k$ per step over the two steps run, while per-node multipliers keep
+#   it near 6–7. The shared LMI is not certified at $k=1$ at 12 of the 70 points (under the
+#   alternative readings of $E_1$, $f$ and $g_1$), so X6 holds at 58. At those 12 points the
+#   claim is not contradicted, only not checked (no certified solution to compare); wherever the
+#   shared LMI is certified it is never less conservative. What happens later is not claimed.
+# * **C1's bound is ours.** The paper says the NN estimator tracks "with a satisfactory precision"
+#   and the conventional one "with certain precision", with no number; `track_tol` = 0.2 is our
+#   reading (the OCR keeps no data of Figs. 3–4, only tick labels from −0.8 to 1). At the default
+#   point the conventional estimator's late error reaches 0.202, just above it: reported, not
+#   judged, since the paper claims only "certain precision" for it.
 # * **C4 holds by construction.** Its maximum is at $k=0$ and is fixed by the data,
 #   $\|I-W^\star\|_F^2/20$. From $k=1$ on $\hat W\approx0$ and $Q=e_1^2I$, so (19) holds for any
 #   $W$ that Assumption 2 allows: the check cannot fail on this example.
-# * **OP3.** With the fixed ellipsoid $\mathfrak B=2I$ the guaranteed probability starts at 0.57
-#   and falls below 0 ($\rho_k\ge1$) from $k=7$ on (34 of 40 steps): $2I$ is smaller than what the
-#   premise-respecting design needs ($\mathrm{tr}\,\mathfrak B_k\approx7$), so the bound is void
-#   there (panel f). With the earlier scale $0.1I$ it stayed near 0.4.
-# * **Shared multipliers (X6).** The printed (22) with one $\Gamma_k$ roughly doubles
-#   $\mathrm{tr}\,\mathfrak B_k$ per step over the two steps run (7.1, 16.1, 32.0), while per-node
-#   multipliers keep it near 7. We do not claim what happens later: from $k=2$ on the solvers no
-#   longer certify the shared LMI.
+# * **OP3 and the Monte Carlo check (extras, paper mode).** With the fixed ellipsoid
+#   $\mathfrak B=2I$ the guaranteed probability $p_k$ of the corrected OP3 is printed above and
+#   drawn in panel (f); steps with $\rho_k\ge1$ are void. X8 checks (29) over `mc_runs`
+#   realisations, each with its own data-dependent $P_k$ (printed above).
 
 # %% [markdown]
 # ## Deviations from the paper
@@ -1467,21 +1956,21 @@ for cid, c in claims.items():
 # | item (tag) | paper (as printed / OCR) | here | why |
 # |---|---|---|---|
 # | E1, Lemma 4 (CORRECTED) | $P_k$ defined with a factor $\tfrac1{1-p}$ | $P_k=(1-p)\mathfrak B_k$ | the only reading under which Markov's inequality yields (11) |
-# | E2, OP3 (33) (CORRECTED) | min $q_k=1/(1-p_k)$, \"1 < q < +∞\" | min $\rho=1-p_{k+1}$ with $-\rho\mathfrak B$ in (30) | as printed the problem is not convex and points the wrong way |
-# | E3, multipliers (DEVIATION, design choice) | one $\Gamma_k$ shared by all $N$ inequalities (22) | one $\Gamma_{i,k}$ per node (`shared_multipliers=False`) | the printed form is not wrong, only more conservative; per-node multipliers are a valid relaxation (a separate S-procedure per inequality). The printed LMI is run for 2 steps (X6): $\mathrm{tr}\,\mathfrak B$ 7.1 → 16.1 → 32.0 against 7.1 → 6.6 → 6.9. Later steps are not claimed: the solvers stop certifying the shared LMI from $k=2$ on |
-# | (24)–(28) | OCR damaged | row blocks re-derived from (15)–(16) (table above) | checked to machine precision on the actual run (X1) |
+# | E2, OP3 (33) (CORRECTED) | min $q_k=1/(1-p_k)$, "1 < q < +∞" | min $\rho=1-p_{k+1}$ with $-\rho\mathfrak B$ in (30) | as printed the problem is not convex and points the wrong way |
+# | E3, multipliers (DEVIATION, design choice) | one $\Gamma_k$ shared by all $N$ inequalities (22) | one $\Gamma_{i,k}$ per node (`shared_multipliers=False`) | the printed form is not wrong, only more conservative; per-node multipliers are a valid relaxation (a separate S-procedure per inequality). The printed LMI is run for 2 steps (X6): at the default $\mathrm{tr}\,\mathfrak B$ 7.1 → 14.7 → 25.8 against 7.1 → 6.1 → 6.0; at 12 of the 70 points of the sweep its step $k=1$ is not certified |
+# | (24)–(28) (RECONSTRUCTED) | OCR damaged | row blocks re-derived from (15)–(16) (table above) | where legible the printed blocks agree; checked to machine precision on every certified step (X1) |
 # | $\varrho$, $\bar M$ | $\varrho$ stacks rows; $Q_{ij}\otimes I$ | `A.flatten()`; $\bar M=\mathrm{chol}(Q)\otimes I_{n_\phi}$ | consistent with $\mathrm{tr}[W^\top Q^{-1}W]=\varrho^\top(Q^{-1}\otimes I)\varrho$ |
 # | $r$-vector | all $N^2$ ordered pairs ($d=63$) | links only ($d=43$), bound $r^\top r\le N^2$ kept | the dropped columns are identically zero |
-# | (18) strict, (22) non-strict | | every LMI imposed as $\le-10^{-6}I$ and certified with numpy at $10^{-8}$ | margin above the solver tolerance |
+# | (18) strict, (22) non-strict | | every LMI imposed as $\le-10^{-6}I$ and certified strict with numpy (largest eigenvalue $\le-10^{-8}$) | the margin keeps the solver's iterate inside the strict LMIs |
 # | OP1 | $\lambda^{(1)},\lambda^{(2)}$ "positive" | free, with $|\lambda^{(2)}|\le10^3$ | the box removes an unbounded optimal face when $\varpi\approx0$ and is never active; $\lambda^{(2)}=0$ is optimal anyway (E4) |
 # | OP1 | one problem per link | one separable problem (sum of traces) | same minimisers, one solve per step |
-# | conventional design (MISSING) | "characterised by (3)" | attack-unaware analogue of OP2 | MISSING in the paper |
-# | $L_i$, $\aleph_i$ (MISSING) | not given | $sI_2$, $s$ = smallest multiple of 0.05 for which (12)–(13) hold along both runs: 0.15 | a value under which the paper's own premise fails would void Theorems 2–3; the previous default 0.1 (premise fails at $k=0$) is a sensitivity row |
-# | C3 criterion | "worse estimation performance" | per node, as in the brief's check; network average reported | an earlier version of this notebook judged C3 on the network average, a change of criterion that was not named; we follow the brief again |
-# | $x_0^{(2)}$ (MISSING) | illegible ("R [ O I") | 2.0 | chosen so that Assumption 3 holds; 1.0 and 0.1 violate it |
-# | $\varpi$ in (17) (RECONSTRUCTED) | "a Z 9in5,;€‘1’2;€+12@1€+1 JEN;" | sum over $j\in\mathcal N_i$ (`varpi_form`) | immaterial here ($\lambda^{(2)}=0$, E4) |
-# | example values (RECONSTRUCTED / MISSING) | partly illegible | see the provenance table; the alternative readings of $E_1$, \"0d5\" and \"sin(2z\" are sensitivity rows | OCR |
-# | $\bar\alpha$ (RECONSTRUCTED) | \"o= 067\" | 0.67 (brief: 0.6) | we read the digits literally, with the decimal point lost; 0.6 is in the sensitivity table |
+# | conventional design (MISSING) | "characterised by (3)" | attack-unaware analogue of OP2 | MISSING in the paper; other designs are plausible (e.g. attack-aware OP2 without the NN terms) and are not swept; C3 needs this one to use its neighbours (X9), so C3's map is conditional on it |
+# | $L_i$, $\aleph_i$ (MISSING) | not given | $sI_2$ with $s$ in a declared range [0.116, 0.34] (7 geometric levels), tied; default 0.116 | from the premise's $k=0$ limit to the last certified scale; claims are judged over the range. Earlier versions used 0.1 (premise fails at $k=0$) and then 0.15, picked by a 0.05-grid rule written after the reversal of C3 at 0.15 was known |
+# | C3 criterion (ours) | "worse estimation performance" | per-node RMSE over $k=1..T$, NN better at every node by more than `c3_margin` = 0.1 % | the paper names no measure; a tie within solver noise is not "worse" |
+# | $x_0^{(2)}$ (MISSING) | illegible ("R [ O I") | 2.0 | Assumption 3 holds for a 2nd entry in [1.08, 2.31]; not swept (budget), although the brief (§6) reports node 2 turning in favour of the conventional design at $x_0=[2;1]$, so C3's map is conditional on it; the tests run [2, 1], where Assumption 3 fails |
+# | $\bar\alpha$, $E_1$, "0d5", "sin(2z" (RECONSTRUCTED) | partly illegible | as read: 0.67, 0.01, 0.45, $\sin x^{(2)}$; each alternative (0.6, 0.1, 0.05, $\sin 2x^{(2)}$) is a level of `ocr_reading`, swept one at a time | OCR; combinations are not swept (budget) |
+# | $\alpha_k$ realisation (MISSING) | one realisation shown, no seed | seeds 0 and 1 swept | only 2 (budget), yet C3 turns with the seed at $s=0.139$ (as read and under $E_1$'s "+0.1cos"): more seeds could move the counts |
+# | $\varpi$ in (17) (RECONSTRUCTED) | "a Z 9in5,;€‘1’2;€+12@1€+1 JEN;" | sum over $j\in\mathcal N_i$ (`varpi_form`) | immaterial: $\lambda^{(2)}=0$ at every point (E4, X3), so $\varpi$ drops out of (17) |
 # | $W_{ij}$ | not given | $W^\star$, least-squares fit of $\chi$ | needed to evaluate C4 and X1 |
 # | figures | curves of the paper | qualitative comparison only | the paper's figures survive only as tick residue; the reconstructed $f,g_i$ cannot be checked against them |
 # | C6, cost per step | Remark 7 | not measured here | timings belong to the benchmark suite (`make bench`) |
