@@ -27,8 +27,8 @@ pytestmark = pytest.mark.xdist_group("lee2020-arena")
 
 NOTEBOOK_NAMES = (
     "A", "B", "N", "V", "W", "S_ind", "T_modal", "U_sub", "a4_resid", "adj_ex", "attack_amplitude",
-    "banks", "dt", "dt_ex", "exogenous", "gain_sets", "gamma", "gamma_ex", "hi", "horizon", "kappa",
-    "L_gain", "lap_ex", "lo", "modes", "network_system", "pattern", "record_dt", "runs", "s_vals",
+    "banks", "dt", "dt_ex", "exogenous", "gamma", "gamma_ex", "hi", "kappa", "L_gain", "lap_ex", "lo",
+    "modes", "network_system", "observers", "pattern", "record_dt", "runs", "s_vals",
     "simulate", "X_init", "x_init", "z_vals",
 )
 
@@ -37,7 +37,7 @@ NOTEBOOK_NAMES = (
 def nb() -> dict:
     """What the tests compare, taken from the notebook by name (fast mode, no figures)."""
     return notebook_definitions("lee2020", *NOTEBOOK_NAMES, mode="fast", figures=False, T=0.5,
-                                sweep_T=0.2)
+                                sweep_T=0.2, basis_normalisation="unit")
 
 
 @pytest.fixture(scope="module")
@@ -55,7 +55,7 @@ def _rel(a: np.ndarray, b: np.ndarray) -> float:
 def test_median_set_and_solver_equal_the_notebook(nb) -> None:
     assert L.median_set(nb["z_vals"], nb["s_vals"]) == (nb["lo"], nb["hi"])
     t, xs = L.median_solver(graphs.ring_graph(nb["N"]), nb["z_vals"], nb["s_vals"], nb["x_init"],
-                            nb["gamma"], nb["horizon"], nb["dt"])
+                            nb["gamma"], nb["T"], nb["dt"])
     ref = nb["runs"]["ring"]
     assert np.array_equal(t, ref["t"]) and _rel(xs, ref["x"]) <= 1e-12
 
@@ -73,7 +73,8 @@ def test_basis_of_assumption4_equals_the_notebook(nb, basis) -> None:
 @pytest.mark.parametrize("poles", ["near", "shifted"])
 def test_observer_gains_equal_the_notebook(nb, basis, poles) -> None:
     gains, closed = L.observer_gains(nb["A"], basis.V, basis.S, nb["banks"], poles)
-    ref_gains, ref_closed = nb["gain_sets"][poles]
+    ref = nb["observers"][("unit", poles)]  # the notebook's reading (basis normalisation, poles)
+    ref_gains, ref_closed = ref.L, ref.F
     for mine, ref in zip(gains + closed, ref_gains + ref_closed, strict=True):
         assert _rel(mine, ref) <= 1e-10
 
@@ -109,7 +110,7 @@ def test_sampled_reading_converges_to_the_continuous_observer(nb, basis) -> None
     (6) over 12 s, at sampling periods 2 ms and 4 ms (order one: the ratio is about 2).
     """
     A, banks, V, S = nb["A"], nb["banks"], basis.V, basis.S
-    gains = nb["gain_sets"]["shifted"][0]
+    gains = nb["observers"][("unit", "shifted")].L
     h, K, amp = 1e-3, 12000, nb["attack_amplitude"]
     cont = L.network_system(A, np.zeros(6), banks, V, S, gains, nb["kappa"], nb["gamma_ex"], nb["lap_ex"])
 

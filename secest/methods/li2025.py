@@ -65,7 +65,8 @@ Array = NDArray[np.float64]
 VARIANTS = ("corrected", "paper")
 """Bound coefficients: re-derived from the paper's proof, or as printed in Theorem 2."""
 UPDATES = ("zero", "zoh", "debiased", "open_loop")
-"""Measurement updates of :func:`estimate` (the last two are the notebook's, not the paper's)."""
+"""Measurement updates of :func:`estimate` (the last two are the notebook's, not the paper's; the
+notebook runs them in its exact-moment recursion only, ``exact_moments``)."""
 ARENA_WEIGHTS = (1e-3, 1.0, 1e-2, 0.1, 0.1)
 """``(lambda, alpha_1..alpha_4)`` on the arena: the notebook's Remark-4 grid optimum for target 1."""
 
@@ -299,9 +300,13 @@ def estimate(
         ``"zero"``: the paper's zero-input update (8). ``"zoh"``: the ZOH variant of Fig. 6 (a
         buffer holds the last received value of each sensor, initialised with
         ``C H x_hat(0|0)``, used as a full measurement, gain and bound with ``Phi = I``).
-        ``"debiased"`` (the notebook's, not the paper's): innovation
-        ``y - psi_check Phi C H x_hat(k|k-1)``. ``"open_loop"`` (reference): no correction
-        (``L = 0``); ``S`` is still the bound of the zero-input gain.
+        ``"debiased"`` (the notebook's X1, not the paper's): innovation
+        ``y - psi_check Phi C H x_hat(k|k-1)``, gain (28) of the zero-input design.
+        ``"open_loop"`` (reference): no correction (``L = 0``); ``S`` is still the bound of the
+        zero-input gain. The notebook runs these two only in its exact-moment recursion
+        (``exact_moments(debias=True)``, ``exact_moments(gain="zero")``: the exact
+        ``E{x_hat x_hat^T}``, and no bound for the open loop); here they run on sampled data
+        with the ``moment`` surrogate, like the notebook's ``simulate`` for the other two.
     k_factor : bool, default True
         :func:`predicted_bound`.
 
