@@ -468,7 +468,8 @@ def describe_region(
                 if sel:
                     parts.append(f"{axis.label(v)}: {sum(sel)}/{len(sel)}")
             levels.append(f"{name} ({', '.join(parts)})")
-    tail = "; holding per level: " + "; ".join(levels) if levels else ""
+    counted = "holding" if words[0] == "holds" else words[0]
+    tail = f"; {counted} per level: " + "; ".join(levels) if levels else ""
     best = f", the best rule is '{text}' (right at {accuracy:.0%} of points)" if rules else ""
     return f"{words[0]} at {sum(holds)} of {n} points; no one- or two-axis rule separates it{best}{tail}"
 
