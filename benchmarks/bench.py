@@ -38,6 +38,7 @@ from harness import (  # noqa: E402
     load_notebook,
     measure,
     not_measured,
+    notebook_definitions,
 )
 
 from secest.results import repo_root  # noqa: E402
@@ -369,8 +370,10 @@ def bench_ma2021(repeats: int) -> list[Row]:
     from secest import lmi as slmi
     from secest import montecarlo
 
-    nb = load_notebook("ma2021", stop_before="rngs = montecarlo.spawn_rngs(seed, 1 + n_extra)",
-                       mode="fast")
+    nb = notebook_definitions(
+        "ma2021", "alpha_sequence", "simulate", "get_problem", "build_op2_problem", "seed", "T_run",
+        "alpha_bar", "e3", "eps_lmi", "shared_multipliers", "r_bound", "CLARABEL_OPTS", "SCS_OPTS",
+        "cert_tol", mode="fast", figures=False)
     alpha = nb["alpha_sequence"](montecarlo.spawn_rngs(nb["seed"], 1)[0], nb["T_run"],
                                  nb["alpha_bar"])
     res = nb["simulate"](alpha=alpha, estimator="nn")
