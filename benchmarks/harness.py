@@ -16,10 +16,12 @@ import contextlib
 import io
 import symtable
 import sys
+import tempfile
 import time
 import types
 from collections.abc import Callable
 from dataclasses import asdict, dataclass
+from pathlib import Path
 from typing import Any
 
 import jupytext
@@ -304,6 +306,15 @@ def _mutated_names(statement: ast.stmt) -> set[str]:
     return {n for n in names if n is not None}
 
 
+def _scratch_outputs(key: str, declared: set[str]) -> dict[str, Any]:
+    """Output parameters pointing into a fresh temporary folder and figures off: a statement
+    that saves a figure or claims never writes over the committed ``figures/<key>/``."""
+    out = Path(tempfile.mkdtemp(prefix=f"secest-{key}-"))
+    scratch = {"fig_dir": str(out / "figures"), "results_path": str(out / "claims.json"),
+               "figures": False}
+    return {name: value for name, value in scratch.items() if name in declared}
+
+
 def notebook_definitions(key: str, *names: str, **parameters: Any) -> dict[str, Any]:
     """The named functions / classes / values of ``notebooks/<key>.py``, by name, nothing else.
 
@@ -317,6 +328,9 @@ def notebook_definitions(key: str, *names: str, **parameters: Any) -> dict[str, 
     so a function's local variables never pull in a computation that happens to share their
     name). The notebook's other statements (prints, figures, computations the named objects do
     not need) are not run. Import modules such as ``np`` are never "changed in place".
+
+    The output parameters (``fig_dir``, ``results_path``) point into a temporary folder and
+    ``figures`` is off unless given, so nothing is written over the committed results.
 
     Raises
     ------
@@ -335,6 +349,7 @@ def notebook_definitions(key: str, *names: str, **parameters: Any) -> dict[str, 
     unknown = set(parameters) - declared
     if unknown:
         raise ValueError(f"parameters {sorted(unknown)} are not declared by notebook {key}")
+    parameters = {**_scratch_outputs(key, declared), **parameters}
     statements = [node for c in code if c is not tagged[0] for node in ast.parse(c.source).body]
     imports = [s for s in statements if isinstance(s, ast.Import | ast.ImportFrom)]
     imported = {(a.asname or a.name).split(".")[0] for s in imports for a in s.names}
