@@ -725,7 +725,7 @@ def claims_markdown(root: Path = ROOT) -> str:
             "",
             ":::{list-table}",
             ":header-rows: 1",
-            ":widths: 14 36 50",
+            ":widths: 18 34 48",
             ":class: secest-claims",
             "",
             "* - Claim, verdict",
@@ -770,17 +770,9 @@ def _claim_row(
     rob = entry.get("robustness")
     if rob:
         frac = rob.get("fraction_holds")
-        if isinstance(frac, int | float):
-            first.append(f"holds in {100 * frac:.0f} % of the declared space")
-        iv = rob.get("interval")
-        if isinstance(iv, Mapping) and {"low", "high"} <= set(iv):
-            first.append(escape_md(_interval(iv)))
-        elif iv:
-            first.append(f"interval {escape_md(format_value(iv))}")
-        if rob.get("region"):
-            first.append(f"where: {escape_md(format_value(rob['region']))}")
-        if rob.get("points"):
-            first.append(f"{escape_md(format_value(rob['points']))} points")
+        share = f"holds in {100 * frac:.0f} %" if isinstance(frac, int | float) else "swept"
+        first.append(f"{share} of the declared space")
+        parts.append(_robustness_text(rob))
     first.append(where)
     return [
         f"* - ({claim_label(key, cid)})=",
@@ -791,6 +783,21 @@ def _claim_row(
         f"    <span class='secest-source'>source: {escape_md(source)}</span>",
         "  - " + "\n\n    ".join(parts),
     ]
+
+
+def _robustness_text(rob: Mapping[str, Any]) -> str:
+    """The sweep's record of a claim, for the wide column: points, region, interval."""
+    text = "**over the declared space**"
+    if rob.get("points"):
+        text += f" ({escape_md(format_value(rob['points']))} points)"
+    if rob.get("region"):
+        text += f": {escape_md(format_value(rob['region']))}"
+    iv = rob.get("interval")
+    if isinstance(iv, Mapping) and {"low", "high"} <= set(iv):
+        text += f"; fraction holding: {escape_md(_interval(iv))}"
+    elif iv:
+        text += f"; interval {escape_md(format_value(iv))}"
+    return text
 
 
 def claim_label(key: str, cid: str) -> str:

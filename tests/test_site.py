@@ -44,6 +44,7 @@ ROOT = repo_root()
 SRC = ROOT / "build" / "site-src"
 HTML = ROOT / "build" / "html"
 SHOTS = ROOT / "build" / "site-screenshots"
+JPEG_MAX_PX = 60_000  # below JPEG's limit of 65 535 px per side
 CHROMIUM = Path("/usr/bin/chromium")
 CHROMIUM_FLAGS = [
     "--headless",
@@ -462,9 +463,11 @@ def browsed(browser_context: Any, server: str, pages: list[Path]) -> dict[str, d
         maths = _check_maths(page, name)
         figures = (_check_figures(page, name.split("/")[1])
                    if name.startswith(("papers/", "beyond/")) else [])
-        # JPEG: a full page of 20 000 px encodes several times faster than PNG, legible for people
-        page.screenshot(path=str(SHOTS / (name.replace("/", "__") + ".jpg")), full_page=True,
-                        type="jpeg", quality=80)
+        # JPEG: a full page of 20 000 px encodes several times faster than PNG, legible for
+        # people; JPEG cannot exceed 65 535 px, so a taller page is saved as PNG
+        tall = page.evaluate("document.documentElement.scrollHeight") > JPEG_MAX_PX
+        shot = SHOTS / (name.replace("/", "__") + (".png" if tall else ".jpg"))
+        page.screenshot(path=str(shot), full_page=True, **({} if tall else {"type": "jpeg", "quality": 80}))
         landings = {frag: _land(page, url, frag) for frag in errata.get(name, [])}
         page.close()
         found[name] = {
@@ -499,9 +502,9 @@ def test_paper_pages_show_every_manifest_figure(browsed: dict[str, Any]) -> None
 
 
 def test_a_screenshot_of_every_page(browsed: dict[str, Any]) -> None:
-    shots = {p.stem for p in SHOTS.glob("*.jpg")}
-    assert shots == {name.replace("/", "__") for name in browsed}
-    assert all(p.stat().st_size > 10_000 for p in SHOTS.glob("*.jpg"))
+    shots = [*SHOTS.glob("*.jpg"), *SHOTS.glob("*.png")]
+    assert sorted(p.stem for p in shots) == sorted(name.replace("/", "__") for name in browsed)
+    assert all(p.stat().st_size > 10_000 for p in shots)
 
 
 def test_errata_links_land_on_deviations_in_browser(browsed: dict[str, Any]) -> None:
