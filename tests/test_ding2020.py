@@ -36,7 +36,8 @@ def claims(run_notebook):
 
 @pytest.fixture(scope="module")
 def claims_k0(run_notebook):
-    return run_notebook("ding2020", kappa=0.0, figures=False)
+    # exact-zero leaks only: the smallest Monte Carlo budgets that keep every path running
+    return run_notebook("ding2020", kappa=0.0, figures=False, mc_runs=30, long_steps=300)
 
 
 def _inside(value: float, interval: dict) -> bool:
