@@ -28,8 +28,8 @@
 # * **Without attack**, guo2023 and li2025 stay within a factor 2 of the oracle's RMSE on every plant
 #   (upper 95 % bounds 1.77 and 1.47), at every point; ding2020, lee2020 and ma2021 do not (up to
 #   26, 22 and 33), ding2020 and lee2020 with the settings of their own papers' examples, ma2021
-#   with its recursive-LMI gains, whose optimum uses each node's own sensor only (X2, fails at
-#   every point); on the three-inertia and tank plants its error still falls at the end of the
+#   with its recursive-LMI gains, whose optimum in our linear reading (A10) uses each node's own
+#   sensor only (X2, fails at every point); on the three-inertia and tank plants its error still falls at the end of the
 #   horizon (figures below), so a slow transient from the prior is part of its score.
 # * **Sensor bias and replacement**: guo2023 stays within a factor 2 on every plant (≤ 1.88), at
 #   every point — told, as its paper assumes, which sensor the attack card names; `chi2-kf` does
@@ -47,7 +47,7 @@
 #   every scenario (upper bound 0.024 %; `chi2-kf` up to 21 % under the replacement on the
 #   three-inertia plant, ding2020 7.6 %, lee2020 100 % under falsified messages), and only guo2023
 #   flags at least half of the attacked samples under both sensor attacks on every plant (lower
-#   bound 81 %; ding2020 and `chi2-kf` miss most of the bias on the target plant, lee2020 the
+#   bound 80.7 %; ding2020 and `chi2-kf` miss most of the bias on the target plant, lee2020 the
 #   replacement on the three-inertia plant) — at the cards' magnitudes: at 0.1× none does.
 # * **The arena's own premise** (X3, holds at 5 of 12 points): on the target plant the bias card
 #   (40 noise sd on one sensor of 20) does not measurably degrade the undefended Kalman filter for 3
@@ -205,7 +205,7 @@ display(Markdown("\n".join(
 # runs (the text is the method's own).
 
 # %%
-rows = ["| method | kind | title | how it is read on the shared scenarios | conditions checked on "
+rows = ["| method | kind | title | our reading on the shared scenarios | conditions checked on "
         "each scenario |", "|---|---|---|---|---|"]
 for name in method_names:
     m = METHODS[name]
@@ -683,12 +683,13 @@ display(Markdown("\n".join(
 #
 # Nothing in this notebook is a paper's claim: the scenarios, the baselines, the scores and the
 # rules of the findings are ours. Each paper method runs here on plants, networks and attacks its
-# paper did not consider, read as follows (`Method.reading`, the method's own words; the details
-# are in `secest/methods/<key>.py`):
+# paper did not consider, read as follows: our reading of each method, as recorded in
+# `Method.reading` (where it fixes a value or a design choice the paper does not state, the choice
+# is ours; the details are in `secest/methods/<key>.py`):
 
 # %%
 display(Markdown("\n".join(
-    ["| method | how it is read on the shared scenarios |", "|---|---|"]
+    ["| method | our reading on the shared scenarios |", "|---|---|"]
     + [f"| `{n}` | {md(METHODS[n].reading or '–')} |" for n in method_names])))
 
 # %% [markdown]
