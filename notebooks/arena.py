@@ -456,14 +456,9 @@ for plant in plants_used:
 # The verdicts of the claims below are read from `figures/arena/robustness.json` when it exists.
 
 # %%
-summary_path = results.resolve("figures/arena/robustness.json")
-if summary_path.exists():
-    sweep_summary = json.loads(summary_path.read_text())
-    display(Markdown(
-        "| claim | verdict over the space | holds at | region |\n|---|---|---|---|\n"
-        + "".join(f"| {cid} | {s['verdict']} | {s['outcomes']['holds']} of {s['points']} points "
-                  f"(95 % Wilson {s['interval']['low']:.2f}-{s['interval']['high']:.2f}) | "
-                  f"{md(s['region'])} |\n" for cid, s in sweep_summary.items())))
+sweep_table = results.robustness_markdown("arena")
+if sweep_table is not None:
+    display(Markdown(sweep_table))
 else:
     print("no sweep summary yet: run `make robustness NB=arena`")
 

@@ -1463,14 +1463,9 @@ plt.show()
 # when it exists.
 
 # %%
-summary_path = results.resolve("figures/guo2023/robustness.json")
-if summary_path.exists():
-    sweep_summary = json.loads(summary_path.read_text())
-    display(Markdown(
-        "| claim | verdict over the space | holds at | region |\n|---|---|---|---|\n"
-        + "".join(f"| {cid} | {s['verdict']} | {s['outcomes']['holds']} of {s['points']} points "
-                  f"(95 % Wilson {s['interval']['low']:.2f}-{s['interval']['high']:.2f}) | "
-                  f"{s['region']} |\n" for cid, s in sweep_summary.items())))
+sweep_table = results.robustness_markdown("guo2023")
+if sweep_table is not None:
+    display(Markdown(sweep_table))
 else:
     print("no sweep summary yet: run `make robustness NB=guo2023`")
 

@@ -68,6 +68,7 @@ __all__ = [
     "notebook_path",
     "repo_root",
     "resolve",
+    "robustness_markdown",
     "validate_parameters",
     "write_claims",
 ]
@@ -532,6 +533,36 @@ def headline_value(entry: Mapping[str, Any]) -> float | None:
 
 
 REQUIRED_KEYS = ("paper", "check", "measured", "threshold", "holds", "verdict", "tolerance")
+
+
+def robustness_markdown(key: str) -> str | None:
+    """The sweep's summary of notebook ``key`` as a Markdown table, or None before any sweep.
+
+    One row per claim of ``figures/<key>/robustness.json`` (written by ``make robustness``):
+    its verdict over the declared space, the points where it holds with the Wilson interval
+    of that fraction, and the region in words.
+
+    Parameters
+    ----------
+    key : str
+        Notebook key, e.g. ``"guo2023"``.
+
+    Returns
+    -------
+    str or None
+        The table, or None when ``figures/<key>/robustness.json`` does not exist.
+    """
+    path = resolve(f"figures/{key}/robustness.json")
+    if not path.exists():
+        return None
+    rows = [
+        f"| {cid} | {s['verdict']} | {s['outcomes']['holds']} of {s['points']} points "
+        f"(95 % Wilson {s['interval']['low']:.2f}-{s['interval']['high']:.2f}) | "
+        + str(s["region"]).replace("|", "\\|")
+        + " |\n"
+        for cid, s in json.loads(path.read_text()).items()
+    ]
+    return "| claim | verdict over the space | holds at | region |\n|---|---|---|---|\n" + "".join(rows)
 
 
 def write_claims(

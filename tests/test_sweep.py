@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import socket
 import subprocess
 import sys
@@ -196,3 +197,14 @@ def test_a_remote_cluster_gives_the_same_table_as_a_local_one(tmp_path: Path) ->
     table = (tmp_path / "o1" / "guo2023" / "robustness.csv").read_text()
     assert table == (tmp_path / "o2" / "guo2023" / "robustness.csv").read_text()
     assert table.count("\n") == 3 and ",ok," in table
+
+
+def test_robustness_markdown_lists_every_claim_of_the_summary() -> None:
+    from secest import results
+
+    summary = json.loads((ROOT / "figures" / "lee2020" / "robustness.json").read_text())
+    table = results.robustness_markdown("lee2020").splitlines()
+    assert table[0] == "| claim | verdict over the space | holds at | region |"
+    assert [row.split(" | ")[0].lstrip("| ") for row in table[2:]] == list(summary)
+    assert all(row.count(" | ") == 3 for row in table[2:])  # '|' in a region is escaped
+    assert results.robustness_markdown("no-such-notebook") is None
