@@ -39,8 +39,8 @@ _CELL_KEYS_DROPPED = ("papermill", "execution", "ExecuteTime", "collapsed", "scr
 _NB_KEYS_DROPPED = ("papermill", "widgets")
 
 
-def _paths(key: str) -> tuple[Path, Path]:
-    root = repo_root() / "notebooks"
+def _paths(key: str, root: Path | None = None) -> tuple[Path, Path]:
+    root = (root or repo_root()) / "notebooks"
     src = root / f"{key}.py"
     if not src.exists():
         raise ValidationError(f"key {key!r} names no notebook source: {src} does not exist")
@@ -54,7 +54,7 @@ def _without_ids(nb: nbformat.NotebookNode) -> nbformat.NotebookNode:
     return nb
 
 
-def notebook_from_source(key: str, dst: Path) -> Path:
+def notebook_from_source(key: str, dst: Path, root: Path | None = None) -> Path:
     """Write the notebook of ``notebooks/<key>.py`` (outputs empty, no cell ids) to ``dst``.
 
     The jupytext header is dropped and the notebook written as nbformat 4.4, so the
@@ -66,6 +66,8 @@ def notebook_from_source(key: str, dst: Path) -> Path:
         Paper key naming the source ``notebooks/<key>.py``, e.g. ``"lee2020"``.
     dst : Path
         Where to write the ``.ipynb`` (overwritten if it exists; its folder must exist).
+    root : Path, optional
+        Folder holding ``notebooks/``; default: this repository.
 
     Returns
     -------
@@ -77,7 +79,7 @@ def notebook_from_source(key: str, dst: Path) -> Path:
     ValidationError
         If ``notebooks/<key>.py`` does not exist.
     """
-    src, _ = _paths(key)
+    src, _ = _paths(key, root)
     nb = jupytext.read(src)
     nb.metadata.pop("jupytext", None)
     jupytext.write(_without_ids(nb), dst, fmt="ipynb")

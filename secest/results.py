@@ -122,13 +122,15 @@ def resolve(path: str | Path) -> Path:
     return p if p.is_absolute() else repo_root() / p
 
 
-def notebook_path(key: str) -> Path:
+def notebook_path(key: str, root: Path | None = None) -> Path:
     """``notebooks/<key>.ipynb`` under the repository root (must exist).
 
     Parameters
     ----------
     key : str
         Paper key, e.g. ``"lee2020"``.
+    root : Path, optional
+        Folder holding ``notebooks/``; default: this repository.
 
     Returns
     -------
@@ -140,7 +142,7 @@ def notebook_path(key: str) -> Path:
     ValidationError
         If the notebook does not exist.
     """
-    path = repo_root() / "notebooks" / f"{key}.ipynb"
+    path = (root or repo_root()) / "notebooks" / f"{key}.ipynb"
     if not path.exists():
         raise ValidationError(f"key {key!r} names no notebook: {path} does not exist")
     return path

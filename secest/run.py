@@ -41,6 +41,7 @@ def execute_notebook(
     output: str | Path | None = None,
     *,
     source: str | Path | None = None,
+    root: str | Path | None = None,
 ) -> Path:
     """Check ``parameters`` and execute ``notebooks/<key>.ipynb`` with papermill.
 
@@ -56,16 +57,27 @@ def execute_notebook(
     source : str or Path, optional
         Notebook to execute instead of ``notebooks/<key>.ipynb`` (e.g. one freshly
         built from the ``.py`` by a sweep).
+    root : str or Path, optional
+        Folder laid out like this repository (``notebooks/<key>.py``, its ``.toml``);
+        the kernel runs there. Default: this repository.
 
     Returns
     -------
     Path
         The executed notebook.
+
+    Notes
+    -----
+    The executed notebook is written once, when the execution ends, and also when a
+    cell raises (papermill writes it, error included, before it re-raises). Papermill's
+    default rewrite of the whole notebook before and after every cell is turned off: it
+    cost about a fifth of a fast-mode execution (13.7 s against 11.3 s for ding2020).
     """
     import papermill
 
-    params = spaces.validate(key, dict(parameters or {}))
-    src = Path(source) if source is not None else notebook_path(key)
+    top = Path(root) if root is not None else repo_root()
+    params = spaces.validate(spaces.load(key, top), dict(parameters or {}))
+    src = Path(source) if source is not None else notebook_path(key, top)
     target = Path(output) if output is not None else src
     target.parent.mkdir(parents=True, exist_ok=True)
     os.environ["JUPYTER_PREFER_ENV_PATH"] = "1"
@@ -74,8 +86,9 @@ def execute_notebook(
         str(target),
         parameters=params,
         kernel_name=KERNEL,
-        cwd=str(repo_root()),
+        cwd=str(top),
         progress_bar=False,
+        request_save_on_cell_execute=False,
     )
     return target
 

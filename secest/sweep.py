@@ -65,19 +65,22 @@ TOOLING = frozenset({"secest/sweep.py", "secest/verify.py", "secest/site.py"})
 """Modules that never run inside a notebook: they do not enter a point's id."""
 
 
-def source_hash(key: str) -> str:
-    """Hash of ``notebooks/<key>.py`` and every source and card file of ``secest`` a notebook
-    can run (its ``*.py`` and ``*.toml``, subpackages such as ``secest/methods`` included; not
-    :data:`TOOLING`): what a point's result depends on."""
-    root = repo_root()
+def source_hash(key: str, root: Path | None = None) -> str:
+    """Hash of ``notebooks/<key>.py`` (under ``root``, default this repository) and every
+    source and card file of ``secest`` a notebook can run (its ``*.py`` and ``*.toml``,
+    subpackages such as ``secest/methods`` included; not :data:`TOOLING`): what a point's
+    result depends on."""
+    package_root = repo_root()
     h = hashlib.sha256()
     package = sorted(
         p
-        for p in (root / "secest").rglob("*")
+        for p in (package_root / "secest").rglob("*")
         if p.suffix in (".py", ".toml") and p.is_file() and p.parent.name + "/" + p.name not in TOOLING
     )
-    for path in [root / "notebooks" / f"{key}.py", *package]:
-        h.update(path.relative_to(root).as_posix().encode())
+    h.update(f"notebooks/{key}.py".encode())
+    h.update(((root or package_root) / "notebooks" / f"{key}.py").read_bytes())
+    for path in package:
+        h.update(path.relative_to(package_root).as_posix().encode())
         h.update(path.read_bytes())
     return h.hexdigest()
 
@@ -88,18 +91,20 @@ def point_id(key: str, parameters: Mapping[str, Any], src: str) -> str:
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
-def build_source(key: str, folder: Path, src: str) -> Path:
+def build_source(key: str, folder: Path, src: str, root: Path | None = None) -> Path:
     """Build ``notebooks/<key>.py`` into a fresh ``.ipynb`` (so sweeps never run a stale one)."""
     from secest.build import notebook_from_source
 
     path = folder / f"source-{src[:12]}.ipynb"
     if not path.exists():
         folder.mkdir(parents=True, exist_ok=True)
-        notebook_from_source(key, path)
+        notebook_from_source(key, path, root)
     return path
 
 
-def run_point(key: str, source: str, parameters: Mapping[str, Any], folder: str) -> dict[str, Any]:
+def run_point(
+    key: str, source: str, parameters: Mapping[str, Any], folder: str, root: str | None = None
+) -> dict[str, Any]:
     """Execute one point (on a Dask worker) and return its status and claims.
 
     Parameters
@@ -113,6 +118,8 @@ def run_point(key: str, source: str, parameters: Mapping[str, Any], folder: str)
     folder : str
         The point's own folder; holds ``params.json``, the executed notebook,
         ``claims.json`` and ``status.json``.
+    root : str, optional
+        Folder holding ``notebooks/`` (see :func:`run_sweep`); default: this repository.
 
     Returns
     -------
@@ -130,7 +137,7 @@ def run_point(key: str, source: str, parameters: Mapping[str, Any], folder: str)
         "results_path": str(out / "claims.json"),
     }
     try:
-        execute_notebook(key, params, out / f"{key}.ipynb", source=source)
+        execute_notebook(key, params, out / f"{key}.ipynb", source=source, root=root)
         result: dict[str, Any] = {
             "status": "ok",
             "claims": json.loads((out / "claims.json").read_text()),
@@ -182,6 +189,7 @@ def run_sweep(
     base: Mapping[str, Mapping[str, Any]] | None = None,
     fresh: bool = False,
     progress: bool = True,
+    root: str | Path | None = None,
 ) -> dict[str, dict[str, Any]]:
     """Run the robustness sweep of every notebook in ``keys`` on one Dask cluster.
 
@@ -205,6 +213,10 @@ def run_sweep(
         Ignore finished points and run everything again.
     progress : bool
         Show a progress bar on standard error.
+    root : str or Path, optional
+        Folder laid out like this repository whose ``notebooks/<key>.py`` and
+        ``.toml`` are swept (a test's toy notebook); default: this repository. The
+        workers must see it at the same path.
 
     Returns
     -------
@@ -215,7 +227,8 @@ def run_sweep(
 
     build_dir, out_dir = Path(build), Path(out) if out is not None else repo_root() / "figures"
     build_dir = build_dir if build_dir.is_absolute() else repo_root() / build_dir
-    plans = {k: _plan(k, build_dir, points, base) for k in keys}
+    top = Path(root) if root is not None else None
+    plans = {k: _plan(k, build_dir, points, base, top) for k in keys}
     results: dict[str, dict[str, dict]] = {k: {} for k in keys}
     todo = []
     for key, plan in plans.items():
@@ -235,6 +248,7 @@ def run_sweep(
                     str(plans[key]["source"]),
                     params,
                     str(build_dir / key / pid),
+                    None if top is None else str(top),
                     key=f"{key}-{pid}",
                     pure=False,
                 ): (key, pid)
@@ -255,9 +269,11 @@ def run_sweep(
     return {key: _finish(key, plans[key], results[key], out_dir) for key in keys}
 
 
-def _plan(key: str, build_dir: Path, points: Mapping | None, base: Mapping | None) -> dict[str, Any]:
-    space = spaces.load(key)
-    src = source_hash(key)
+def _plan(
+    key: str, build_dir: Path, points: Mapping | None, base: Mapping | None, root: Path | None
+) -> dict[str, Any]:
+    space = spaces.load(key, root)
+    src = source_hash(key, root)
     design = list(points[key]) if points is not None and key in points else spaces.design(space)
     fixed = dict(base[key]) if base is not None and key in base else dict(space.base)
     planned, swept = [], {}
@@ -270,7 +286,7 @@ def _plan(key: str, build_dir: Path, points: Mapping | None, base: Mapping | Non
         "space": space,
         "points": planned,
         "swept": swept,
-        "source": build_source(key, build_dir / key, src),
+        "source": build_source(key, build_dir / key, src, root),
     }
 
 

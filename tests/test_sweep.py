@@ -137,18 +137,55 @@ def _wait_for_workers(address: str, n: int, timeout: float = 60.0) -> None:
         client.wait_for_workers(n, timeout=timeout)
 
 
+SWEEP_TOY = """# ---
+# jupyter:
+#   kernelspec:
+#     display_name: Python 3
+#     language: python
+#     name: python3
+# ---
+
+# %% tags=["parameters"]
+mode = "paper"  # "paper" or "fast" (ours)
+scale = 0.15  # a MISSING value (MISSING)
+seed = 0  # seed (MISSING)
+figures = True  # figure making (ours)
+fig_dir = "figures/sweeptoy"
+results_path = "figures/sweeptoy/claims.json"
+
+# %%
+import json
+import os
+import sys
+
+value = scale * (seed + 1)
+claims = {"C1": {"paper": "value below 0.2", "source": "ours", "check": "value < 0.2",
+                 "measured": value, "threshold": 0.2, "holds": value < 0.2,
+                 "verdict": "holds" if value < 0.2 else "fails"}}
+os.makedirs(os.path.dirname(results_path), exist_ok=True)
+with open(results_path, "w") as fh:
+    json.dump(claims, fh)
+print(sys.executable)
+"""
+
+
 def test_a_remote_cluster_gives_the_same_table_as_a_local_one(tmp_path: Path) -> None:
-    """A scheduler and two workers started as separate processes on 127.0.0.1."""
-    points = {"guo2023": [{"seed": 5}, {"seed": 6, "n_mc": 12}]}
-    base = {"guo2023": {"mode": "fast", "n_mc": 10, "n_steps": 40}}  # cheap admissible values
+    """A scheduler and two workers started as separate processes on 127.0.0.1 run a toy
+    notebook's sweep (a real papermill execution per point, in about a second)."""
+    root = tmp_path / "repo"
+    (root / "notebooks").mkdir(parents=True)
+    (root / "notebooks" / "sweeptoy.py").write_text(SWEEP_TOY)
+    points = {"sweeptoy": [{"scale": 0.1, "seed": 0}, {"scale": 0.15, "seed": 1}]}
+    base = {"sweeptoy": {"mode": "fast"}}
     local = sweep.run_sweep(
-        ["guo2023"],
+        ["sweeptoy"],
         workers=2,
         build=tmp_path / "b1",
         out=tmp_path / "o1",
         points=points,
         base=base,
         progress=False,
+        root=root,
     )
     address = f"tcp://127.0.0.1:{_free_port()}"
     dask = [sys.executable, "-m", "distributed.cli.dask_scheduler"]
@@ -171,6 +208,7 @@ def test_a_remote_cluster_gives_the_same_table_as_a_local_one(tmp_path: Path) ->
                         address,
                         "--nthreads",
                         "1",
+                        "--no-nanny",
                         "--no-dashboard",
                     ],
                     stdout=subprocess.DEVNULL,
@@ -180,23 +218,32 @@ def test_a_remote_cluster_gives_the_same_table_as_a_local_one(tmp_path: Path) ->
             )
         _wait_for_workers(address, 2)
         remote = sweep.run_sweep(
-            ["guo2023"],
+            ["sweeptoy"],
             scheduler=address,
             build=tmp_path / "b2",
             out=tmp_path / "o2",
             points=points,
             base=base,
             progress=False,
+            root=root,
         )
     finally:
         for proc in reversed(procs):
             proc.terminate()
         for proc in procs:
             proc.wait(timeout=30)
-    assert local["guo2023"]["failed"] == remote["guo2023"]["failed"] == 0
-    table = (tmp_path / "o1" / "guo2023" / "robustness.csv").read_text()
-    assert table == (tmp_path / "o2" / "guo2023" / "robustness.csv").read_text()
+    assert local["sweeptoy"]["failed"] == remote["sweeptoy"]["failed"] == 0
+    table = (tmp_path / "o1" / "sweeptoy" / "robustness.csv").read_text()
+    assert table == (tmp_path / "o2" / "sweeptoy" / "robustness.csv").read_text()
     assert table.count("\n") == 3 and ",ok," in table
+    assert [row.split(",")[-2] for row in table.splitlines()[1:]] == ["True", "False"]  # C1.holds
+    summary = json.loads((tmp_path / "o2" / "sweeptoy" / "robustness.json").read_text())
+    assert summary["C1"]["verdict"] == "undetermined" and summary["C1"]["points"] == 2
+    for build in ("b1", "b2"):  # each point executed in its own folder, figures off
+        executed = sorted((tmp_path / build / "sweeptoy").glob("*/sweeptoy.ipynb"))
+        assert len(executed) == 2
+        assert all(json.loads((e.parent / "params.json").read_text())["mode"] == "fast"
+                   for e in executed)
 
 
 def test_robustness_markdown_lists_every_claim_of_the_summary() -> None:
