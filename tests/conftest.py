@@ -3,7 +3,11 @@
 from __future__ import annotations
 
 import copy
+import fcntl
+import hashlib
 import json
+import os
+import shutil
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -13,30 +17,49 @@ import pytest
 from secest.run import execute_notebook
 
 
+def _not_json(constant: str) -> None:
+    raise ValueError(f"claims.json holds {constant}, which strict JSON does not allow")
+
+
+def _shared_folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A folder every pytest-xdist worker of this session sees (this session's own base
+    temporary folder; without xdist, the base temporary folder itself)."""
+    base = tmp_path_factory.getbasetemp()
+    shared = (base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base) / "executions"
+    shared.mkdir(parents=True, exist_ok=True)
+    return shared
+
+
 @pytest.fixture(scope="session")
 def run_notebook(tmp_path_factory: pytest.TempPathFactory) -> Callable[..., dict[str, Any]]:
     """Return ``run(key, **parameters) -> claims`` executing ``notebooks/<key>.ipynb``.
 
     The notebook runs with ``mode="fast"`` (unless overridden) and writes its
-    figures and claims into a fresh temporary directory, never into the repo.
-    Each (key, parameters) is executed once per test session (pytest-xdist may
-    interleave modules on a worker, which would rebuild module-scoped fixtures);
-    every call gets its own copy of the claims.
+    figures and claims into a temporary folder, never into the repo; the claims
+    carry that folder's figures as ``"_fig_dir"``. Each (key, parameters) is executed
+    once per test session, whichever worker asks first: a module's fixture and a
+    perturbation test at the same point share one execution (the other worker waits
+    on a file lock and reads the result). Every call gets its own copy of the claims.
     """
+    shared = _shared_folder(tmp_path_factory)
     done: dict[str, dict[str, Any]] = {}
 
     def run(key: str, **parameters: Any) -> dict[str, Any]:
-        signature = json.dumps([key, parameters], sort_keys=True, default=str)
+        params = {"mode": "fast", **parameters}
+        signature = json.dumps([key, params], sort_keys=True, default=str)
         if signature not in done:
-            out: Path = tmp_path_factory.mktemp(key)
-            params = {
-                "mode": "fast",
-                "fig_dir": str(out / "figures"),
-                "results_path": str(out / "claims.json"),
-                **parameters,
-            }
-            execute_notebook(key, params, out / f"{key}.ipynb")
-            claims = json.loads((out / "claims.json").read_text())
+            out = shared / f"{key}-{hashlib.sha256(signature.encode()).hexdigest()[:16]}"
+            with open(f"{out}.lock", "w") as lock:
+                fcntl.flock(lock, fcntl.LOCK_EX)  # released when the file closes
+                if not (out / "done").exists():
+                    shutil.rmtree(out, ignore_errors=True)  # a failed attempt's leftovers
+                    params |= {
+                        "fig_dir": str(out / "figures"),
+                        "results_path": str(out / "claims.json"),
+                    }
+                    execute_notebook(key, params, out / f"{key}.ipynb")
+                    (out / "done").write_text(signature)
+            claims = json.loads((out / "claims.json").read_text(), parse_constant=_not_json)
             claims["_fig_dir"] = str(out / "figures")
             done[signature] = claims
         return copy.deepcopy(done[signature])

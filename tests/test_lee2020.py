@@ -28,6 +28,7 @@ LAM2_RING5 = 2 * (1 - np.cos(2 * np.pi / 5))
 DT = 1e-3  # Section II and example steps at the default point
 ROOT = repo_root()
 FIG = ROOT / "figures" / "lee2020"
+# the second perturbation point of notebooks/lee2020.toml (tests/test_notebooks.py shares the run)
 ALT = {"basis_normalisation": "integer", "observer_poles": "shifted", "gamma_ex": 3.0,
        "kappa_alt": 1.0}
 

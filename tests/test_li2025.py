@@ -34,8 +34,9 @@ def claims(run_notebook):
 
 @pytest.fixture(scope="module")
 def no_attack(run_notebook):
-    """psi_check = 1 for every target (a PAPER value changed by a reader), short horizon."""
-    return run_notebook("li2025", psi_check=[1.0, 1.0, 1.0], T=30, figures=False)
+    """psi_check = 1 for every target (a PAPER value changed by a reader), short horizon: the
+    first perturbation point of notebooks/li2025.toml (tests/test_notebooks.py shares the run)."""
+    return run_notebook("li2025", psi_check=[1.0, 1.0, 1.0], T=30)
 
 
 def _consistent(entry: dict) -> None:

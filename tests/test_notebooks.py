@@ -143,15 +143,15 @@ def _perturbation_cases() -> list[tuple[str, int]]:
 
 @pytest.mark.notebook
 @pytest.mark.parametrize(("key", "index"), _perturbation_cases())
-def test_notebook_runs_off_its_default_point(key: str, index: int, tmp_path: Path) -> None:
-    """Fast mode at a point of the declared space other than the default (edges included)."""
+def test_notebook_runs_off_its_default_point(key: str, index: int, run_notebook) -> None:
+    """Fast mode at a point of the declared space other than the default (edges included).
+
+    The execution is shared with a module's fixture that asks for the same point."""
     from secest import spaces
 
     point = spaces.perturbation_points(spaces.load(key))[index]
-    fig_dir = tmp_path / "figures"
-    params = {"mode": "fast", "fig_dir": str(fig_dir), "results_path": str(tmp_path / "claims.json")}
-    execute_notebook(key, params | point, tmp_path / f"{key}.ipynb")
-    claims = json.loads((tmp_path / "claims.json").read_text())  # strict JSON: no NaN, no Infinity
+    claims = run_notebook(key, **point)  # read as strict JSON: no NaN, no Infinity
+    fig_dir = Path(claims.pop("_fig_dir"))
     assert claims
     for cid, entry in claims.items():
         assert set(REQUIRED_KEYS) <= set(entry), cid
