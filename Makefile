@@ -13,7 +13,7 @@ export OPENBLAS_NUM_THREADS := 1
 export MPLBACKEND := Agg
 export PYDEVD_DISABLE_FILE_VALIDATION := 1
 
-.PHONY: venv figures test verify lint bench lock html clean robustness $(addprefix figures-,$(KEYS))
+.PHONY: venv figures test verify lint bench lock html clean robustness shots $(addprefix figures-,$(KEYS))
 
 venv: $(STAMP)
 
@@ -39,6 +39,11 @@ $(addprefix figures-,$(KEYS)): figures-%: $(STAMP)
 test: $(STAMP)
 	$(PY) -m ruff check secest tests notebooks benchmarks docs
 	$(PY) -m pytest -n 2 --dist loadscope
+
+## shots: build the site and save a full-page screenshot of every page in build/site-screenshots/
+## (make test saves what a reader first sees of each page)
+shots: $(STAMP)
+	SECEST_SITE_SHOTS=full $(PY) -m pytest -q -p no:cacheprovider tests/test_site.py -k screenshot
 
 ## robustness: sweep each notebook's declared space on Dask (a LocalCluster sized to the machine;
 ## SCHEDULER=tcp://host:port sends it to an existing cluster). Writes figures/<key>/robustness.*

@@ -875,7 +875,7 @@ def gallery_markdown(root: Path = ROOT) -> str:
                     "    :class: secest-thumb",
                     "    ```",
                 ]
-                what = f"{{numref}}`fig-{key}-{stem}`: {escape_md(fig.get('title', ''))}"
+                what = f"{{figref}}`fig-{key}-{stem}`: {escape_md(fig.get('title', ''))}"
             else:
                 ours = ["  - table (CSV only)"]
                 what = escape_md(fig.get("title", ""))

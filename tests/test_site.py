@@ -5,8 +5,10 @@ environment (``-E``) so that every warning is reported. The tests that read the 
 need nothing else; the browser tests drive Debian's Chromium (``/usr/bin/chromium``)
 through Playwright, never a browser that Playwright downloads. Without Chromium they
 are skipped with a loud reason, unless ``SECEST_REQUIRE_BROWSER=1`` (set by ``.ci/run``),
-where they fail. A full-page screenshot of every page is saved under
-``build/site-screenshots/`` for people to look at.
+where they fail. A screenshot of every page is saved under ``build/site-screenshots/`` for
+people to look at: what a reader sees on opening it (the first 1280 x 900 px), or the whole
+page with ``SECEST_SITE_SHOTS=full`` (``make shots``; a whole paper page, 40 000-60 000 px
+tall, takes 3-4 s to capture, two thirds of the browser's time in ``make test``).
 """
 
 from __future__ import annotations
@@ -45,6 +47,7 @@ SRC = ROOT / "build" / "site-src"
 HTML = ROOT / "build" / "html"
 SHOTS = ROOT / "build" / "site-screenshots"
 JPEG_MAX_PX = 60_000  # below JPEG's limit of 65 535 px per side
+FULL_PAGE = os.environ.get("SECEST_SITE_SHOTS") == "full"
 CHROMIUM = Path("/usr/bin/chromium")
 CHROMIUM_FLAGS = [
     "--headless",
@@ -465,9 +468,10 @@ def browsed(browser_context: Any, server: str, pages: list[Path]) -> dict[str, d
                    if name.startswith(("papers/", "beyond/")) else [])
         # JPEG: a full page of 20 000 px encodes several times faster than PNG, legible for
         # people; JPEG cannot exceed 65 535 px, so a taller page is saved as PNG
-        tall = page.evaluate("document.documentElement.scrollHeight") > JPEG_MAX_PX
+        tall = FULL_PAGE and page.evaluate("document.documentElement.scrollHeight") > JPEG_MAX_PX
         shot = SHOTS / (name.replace("/", "__") + (".png" if tall else ".jpg"))
-        page.screenshot(path=str(shot), full_page=True, **({} if tall else {"type": "jpeg", "quality": 80}))
+        page.screenshot(path=str(shot), full_page=FULL_PAGE,
+                        **({} if tall else {"type": "jpeg", "quality": 80}))
         landings = {frag: _land(page, url, frag) for frag in errata.get(name, [])}
         page.close()
         found[name] = {
