@@ -356,35 +356,49 @@ _TYPESET = """async () => {
 }"""
 
 
-def _open(context: Any, url: str) -> tuple[Any, list[str], list[str]]:
-    """Open ``url``; return the page, its console/page errors and any request that left the machine."""
-    page = context.new_page()
-    errors: list[str] = []
-    outside: list[str] = []
+class _Tab:
+    """One browser tab that opens page after page (a new tab per page takes twice as long).
 
-    def console(msg: Any) -> None:
+    The errors and outside requests of each navigation are collected afresh by :meth:`open`.
+    """
+
+    def __init__(self, context: Any) -> None:
+        self.page = context.new_page()
+        self.errors: list[str] = []
+        self.outside: list[str] = []
+        self.page.on("console", self._console)
+        self.page.on("pageerror", lambda e: self.errors.append(f"page error: {e}"))
+        self.page.on("request", self._request)
+        self.page.on("response", self._response)
+
+    def _console(self, msg: Any) -> None:
         where = (msg.location or {}).get("url", "")
         if msg.type == "error" and not where.endswith("/favicon.ico"):
-            errors.append(f"console error: {msg.text} ({where})")
+            self.errors.append(f"console error: {msg.text} ({where})")
 
-    def request(req: Any) -> None:
+    def _request(self, req: Any) -> None:
         parts = urlsplit(req.url)
         if parts.scheme not in ("file", "data", "blob") and parts.hostname not in (
             "127.0.0.1",
             "localhost",
         ):
-            outside.append(req.url)
+            self.outside.append(req.url)
 
-    def response(resp: Any) -> None:
+    def _response(self, resp: Any) -> None:
         if resp.status >= 400 and not resp.url.endswith("/favicon.ico"):
-            errors.append(f"HTTP {resp.status}: {resp.url}")
+            self.errors.append(f"HTTP {resp.status}: {resp.url}")
 
-    page.on("console", console)
-    page.on("pageerror", lambda e: errors.append(f"page error: {e}"))
-    page.on("request", request)
-    page.on("response", response)
-    page.goto(url, wait_until="load")
-    return page, errors, outside
+    def open(self, url: str) -> tuple[Any, list[str], list[str]]:
+        """Open ``url``; return the page, its console/page errors and any request that left
+        the machine."""
+        self.errors, self.outside = [], []
+        self.page.goto(url, wait_until="load")
+        return self.page, self.errors, self.outside
+
+
+def _open(context: Any, url: str) -> tuple[Any, list[str], list[str]]:
+    """Open ``url`` in a new tab (see :class:`_Tab`)."""
+    return _Tab(context).open(url)
 
 
 def _check_maths(page: Any, name: str) -> list[str]:
@@ -458,11 +472,12 @@ def browsed(browser_context: Any, server: str, pages: list[Path]) -> dict[str, d
         old.unlink()
     found: dict[str, dict[str, Any]] = {}
     errata = _errata_targets(HTML)
+    tab = _Tab(browser_context)
     for path in pages:
         name = _name(path)
         t0 = time.perf_counter()
         url = f"{server}/{path.relative_to(HTML).as_posix()}"
-        page, errors, outside = _open(browser_context, url)
+        page, errors, outside = tab.open(url)
         maths = _check_maths(page, name)
         figures = (_check_figures(page, name.split("/")[1])
                    if name.startswith(("papers/", "beyond/")) else [])
@@ -473,7 +488,6 @@ def browsed(browser_context: Any, server: str, pages: list[Path]) -> dict[str, d
         page.screenshot(path=str(shot), full_page=FULL_PAGE,
                         **({} if tall else {"type": "jpeg", "quality": 80}))
         landings = {frag: _land(page, url, frag) for frag in errata.get(name, [])}
-        page.close()
         found[name] = {
             "errors": errors,
             "outside": outside,
@@ -483,6 +497,7 @@ def browsed(browser_context: Any, server: str, pages: list[Path]) -> dict[str, d
         }
         if os.environ.get("SECEST_SITE_TIMING"):
             print(f"{name}: {time.perf_counter() - t0:.1f} s", file=sys.stderr)
+    tab.page.close()
     return found
 
 
