@@ -1496,9 +1496,12 @@ MC_TOL = results.Tolerance(
     reason="Monte Carlo averages over many runs and round-off residues (< 1e-10): another CPU or BLAS "
     "build changes the last bits of the sums; every decision has a wide margin")
 CVX_TOL = results.Tolerance(
-    rtol=1e-6, atol=1e-8,
+    rtol=1e-6, atol=1e-3,
     reason="cvxpy / CLARABEL solutions are accurate to the solver's tolerances (~1e-8 relative); "
-    "the other entries are round-off residues or deterministic linear algebra")
+    "max_L1_allowance_used (the gap to (27) over its round-off allowance) is round-off noise by "
+    "construction, 1.1e-5 and 9.1e-6 on two machines, hence atol 1e-3, a thousandth of its "
+    "threshold 1; the residues below it (<= 1e-8) are judged by holds, which must agree exactly; "
+    "the other entries are deterministic linear algebra")
 PREMISE_C1 = ("the initial pair is consistent, cov(x_0 - x0_hat) = x0_spread^2 P_0 <= P_0 "
               "(x0_spread <= 1): Theorem 1's induction starts from it", bool(x0_spread <= 1.0))
 C1_PAPER = ("Theorem 1 (Sec. III-C): with (23)-(25), the fused pair (x_hat_k^i, P_bar_k^i) is "

@@ -79,6 +79,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from secest import covariance
 from secest.estimators import Estimate, Method, register
+from secest.results import Tolerance
 from secest.scenarios import NOISE_CLIP, Scenario, Trial
 from secest.validation import (
     ValidationError,
@@ -937,6 +938,13 @@ class Ma2021(Method):
     name = "ma2021"
     title = "ma2021: recursive-LMI probability-guaranteed estimator (8)"
     kind = "paper"
+    tolerance = Tolerance(
+        rtol=0.03,
+        atol=5e-3,
+        reason="gains from CLARABEL's interior-point iterates of the recursive LMIs (a flat "
+        "direction of OP2): the arena's RMS errors on the target plant are up to 1.6 % apart on "
+        "two machines (another CPU and BLAS kernel)",
+    )
     reading = (
         "linear plant (L = aleph = 0); ellipsoids from the noise clipping (one per sensor); "
         "W^0 = 0, Q0 = e1^2 I, P0 = n x0_std^2 I, p = 0.8; OP2 once per network: F = A and "
