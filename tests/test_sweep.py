@@ -208,7 +208,6 @@ def test_a_remote_cluster_gives_the_same_table_as_a_local_one(tmp_path: Path) ->
                         address,
                         "--nthreads",
                         "1",
-                        "--no-nanny",
                         "--no-dashboard",
                     ],
                     stdout=subprocess.DEVNULL,
