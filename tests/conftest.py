@@ -30,6 +30,17 @@ def _shared_folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return shared
 
 
+def perturbation_point(key: str, **parameters: Any) -> dict[str, Any]:
+    """``parameters``, checked to be one of ``key``'s perturbation points (so that the module's
+    execution is the one tests/test_notebooks.py shares, not a second one)."""
+    from secest import spaces
+
+    points = spaces.perturbation_points(spaces.load(key))
+    if parameters not in points:
+        raise AssertionError(f"{parameters} is not a perturbation point of {key}: {points}")
+    return parameters
+
+
 @pytest.fixture(scope="session")
 def run_notebook(tmp_path_factory: pytest.TempPathFactory) -> Callable[..., dict[str, Any]]:
     """Return ``run(key, **parameters) -> claims`` executing ``notebooks/<key>.ipynb``.

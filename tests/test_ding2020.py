@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import perturbation_point
 from scipy import stats
 
 from secest import filters, spaces
@@ -40,7 +41,8 @@ def claims(run_notebook):
 def claims_k0(run_notebook):
     # exact-zero leaks only: the smallest Monte Carlo budgets that keep every path running; the
     # first perturbation point of notebooks/ding2020.toml, so tests/test_notebooks.py shares the run
-    return run_notebook("ding2020", kappa=0.0, mc_runs=30, long_steps=300)
+    return run_notebook("ding2020", **perturbation_point("ding2020", kappa=0.0, mc_runs=30,
+                                                         long_steps=300))
 
 
 def _inside(value: float, interval: dict) -> bool:

@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import perturbation_point
 
 from secest import spaces
 from secest.results import VERDICTS, repo_root
@@ -40,7 +41,7 @@ def claims(run_notebook):
 
 @pytest.fixture(scope="module")
 def alt(run_notebook):
-    return run_notebook("lee2020", **ALT)
+    return run_notebook("lee2020", **perturbation_point("lee2020", **ALT))
 
 
 def _csv_columns(path: Path) -> dict[str, np.ndarray]:

@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import perturbation_point
 from papermill.exceptions import PapermillExecutionError
 
 from secest.results import repo_root
@@ -36,7 +37,7 @@ def claims(run_notebook):
 def no_attack(run_notebook):
     """psi_check = 1 for every target (a PAPER value changed by a reader), short horizon: the
     first perturbation point of notebooks/li2025.toml (tests/test_notebooks.py shares the run)."""
-    return run_notebook("li2025", psi_check=[1.0, 1.0, 1.0], T=30)
+    return run_notebook("li2025", **perturbation_point("li2025", psi_check=[1.0, 1.0, 1.0], T=30))
 
 
 def _consistent(entry: dict) -> None:

@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import perturbation_point
 
 from secest import spaces
 from secest.montecarlo import wilson_interval
@@ -38,8 +39,9 @@ def claims_x0_21(run_notebook):
     """x0 = [2, 1]: Assumption 3 fails at nodes 1-2; the g_1 reading sin(2 x^(2)), the low edge
     of the Taylor scales: the first perturbation point of notebooks/ma2021.toml
     (tests/test_notebooks.py shares the run)."""
-    return run_notebook("ma2021", L_scale=0.116, aleph_scale=0.116, seed=1,
-                        ocr_reading="g1: sin(2x2)", x0=[2.0, 1.0], extras=False)
+    return run_notebook("ma2021", **perturbation_point(
+        "ma2021", L_scale=0.116, aleph_scale=0.116, seed=1, ocr_reading="g1: sin(2x2)",
+        x0=[2.0, 1.0], extras=False))
 
 
 @pytest.fixture(scope="module")
