@@ -30,6 +30,22 @@ def _shared_folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return shared
 
 
+def bench_harness() -> Any:
+    """``benchmarks/harness.py`` as a module (it is not part of the package), loaded once."""
+    import importlib.util
+    import sys
+
+    name = "secest_bench_harness"
+    if name not in sys.modules:
+        from secest.results import repo_root
+
+        spec = importlib.util.spec_from_file_location(name, repo_root() / "benchmarks" / "harness.py")
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[name] = module
+        spec.loader.exec_module(module)
+    return sys.modules[name]
+
+
 def perturbation_point(key: str, **parameters: Any) -> dict[str, Any]:
     """``parameters``, checked to be one of ``key``'s perturbation points (so that the module's
     execution is the one tests/test_notebooks.py shares, not a second one)."""
@@ -150,21 +166,50 @@ def toy(tmp_path: Path) -> Path:
 
 ALONE = ("test_notebook_runs_off_its_default_point", "test_a_remote_cluster")
 """Tests scheduled one by one: each is a long notebook execution of its own."""
+FIRST = ("tests/test_site.py", "test_a_remote_cluster")
+"""Work queued first: the longest single units (build then browse the site; start two Dask
+clusters). Then the modules executing notebooks, then the ALONE tests, then the rest."""
+
+
+def _scope(nodeid: str) -> str:
+    return nodeid if any(name in nodeid for name in ALONE) else nodeid.split("::", 1)[0]
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Queue order (see :data:`FIRST`); modules stay whole and keep their own order. Every
+    xdist worker sorts its own collection the same way (the scheduler sends indexes into it)."""
+    executes = {f"tests/test_{p.stem}.py" for p in (Path(__file__).parent.parent / "notebooks").glob("*.py")}
+    counts: dict[str, int] = {}
+    for item in items:
+        counts[_scope(item.nodeid)] = counts.get(_scope(item.nodeid), 0) + 1
+
+    def rank(item: pytest.Item) -> tuple[int, int]:
+        scope = _scope(item.nodeid)
+        if any(name in scope for name in FIRST):
+            return 0, -counts[scope]
+        if scope in executes:
+            return 1, -counts[scope]
+        return (2 if scope == item.nodeid else 3), -counts[scope]
+
+    items.sort(key=rank)
 
 
 def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
     """Send each test module to one worker whole (its notebook executions are then shared by
-    its tests), except the tests of :data:`ALONE`, which are spread one by one.
+    its tests), except the tests of :data:`ALONE`, which are spread one by one, in the order
+    of the collection (:func:`pytest_collection_modifyitems`: long units first, so that no
+    worker is left with one at the end while the other idles; xdist's own order, by number of
+    tests, queued the Dask test last).
 
     ``--dist loadgroup`` would do this with ``xdist_group`` marks, but pytest 9.2 silently
     drops them (pytest-dev/pytest-xdist#1386): tests were spread as under ``--dist load``.
     """
     from xdist.scheduler import LoadScopeScheduling
 
+    config.option.loadscopereorder = False  # the collection's order instead
+
     class ModuleOrAlone(LoadScopeScheduling):
         def _split_scope(self, nodeid: str) -> str:
-            if any(name in nodeid for name in ALONE):
-                return nodeid
-            return nodeid.split("::", 1)[0]
+            return _scope(nodeid)
 
     return ModuleOrAlone(config, log)

@@ -2,24 +2,10 @@
 
 from __future__ import annotations
 
-import importlib.util
-import sys
-
 import pytest
+from conftest import bench_harness
 
-from secest.results import repo_root
-
-
-def _load_harness():
-    path = repo_root() / "benchmarks" / "harness.py"
-    spec = importlib.util.spec_from_file_location("secest_bench_harness", path)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module
-    spec.loader.exec_module(module)
-    return module
-
-
-harness = _load_harness()
+harness = bench_harness()
 
 
 def _same(a, b) -> str:

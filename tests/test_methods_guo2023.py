@@ -2,28 +2,17 @@
 
 from __future__ import annotations
 
-import importlib.util
-import sys
 from dataclasses import replace
 
 import numpy as np
 import pytest
+from conftest import bench_harness
 
 import secest.methods  # noqa: F401  (registers the methods)
 from secest import scenarios
 from secest.estimators import METHODS
 from secest.methods import guo2023
-from secest.results import repo_root
 from secest.validation import ValidationError
-
-
-def _harness():
-    path = repo_root() / "benchmarks" / "harness.py"
-    spec = importlib.util.spec_from_file_location("secest_bench_harness", path)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module
-    spec.loader.exec_module(module)
-    return module
 
 
 def _rel(a: np.ndarray, b: np.ndarray) -> float:
@@ -37,7 +26,7 @@ def notebook_run():
     The notebook's ``example_model``, ``signal``, ``simulate`` and ``run_estimator`` are taken by
     name (``notebook_definitions``: only those definitions and what they read are executed).
     """
-    ns = _harness().notebook_definitions("guo2023", "example_model", "signal", "simulate",
+    ns = bench_harness().notebook_definitions("guo2023", "example_model", "signal", "simulate",
                                          "run_estimator", mode="fast")
     model, n = ns["example_model"](), ns["n_steps"]
     d = ns["signal"]("d_signal", ns["d_signal"], n)

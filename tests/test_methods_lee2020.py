@@ -8,22 +8,18 @@ figures are skipped without any text marker.
 
 from __future__ import annotations
 
-import sys
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import bench_harness
 
 from secest import graphs, scenarios, systems
 from secest.estimators import METHODS
 from secest.methods import lee2020 as L
 from secest.validation import ValidationError
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-from harness import notebook_definitions  # noqa: E402
-
-pytestmark = pytest.mark.xdist_group("lee2020-arena")
+notebook_definitions = bench_harness().notebook_definitions
 
 NOTEBOOK_NAMES = (
     "A", "B", "N", "V", "W", "S_ind", "T_modal", "U_sub", "a4_resid", "adj_ex", "attack_amplitude",

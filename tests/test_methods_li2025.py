@@ -2,36 +2,25 @@
 
 from __future__ import annotations
 
-import importlib.util
-import sys
 from dataclasses import replace
 
 import numpy as np
 import pytest
+from conftest import bench_harness
 
 import secest.methods  # noqa: F401  (registers the methods)
 from secest import montecarlo, scenarios
 from secest.estimators import METHODS
 from secest.methods import li2025
-from secest.results import repo_root
 from secest.validation import ValidationError
 
 T_NB, F_NB = 30, 8
 
 
-def _harness():
-    path = repo_root() / "benchmarks" / "harness.py"
-    spec = importlib.util.spec_from_file_location("secest_bench_harness", path)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module
-    spec.loader.exec_module(module)
-    return module
-
-
 @pytest.fixture(scope="module")
 def nb():
     """The notebook's objects, by name (fast mode: the weight table, no grid), and its draws."""
-    ns = _harness().notebook_definitions(
+    ns = bench_harness().notebook_definitions(
         "li2025", "AH_ALL", "BH", "CH", "E_ALL", "K_SETS", "N", "NX", "NZ", "PSI", "SETS", "V", "W",
         "WEIGHTS", "XI", "bound_coefficients", "draw_randomness", "gain_and_bound", "hs",
         "innovation_map", "m", "n_y", "predicted_bound", "simulate", "xi_star", "xs",

@@ -9,12 +9,11 @@ here exist in the notebook both before and after its reviewer-grade restructurin
 
 from __future__ import annotations
 
-import sys
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import bench_harness
 
 import secest.methods  # noqa: F401  (registers the methods)
 from secest import covariance, montecarlo, scenarios
@@ -22,8 +21,7 @@ from secest.estimators import METHODS
 from secest.methods import ma2021 as my
 from secest.validation import ValidationError
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-from harness import notebook_definitions  # noqa: E402
+notebook_definitions = bench_harness().notebook_definitions
 
 pytest.importorskip("cvxpy")
 
