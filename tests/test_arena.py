@@ -216,11 +216,10 @@ def test_evaluate_observes_every_run_and_refuses_unknown_methods() -> None:
 
 
 @pytest.mark.notebook
-@pytest.mark.xdist_group("notebooks")
 def test_arena_notebook_fast_mode(run_notebook) -> None:
-    """Fast mode: claims well formed and consistent, every manifest figure produced, the table whole."""
-    claims = run_notebook("arena")
-    fig_dir = Path(claims.pop("_fig_dir"))
+    """Fast mode at the default point (figures off): claims well formed and consistent."""
+    claims = run_notebook("arena", figures=False)
+    claims.pop("_fig_dir")
     ids = set(claims)
     assert {"X1", "X2", "X3", "X5", "X6", "X7", "X8"} <= ids
     attacks = scenarios.cards()["matrix"]["attacks"]
@@ -250,6 +249,16 @@ def test_arena_notebook_fast_mode(run_notebook) -> None:
         paper = [n for n in x4["within"] if METHODS[n].kind == "paper"]
         assert x4["paper_within"] == len(paper)
         assert claims[f"X4_{a}"]["holds"] == (len(paper) >= 1)
+
+
+@pytest.mark.notebook
+def test_arena_figures_and_the_whole_table(run_notebook) -> None:
+    """Every manifest figure and a whole table, at a perturbation point (tests/test_notebooks.py
+    runs it; one shared execution)."""
+    from secest import spaces
+
+    point = spaces.perturbation_points(spaces.load("arena"))[-1]
+    fig_dir = Path(run_notebook("arena", **point)["_fig_dir"])
     manifest = tomllib.loads((ROOT / "figures" / "manifest.toml").read_text())
     expected = {Path(n).name for fig in manifest["arena"]["figures"] for n in fig["files"]}
     assert expected <= {p.name for p in fig_dir.iterdir()}

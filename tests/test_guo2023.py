@@ -1,8 +1,10 @@
 """guo2023: papermill fast-mode executions; measured values, identities and verdict consistency.
 
-Three executions: the default point, the same seed with other signals (a list of samples and a
-random expression: every error must be identical), and a malformed signal (rejected before any
-estimate). The committed robustness table is checked against the committed claims.
+Three executions: the default point (figures off), the same seeds with the other two declared signal
+shapes (every error must be identical; a perturbation point, so the execution is shared with
+tests/test_notebooks.py, and where the figure data are checked), and a malformed signal (rejected
+before any estimate). The list form of a signal parameter is checked on the notebook's own
+``signal`` function. The committed robustness table is checked against the committed claims.
 """
 
 from __future__ import annotations
@@ -13,25 +15,26 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import bench_harness, perturbation_point
 
 from secest import spaces
 from secest.results import headline_value, point_verdict, repo_root
 from secest.run import execute_notebook
+from secest.validation import ValidationError
 
 ROOT = repo_root()
 FIG = ROOT / "figures" / "guo2023"
-OTHER_D = [float(np.sign(np.sin(0.2 * k))) for k in range(201)]  # a square wave, as samples
-OTHER_A = "5*randn(9) + 3*window(20, 60)"
+OTHER = {"d_signal": "sign(sin(0.04*k))", "a_signal": "1 - exp(-0.03*k)"}  # the other declared shapes
 
 
 @pytest.fixture(scope="module")
 def claims(run_notebook):
-    return run_notebook("guo2023")
+    return run_notebook("guo2023", figures=False)
 
 
 @pytest.fixture(scope="module")
 def claims_other_signals(run_notebook):
-    return run_notebook("guo2023", d_signal=OTHER_D, a_signal=OTHER_A)
+    return run_notebook("guo2023", **perturbation_point("guo2023", **OTHER))
 
 
 def _rule(cid: str, m: dict) -> bool:
@@ -179,23 +182,34 @@ def test_other_signals_give_identical_errors(claims, claims_other_signals) -> No
         assert b[cid]["measured"][key] == pytest.approx(a[cid]["measured"][key], rel=1e-9), (cid, key)
     np.testing.assert_allclose(b["X2"]["measured"]["sd_mc_d"], a["X2"]["measured"]["sd_mc_d"], rtol=1e-9)
     assert b["X1"]["measured"]["max_relative_gap"] < 1e-12
-    with (Path(b["_fig_dir"]) / "fig1_input_attack_estimates.csv").open() as fh:
-        rows = list(csv.DictReader(fh))
-    assert [float(r["d"]) for r in rows] == OTHER_D[:-1]
 
 
-def test_figures_and_data_written(claims) -> None:
-    fig_dir = Path(claims["_fig_dir"])
+def test_figures_and_data_written(claims_other_signals) -> None:
+    """At the other-signals point: the figures, and Fig. 1's data carry the signals asked for."""
+    fig_dir = Path(claims_other_signals["_fig_dir"])
     for stem in ("fig1_input_attack_estimates", "fig2_states_estimates", "extra_consistency",
                  "extra_input_error_sd", "extra_nondegenerate_variant"):
         assert (fig_dir / f"{stem}.png").stat().st_size > 10_000, stem
     with (fig_dir / "fig1_input_attack_estimates.csv").open() as fh:
         rows = list(csv.DictReader(fh))
-    assert len(rows) == 200
-    assert rows[0]["k"] == "0" and float(rows[60]["a"]) == 1.0
+    k = np.arange(200)
+    assert [int(r["k"]) for r in rows] == k.tolist()
     d = np.array([float(r["d"]) for r in rows])
+    np.testing.assert_array_equal(d, np.sign(np.sin(0.04 * k)))
+    np.testing.assert_allclose([float(r["a"]) for r in rows], 1 - np.exp(-0.03 * k), rtol=1e-9, atol=1e-12)
     d_hat = np.array([[float(r[f"d_hat_node[{i}]"]) for i in range(4)] for r in rows])
     assert np.abs((d_hat - d[:, None]).mean(axis=0)).max() < 0.05  # run 0 tracks d without bias
+
+
+def test_a_signal_given_as_samples_is_taken_as_it_is() -> None:
+    """The list form of a signal parameter (the executions above use expressions), on the
+    notebook's own ``signal`` function; a random expression is reproducible by its seed."""
+    signal = bench_harness().notebook_definitions("guo2023", "signal", n_steps=4)["signal"]
+    samples = [1.0, -1.0, 0.5, 0.0, 2.0]
+    np.testing.assert_array_equal(signal("d_signal", samples, 4), samples)
+    np.testing.assert_array_equal(signal("a_signal", "5*randn(9)", 4), signal("a_signal", "5*randn(9)", 4))
+    with pytest.raises(ValidationError, match="parameter d_signal: a list of samples needs n_steps"):
+        signal("d_signal", samples[:-1], 4)
 
 
 def test_malformed_signal_is_rejected_naming_the_parameter(tmp_path: Path) -> None:
