@@ -71,7 +71,7 @@ lock:
 SITE_SRC := build/site-src
 html: $(STAMP)
 	$(PY) -m secest.site prepare $(SITE_SRC)
-	$(PY) -m sphinx -W --keep-going -q -b html -c docs $(SITE_SRC) build/html \
+	$(PY) -m sphinx -W --keep-going -q -j auto -b html -c docs $(SITE_SRC) build/html \
 	    || { rm -rf build/html/.doctrees; exit 1; }
 	@echo "site: build/html/index.html (opens from disk, no network needed); 'make serve' serves it"
 

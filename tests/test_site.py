@@ -84,7 +84,8 @@ def site() -> Path:
     )
     assert prep.returncode == 0, prep.stderr[-4000:]
     build = subprocess.run(
-        [sys.executable, "-m", "sphinx", "-E", "-W", "--keep-going", "-q", "-b", "html", "-c", "docs"]
+        [sys.executable, "-m", "sphinx", "-E", "-W", "--keep-going", "-q", "-j", "auto", "-b", "html"]
+        + ["-c", "docs"]
         + [str(SRC.relative_to(ROOT)), str(HTML.relative_to(ROOT))],
         cwd=ROOT,
         capture_output=True,
