@@ -8,12 +8,14 @@ import hashlib
 import json
 import os
 import shutil
+from collections import Counter
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import pytest
 
+from secest.results import repo_root
 from secest.run import execute_notebook
 
 
@@ -37,8 +39,6 @@ def bench_harness() -> Any:
 
     name = "secest_bench_harness"
     if name not in sys.modules:
-        from secest.results import repo_root
-
         spec = importlib.util.spec_from_file_location(name, repo_root() / "benchmarks" / "harness.py")
         module = importlib.util.module_from_spec(spec)
         sys.modules[name] = module
@@ -178,18 +178,14 @@ def _scope(nodeid: str) -> str:
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     """Queue order (see :data:`FIRST`); modules stay whole and keep their own order. Every
     xdist worker sorts its own collection the same way (the scheduler sends indexes into it)."""
-    executes = {f"tests/test_{p.stem}.py" for p in (Path(__file__).parent.parent / "notebooks").glob("*.py")}
-    counts: dict[str, int] = {}
-    for item in items:
-        counts[_scope(item.nodeid)] = counts.get(_scope(item.nodeid), 0) + 1
+    executes = {f"tests/test_{p.stem}.py" for p in (repo_root() / "notebooks").glob("*.py")}
+    counts = Counter(_scope(item.nodeid) for item in items)
 
     def rank(item: pytest.Item) -> tuple[int, int]:
         scope = _scope(item.nodeid)
-        if any(name in scope for name in FIRST):
-            return 0, -counts[scope]
-        if scope in executes:
-            return 1, -counts[scope]
-        return (2 if scope == item.nodeid else 3), -counts[scope]
+        first, module, alone = any(n in scope for n in FIRST), scope in executes, scope == item.nodeid
+        group = 0 if first else 1 if module else 2 if alone else 3
+        return group, -counts[scope]
 
     items.sort(key=rank)
 

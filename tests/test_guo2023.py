@@ -18,7 +18,7 @@ import pytest
 from conftest import bench_harness, perturbation_point
 
 from secest import spaces
-from secest.results import headline_value, point_verdict, repo_root
+from secest.results import declared_parameters, headline_value, point_verdict, repo_root
 from secest.run import execute_notebook
 from secest.validation import ValidationError
 
@@ -192,7 +192,7 @@ def test_figures_and_data_written(claims_other_signals) -> None:
         assert (fig_dir / f"{stem}.png").stat().st_size > 10_000, stem
     with (fig_dir / "fig1_input_attack_estimates.csv").open() as fh:
         rows = list(csv.DictReader(fh))
-    k = np.arange(200)
+    k = np.arange(int(declared_parameters("guo2023")["n_steps"]))  # the point keeps the default horizon
     assert [int(r["k"]) for r in rows] == k.tolist()
     d = np.array([float(r["d"]) for r in rows])
     np.testing.assert_array_equal(d, np.sign(np.sin(0.04 * k)))
