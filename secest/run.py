@@ -19,8 +19,11 @@ unless ``fig_dir`` / ``results_path`` are given explicitly.
 from __future__ import annotations
 
 import argparse
+import functools
 import os
 import sys
+import tempfile
+import uuid
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -33,6 +36,31 @@ __all__ = ["KERNEL", "execute_notebook", "list_parameters", "main", "safe_output
 
 KERNEL = "python3"
 """Kernel name given to papermill; with JUPYTER_PREFER_ENV_PATH=1 it is the venv's."""
+
+
+@functools.cache
+def _kernel_manager_class() -> type:
+    """jupyter_client's ``KernelManager``, its kernel listening on Unix sockets (POSIX).
+
+    Over TCP (jupyter_client's default) every kernel takes five free ports on 127.0.0.1
+    chosen before it binds them, so two kernels started at once by different processes (the
+    two pytest workers, the Dask workers of a sweep) can pick the same port: the kernel dies
+    with "Address already in use" before it answers (seen once in a clean-clone CI run).
+    Unix sockets are files with names of their own. They are placed in the temporary folder
+    under a short random name (a socket path may not exceed 107 bytes; jupyter_client would
+    put them beside the connection file, deep in the Jupyter runtime folder) and removed when
+    the kernel stops. On Windows, where ZeroMQ has no such sockets, TCP stays.
+    """
+    from jupyter_client.manager import KernelManager
+
+    class UnixSocketKernelManager(KernelManager):
+        def __init__(self, **kwargs: Any) -> None:
+            super().__init__(**kwargs)
+            if os.name == "posix":
+                self.transport = "ipc"
+                self.ip = os.path.join(tempfile.gettempdir(), f"secest-kernel-{uuid.uuid4().hex[:12]}")
+
+    return UnixSocketKernelManager
 
 
 def execute_notebook(
@@ -76,6 +104,7 @@ def execute_notebook(
     outputs are all received by then and it holds nothing to save. A graceful shutdown
     instead stalled for 3.3 s in about one execution of five (a one-cell notebook: 0.7 s
     or 4.0 s).
+    The kernel talks over Unix sockets, not TCP ports (see :func:`_kernel_manager_class`).
     """
     import papermill
 
@@ -94,6 +123,7 @@ def execute_notebook(
         progress_bar=False,
         request_save_on_cell_execute=False,
         shutdown_kernel="immediate",
+        kernel_manager_class=_kernel_manager_class(),
     )
     return target
 
