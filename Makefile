@@ -2,7 +2,18 @@
 SHELL := /bin/bash
 .DELETE_ON_ERROR:
 
-VENV   := .venv
+# The interpreter: `make test PYTHON=python3.13`. Each minor version gets its own environment,
+# .venv/py<major.minor>, built from the same lock (it pins every supported Python's wheels).
+PYTHON ?= python3
+PYVER  := $(shell $(PYTHON) -c 'import sys; print("%d.%d" % sys.version_info[:2])' 2>/dev/null)
+SUPPORTED := 3.11 3.12 3.13
+ifeq ($(PYVER),)
+$(error PYTHON=$(PYTHON) does not run: name an interpreter, e.g. PYTHON=python3.13)
+endif
+ifeq ($(filter $(PYVER),$(SUPPORTED)),)
+$(error PYTHON=$(PYTHON) is Python $(PYVER); supported and tested: $(SUPPORTED))
+endif
+VENV   := .venv/py$(PYVER)
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.stamp
 KEYS   := $(sort $(basename $(notdir $(wildcard notebooks/*.py))))
@@ -19,7 +30,7 @@ venv: $(STAMP)
 
 $(STAMP): environment.lock
 	rm -rf $(VENV)
-	python3 -m venv $(VENV)
+	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --disable-pip-version-check --require-hashes -r environment.lock
 	$(PY) -m pip install --quiet --disable-pip-version-check --no-deps --no-build-isolation -e .
 	$(PY) -m ipykernel install --sys-prefix --name python3 --display-name "Python 3 (secest)" >/dev/null
@@ -27,13 +38,13 @@ $(STAMP): environment.lock
 
 ## figures: build each notebook from its .py, execute it in place, strip metadata, check the manifest
 figures: $(addprefix figures-,$(NB))
-	$(PY) -m secest.build manifest $(NB)
+	$(PY) -m secest.repro.build manifest $(NB)
 
 $(addprefix figures-,$(KEYS)): figures-%: $(STAMP)
-	$(PY) -m secest.build ipynb $*
-	$(PY) -m secest.build prepare $*
-	$(PY) -m secest.run $* --in-place
-	$(PY) -m secest.build strip $*
+	$(PY) -m secest.repro.build ipynb $*
+	$(PY) -m secest.repro.build prepare $*
+	$(PY) -m secest.repro.run $* --in-place
+	$(PY) -m secest.repro.build strip $*
 
 ## test: unit tests + papermill-executed notebook tests (fast mode) + lint
 test: $(STAMP)
@@ -48,29 +59,30 @@ shots: $(STAMP)
 ## robustness: sweep each notebook's declared space on Dask (a LocalCluster sized to the machine;
 ## SCHEDULER=tcp://host:port sends it to an existing cluster). Writes figures/<key>/robustness.*
 robustness: $(STAMP)
-	$(PY) -m secest.sweep $(NB) $(if $(SCHEDULER),--scheduler $(SCHEDULER))
+	$(PY) -m secest.repro.sweep $(NB) $(if $(SCHEDULER),--scheduler $(SCHEDULER))
 
 ## verify: execute the notebooks (paper mode) into build/verify/ and compare every committed number
 ## with its declared tolerance (report: build/verify.json). It forces no BLAS kernel or CPU feature:
 ## machines differ, and the tolerances say by how much results may.
 verify: $(STAMP)
-	$(PY) -m secest.verify $(NB)
+	$(PY) -m secest.repro.verify $(NB)
 
 bench: $(STAMP)
 	$(PY) benchmarks/bench.py
 
-## lock: regenerate environment.lock (pinned with hashes) from pyproject.toml
+## lock: regenerate environment.lock (pinned with hashes) from pyproject.toml: one universal
+## resolution for every Python from the oldest supported on (markers pick a version per Python)
 lock:
-	python3 -m venv build/lockenv
+	$(PYTHON) -m venv build/lockenv
 	build/lockenv/bin/python -m pip install --quiet uv==0.13.9
 	build/lockenv/bin/uv pip compile pyproject.toml --extra all --generate-hashes \
-	    --universal --python-version 3.11 --no-header -o environment.lock
+	    --universal --python-version $(firstword $(SUPPORTED)) --no-header -o environment.lock
 
 ## html: the site in build/html/ (Sphinx + myst-nb, renders the committed notebooks, executes nothing).
 ## Any warning fails it; a failed build drops Sphinx's cache so the next run reports every warning again.
 SITE_SRC := build/site-src
 html: $(STAMP)
-	$(PY) -m secest.site prepare $(SITE_SRC)
+	$(PY) -m secest.repro.site prepare $(SITE_SRC)
 	$(PY) -m sphinx -W --keep-going -q -j auto -b html -c docs $(SITE_SRC) build/html \
 	    || { rm -rf build/html/.doctrees; exit 1; }
 	@echo "site: build/html/index.html (opens from disk, no network needed); 'make serve' serves it"
@@ -82,4 +94,4 @@ serve: html
 	$(PY) -m http.server $(PORT) --bind 127.0.0.1 --directory build/html
 
 clean:
-	rm -rf $(VENV) build .pytest_cache
+	rm -rf .venv build .pytest_cache

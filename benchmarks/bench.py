@@ -41,7 +41,7 @@ from harness import (  # noqa: E402
     notebook_definitions,
 )
 
-from secest.results import repo_root  # noqa: E402
+from secest.repro.results import repo_root  # noqa: E402
 
 ROOT = repo_root()
 KEYS = ("ding2020", "guo2023", "lee2020", "li2025", "ma2021")
@@ -66,7 +66,8 @@ def bench_ding2020(repeats: int) -> list[Row]:
     import scipy.sparse as sp
     from filterpy.kalman import KalmanFilter
 
-    from secest import filters, graphs
+    from secest.core import graphs
+    from secest.methods import ding2020
 
     nb = load_notebook("ding2020", stop_before="adj = graphs.check_connected")
     A, BBt, DDt, C_rows = nb["A"], nb["BBt"], nb["DDt"], nb["C_rows"]
@@ -86,13 +87,13 @@ def bench_ding2020(repeats: int) -> list[Row]:
                    x=rng.standard_normal((N, n)), Pi=Pi, Gam=0.5 * Pi,
                    y=np.einsum("iyn,n->iy", C, x_true) + 0.05 * rng.standard_normal((N, 1)),
                    nbrs=graphs.neighbours(adj), kappa=kappa_, inspect=inspect)
-        filters.secure_filter_step(net["x"], Pi, net["Gam"], 1, net["y"], C=C, adj=adj, weights=H,
+        ding2020.secure_filter_step(net["x"], Pi, net["Gam"], 1, net["y"], C=C, adj=adj, weights=H,
                                    kappa=kappa_, inspect=inspect, validate=True, **common)
         return net
 
     def vectorised(net: dict) -> Callable[[], tuple]:
         def run() -> tuple:
-            st = filters.secure_filter_step(
+            st = ding2020.secure_filter_step(
                 net["x"], net["Pi"], net["Gam"], 1, net["y"], C=net["C"], adj=net["adj_sp"],
                 weights=net["H_sp"], kappa=net["kappa"], inspect=net["inspect"], validate=False,
                 **common)
@@ -104,7 +105,7 @@ def bench_ding2020(repeats: int) -> list[Row]:
 
         def run() -> tuple:
             for _ in range(sweeps):
-                res = [filters.secure_filter_node_step(
+                res = [ding2020.secure_filter_node_step(
                     x[i], Pi[i], Gam[i], x[nb_], Pi[nb_], H[i, nb_], 1, y[i], C_i=C[i],
                     kappa=net["kappa"], inspect=net["inspect"], **common)
                     for i, nb_ in enumerate(net["nbrs"])]
@@ -250,7 +251,7 @@ def bench_guo2023(repeats: int) -> list[Row]:
 # ---------------------------------------------------------------------------- li2025
 def bench_li2025(repeats: int) -> list[Row]:
     """Vectorised Monte Carlo over F runs vs a Python loop over the runs."""
-    from secest import montecarlo
+    from secest.core import montecarlo
 
     nb = load_notebook("li2025", stop_before="DRAWS = draw_randomness", mode="fast")
     if nb["xhat_moment"] != "run":
@@ -367,8 +368,8 @@ def bench_ma2021(repeats: int) -> list[Row]:
     values of its last step; every side solves exactly that step. Warm starts are off on
     every side (SCS would otherwise return the previous solution after 0 iterations).
     """
-    from secest import lmi as slmi
-    from secest import montecarlo
+    from secest.core import lmi as slmi
+    from secest.core import montecarlo
 
     nb = notebook_definitions(
         "ma2021", "alpha_sequence", "simulate", "get_problem", "build_op2_problem", "seed", "T_run",
@@ -441,7 +442,7 @@ ARENA_GROWTH = (20, 200, 2000)
 """Network sizes of the arena's growth rows (target plant on a ring, each node linked to 2 per side)."""
 ARENA_CALL_BUDGET_S = 20.0
 """A size is not measured when the previous size predicts a call longer than this (per-node cost
-assumed to grow like N, the dense N x N message arrays of secest.scenarios.Trial.received)."""
+assumed to grow like N, the dense N x N message arrays of secest.arena.scenarios.Trial.received)."""
 ARENA_DESIGN_BUDGET_S = 300.0
 """... or conditions and design (once per network) longer than this, assumed to grow like N^2."""
 ARENA_MAX_SUBSETS = 100_000
@@ -457,7 +458,7 @@ ARENA_CENTRALISED = ("oracle", "kf", "chi2-kf")
 
 
 def _arena_ring(N: int, horizon: int) -> object:
-    from secest import scenarios
+    from secest.arena import scenarios
 
     extra = {"network": {f"bench-ring{N}": {
         "title": f"target plant, {N} nodes on a ring (bench)", "plant": "target", "N": N,
@@ -479,9 +480,9 @@ def bench_arena(repeats: int) -> list[Row]:
     previous size predicts a call over ``ARENA_CALL_BUDGET_S`` or a design over
     ``ARENA_DESIGN_BUDGET_S``, is reported as not measured with the reason.
     """
-    import secest.methods  # noqa: F401  (registers the papers' methods)
-    from secest import scenarios
-    from secest.estimators import METHODS
+    import secest.arena.papers  # noqa: F401  (registers the papers' methods)
+    from secest.arena import scenarios
+    from secest.arena.estimators import METHODS
 
     def runner(method, trial):  # noqa: ANN001, ANN202
         def run():  # noqa: ANN202
@@ -622,7 +623,7 @@ def bench_sweep(repeats: int) -> list[Row]:
 
     from dask.distributed import LocalCluster
 
-    from secest import sweep
+    from secest.repro import sweep
 
     points = {"guo2023": [{"seed": s} for s in range(101, 107)]}
     base = {"guo2023": {"mode": "fast"}}

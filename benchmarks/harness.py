@@ -27,7 +27,7 @@ from typing import Any
 import jupytext
 import numpy as np
 
-from secest.results import repo_root
+from secest.repro.results import repo_root
 
 __all__ = [
     "MIN_REPEATS",

@@ -1,6 +1,6 @@
 """Sphinx configuration of the secest site (``make html``).
 
-The source tree is generated: ``python -m secest.site prepare build/site-src``
+The source tree is generated: ``python -m secest.repro.site prepare build/site-src``
 copies the static pages of ``docs/`` and the committed executed notebooks there
 and generates the landing verdict table, the claims matrix, the gallery, the
 errata page and the API pages. This file is the configuration directory
@@ -24,7 +24,7 @@ sys.path.insert(0, str(DOCS / "_ext"))
 sys.path.insert(0, str(ROOT))
 
 from secest import __version__  # noqa: E402
-from secest.site import mathjax_dir  # noqa: E402
+from secest.repro.site import mathjax_dir  # noqa: E402
 
 project = "secest"
 author = "the secest authors"

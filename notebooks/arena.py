@@ -11,7 +11,7 @@
 #
 # **Beyond the papers.** The five paper notebooks reproduce each estimator on its own paper's
 # example. Here every estimator meets every other on common ground: three plants, each observed
-# by its sensor network (the *scenario cards* of `secest/cards.toml`), under no attack and four
+# by its sensor network (the *scenario cards* of `secest/arena/cards.toml`), under no attack and four
 # attacks — a persistent sensor bias, a Bernoulli replacement of a sensor's data, falsified
 # messages between nodes, and a denial of service of the links — with the same Monte Carlo runs
 # fed to every method. Next to the papers' methods (every one `secest.methods` registers) run four
@@ -84,10 +84,11 @@ from matplotlib.colors import LogNorm
 from matplotlib.patches import Patch
 from matplotlib.ticker import FuncFormatter, LogFormatterSciNotation, NullFormatter
 
-import secest.methods  # noqa: F401  (registers the five papers' methods)
-from secest import arena, plotting, results, scenarios, spaces
-from secest.estimators import METHODS
-from secest.validation import ValidationError
+import secest.arena.papers  # noqa: F401  (registers the five papers' methods)
+from secest.arena import matrix, scenarios
+from secest.arena.estimators import METHODS
+from secest.core.validation import ValidationError
+from secest.repro import plotting, results, spaces
 
 print(results.environment_summary())
 
@@ -104,7 +105,7 @@ if unknown:
     raise ValidationError(f"parameter methods: {unknown} are not registered; registered: {list(METHODS)}")
 if "oracle" not in method_names:
     method_names.insert(0, "oracle")  # the reference of every ratio is always scored
-SCENARIOS = [arena.scaled(sc, attack_scale) for sc in scenarios.matrix(
+SCENARIOS = [matrix.scaled(sc, attack_scale) for sc in scenarios.matrix(
     networks=networks, attacks=attacks, runs=runs_used, horizon=horizon_used, seed=seed)]
 CARDS = scenarios.cards()
 print(f"{len(SCENARIOS)} scenarios x {len(method_names)} methods, {runs_used} runs of "
@@ -113,7 +114,7 @@ print(f"{len(SCENARIOS)} scenarios x {len(method_names)} methods, {runs_used} ru
 # %% [markdown]
 # ## How to read the arena
 #
-# **One trial per scenario.** `secest.scenarios.simulate` draws the runs of a scenario once — the
+# **One trial per scenario.** `secest.arena.scenarios.simulate` draws the runs of a scenario once — the
 # truth $x_k$, every sensor's noise, the attack, the channel — and every method estimates from that
 # same draw. Differences between two methods in a scenario are therefore differences between the
 # methods, not between draws (paired comparison). Changing the attack leaves the truth and the
@@ -134,7 +135,7 @@ print(f"{len(SCENARIOS)} scenarios x {len(method_names)} methods, {runs_used} ru
 # after the burn-in. A node's data count as attacked only under the sensor attacks (bias,
 # replacement): alarms raised under falsified messages or lost links count as false alarms. The
 # 95 % interval is the union of the Wilson interval and a bootstrap over runs (alarms of one run
-# are correlated), `secest.estimators.rate`.
+# are correlated), `secest.arena.estimators.rate`.
 #
 # **N/A** names the first condition of the method's theory that fails on the scenario
 # (`Method.conditions`); **diverged** means a non-finite estimate in some run.
@@ -152,7 +153,7 @@ display(Markdown(spaces.provenance_markdown("arena")))
 # %% [markdown]
 # ## The scenarios
 #
-# Generated from the cards (`secest/cards.toml`): a new plant, network or attack is one table
+# Generated from the cards (`secest/arena/cards.toml`): a new plant, network or attack is one table
 # there; a new scenario outside the cross is one `[scenario.<name>]` table. Attack magnitudes are
 # in units of the attacked output's noise standard deviation (bias, replacement) or of the prior
 # standard deviation of the state (messages), so one card means the same on every plant; the
@@ -198,7 +199,7 @@ display(Markdown("\n".join(
 # %% [markdown]
 # ## The methods
 #
-# Generated from the registry (`secest.estimators.METHODS`, filled by `import secest.methods`): a
+# Generated from the registry (`secest.arena.estimators.METHODS`, filled by `import secest.arena.papers`): a
 # new method is one `Method` subclass passed to `register`, and it appears here and in every table
 # and figure below. The *reading* says how a method is applied where its paper's setting differs
 # (`Method.reading`); *conditions* are the statements the method checks on each scenario before it
@@ -217,14 +218,14 @@ display(Markdown("\n".join(rows)))
 # %% [markdown]
 # ## The matrix
 #
-# `secest.arena.run_matrix` runs `secest.estimators.evaluate` once per scenario (one trial, every
+# `secest.arena.matrix.run_matrix` runs `secest.arena.estimators.evaluate` once per scenario (one trial, every
 # method, the oracle as reference) and keeps each method's network-mean RMS error over time for the
 # figures. What each method costs per scenario is machine-dependent: it goes to the run manifest
 # `build/runs/arena.json` (not committed) and to `make bench`, never into this notebook.
 
 # %%
-MATRIX = arena.run_matrix(SCENARIOS, method_names)
-status_counts = {s: sum(c.status == s for c in MATRIX.cells.values()) for s in arena.STATUSES}
+MATRIX = matrix.run_matrix(SCENARIOS, method_names)
+status_counts = {s: sum(c.status == s for c in MATRIX.cells.values()) for s in matrix.STATUSES}
 print(f"{len(MATRIX.cells)} cells: " + ", ".join(f"{n} {s}" for s, n in status_counts.items()))
 
 # %% [markdown]
@@ -232,7 +233,7 @@ print(f"{len(MATRIX.cells)} cells: " + ", ".join(f"{n} {s}" for s, n in status_c
 # (– where the method has no detector, or the scenario no attacked sample).
 
 # %%
-TABLE = arena.table_rows(MATRIX)
+TABLE = matrix.table_rows(MATRIX)
 plant_of = {sc.name: sc.plant.name for sc in SCENARIOS}
 for plant in plants_used:
     lines = [f"**Plant `{plant}`** — {md(CARDS['plant'][plant].title)}", "",
@@ -329,7 +330,7 @@ for i, sc in enumerate(SCENARIOS):
             v = c.rmse_mean[0]
             r, g, b, _ = cmap(norm(v))
             ink = "black" if 0.299 * r + 0.587 * g + 0.114 * b > 0.55 else "white"
-            ax.text(j, i, arena._sig(v), ha="center", va="center", fontsize=6.5, color=ink)
+            ax.text(j, i, matrix._sig(v), ha="center", va="center", fontsize=6.5, color=ink)
         else:
             colour = "0.85" if c.status == "n/a" else "black"
             ax.add_patch(plt.Rectangle((j - 0.5, i - 0.5), 1, 1, facecolor=colour, hatch="////",
@@ -659,7 +660,7 @@ for cid, c in written.items():
 # %%
 def short(value: object) -> str:
     if isinstance(value, float):
-        return arena._sig(value)
+        return matrix._sig(value)
     if isinstance(value, dict):
         return "; ".join(f"{k}: {short(v)}" for k, v in value.items()) or "–"
     if isinstance(value, list):

@@ -60,7 +60,7 @@
 # %% tags=["parameters"]
 mode = "paper"  # "paper": full Monte Carlo and long runs; "fast": fewer runs for the tests (ours)
 seed = 2020  # master seed of SeedSequence(seed).spawn(6), see the provenance table (MISSING)
-topology_seed = 2020  # seed of secest.graphs.random_geometric_graph, stand-in of Fig. 1 (MISSING)
+topology_seed = 2020  # seed of secest.core.graphs.random_geometric_graph, stand-in of Fig. 1 (MISSING)
 leak_topology_seeds = [2020, 2021, 2022, 2023, 2024, 2025, 2026, 2027, 2028, 2029]  # C2b sample (ours)
 m = 20  # number of sensor nodes (PAPER, Sec. V)
 radius = 0.35  # connection radius of the random geometric graph, unit square (MISSING)
@@ -101,8 +101,10 @@ import networkx as nx
 import numpy as np
 from IPython.display import Markdown, display
 
-from secest import channels, detectors, filters, graphs, montecarlo, plotting, results, spaces
-from secest.validation import ValidationError
+from secest.core import channels, detectors, graphs, montecarlo
+from secest.core.validation import ValidationError
+from secest.methods import ding2020
+from secest.repro import plotting, results, spaces
 
 print(results.environment_summary())
 
@@ -358,13 +360,13 @@ save(fig, "fig2_channel_state", data={"k": np.arange(N + 1), "delta": delta})
 #
 # ### The code
 #
-# `secest/filters.py` implements these steps twice. `secure_filter_step` is vectorised over
+# `secest/methods/ding2020.py` implements these steps twice. `secure_filter_step` is vectorised over
 # nodes and Monte Carlo runs. `secure_filter_node_step` is a plain per-node reference that loops over
 # the neighbours. Their agreement is claim C10. The vectorised step, with the equation numbers
 # next to each line:
 
 # %%
-src = inspect.getsource(filters.secure_filter_step)
+src = inspect.getsource(ding2020.secure_filter_step)
 print(src[src.index("    if validate:"):])
 
 # %% [markdown]
@@ -442,7 +444,7 @@ def simulate(xh0, y, delta_seq, *, kappa_=kappa, inspect_=inspection, inspection
         out.update(Pi=[Pi], Gamma=[Gam], K=[], q1_psd=[], min_branch=[], Gamma_eta=[], Pi_eta=[])
     for k in range(steps):
         if const_gain is not None:
-            x_prior, d_r = filters.consensus_prediction(x_post, delta_seq[k], adj_, H_, A, kappa_,
+            x_prior, d_r = ding2020.consensus_prediction(x_post, delta_seq[k], adj_, H_, A, kappa_,
                                                          validate=(k == 0))
             if form == "predictor":  # x_{k+1} = A x_k + kappa A xi_k + K_i (y_k - C_i x_k)
                 eta = y[:, k] - np.einsum("in,rin->ri", C_rows, x_post)
@@ -451,7 +453,7 @@ def simulate(xh0, y, delta_seq, *, kappa_=kappa, inspect_=inspection, inspection
             x_post = x_prior + const_gain[None] * eta[..., None]
             theta = np.ones((runs, m))
         else:
-            st = filters.secure_filter_step(
+            st = ding2020.secure_filter_step(
                 x_post, Pi, Gam, delta_seq[k], y[:, k + 1, :, None], A=A, BBt=BBt, C=C, DDt=DDt,
                 adj=adj_, weights=H_, kappa=kappa_, threshold=threshold, inspect=inspect_,
                 inspection_cov=inspection_cov, tol=tol, strict=strict, validate=(k == 0))
@@ -1225,11 +1227,11 @@ x_vec, Pi_vec, G_vec = world["xh0"].copy(), initial_bound(None, pi0_scale, 1), i
 x_loop, Pi_loop, G_loop = x_vec[0].copy(), Pi_vec[0].copy(), G_vec[0].copy()
 steps_c10 = min(20, N)
 for k in range(steps_c10):
-    st = filters.secure_filter_step(x_vec, Pi_vec, G_vec, delta[k], y_attacked[:, k + 1, :, None],
+    st = ding2020.secure_filter_step(x_vec, Pi_vec, G_vec, delta[k], y_attacked[:, k + 1, :, None],
                                     A=A, BBt=BBt, C=C, DDt=DDt, adj=adj, weights=H, kappa=kappa,
                                     threshold=threshold, inspect=inspection, tol=tol, strict=strict)
     x_vec, Pi_vec, G_vec = st.x_post, st.Pi_post, st.Gamma_post
-    new = [filters.secure_filter_node_step(
+    new = [ding2020.secure_filter_node_step(
         x_loop[i], Pi_loop[i], G_loop[i], x_loop[nbrs[i]], Pi_loop[nbrs[i]], H[i, nbrs[i]],
         int(delta[k]), y_attacked[0, k + 1, i:i + 1], A=A, BBt=BBt, C_i=C[i], DDt=DDt,
         kappa=kappa, threshold=threshold, inspect=inspection, tol=tol, strict=strict) for i in range(m)]

@@ -74,15 +74,16 @@ import numpy as np
 import scipy.linalg as sla
 from IPython.display import Markdown, display
 
-from secest import covariance, montecarlo, plotting, results, spaces, systems
-from secest.estimation import (
+from secest.core import covariance, montecarlo, systems
+from secest.core.estimation import (
     constrained_gain,
     feedthrough_decomposition,
     fusion_weights,
     ltv_observability_matrix,
     relative_rank,
 )
-from secest.validation import ValidationError
+from secest.core.validation import ValidationError
+from secest.repro import plotting, results, spaces
 
 print(results.environment_summary())
 
@@ -313,7 +314,7 @@ print("Pi row sums:", model.Pi.sum(axis=1), f"| min_k |det A_k| = {min_det_A:.3f
 # uncorrelated noises ($T_1RU_2=0$). The row space of $\bar H=[0\;H]$ lies in the $a$-coordinates
 # of $u$, so $V_1=[0;\bullet]$ and $\bar G_1=\bar GV_1=0$ identically: $u_1$ never enters the state
 # equation. This is what the paper's display after (16) says ($\bar G_1M_1T_1=0$, so
-# $\hat A=A$, $\hat Q=Q$). `secest.estimation.feedthrough_decomposition` implements the SVD and $T$.
+# $\hat A=A$, $\hat Q=Q$). `secest.core.estimation.feedthrough_decomposition` implements the SVD and $T$.
 
 # %%
 decs0 = [feedthrough_decomposition(model.Hbar(0)[i], model.R(0)[i]) for i in range(model.N)]
@@ -420,7 +421,7 @@ def local_update(A, Q, Gbar, P_prev, x_prev, u1_prev, dec_prev, dec, C, R, ya):
 # \hat x^i_k=\sum_jW^{i,j}_k\hat x^{j,j}_k\;(21).$$
 #
 # This is covariance intersection with the fixed weights $\pi_{ij}$
-# (`secest.covariance.information_fusion`); `secest.estimation.fusion_weights` returns the
+# (`secest.core.covariance.information_fusion`); `secest.core.estimation.fusion_weights` returns the
 # matrix weights $W^{i,j}$ so that (21) applies to all Monte Carlo runs at once and the exact
 # joint error covariance can be propagated. Rows of $\Pi$ sum to one, so $\sum_jW^{i,j}=I$ and
 # the fused estimate stays unbiased. Then (Algorithm 1 lines 20-21)
@@ -715,7 +716,7 @@ print("max |K U1| =", f"{max(s.KU1 for s in est.steps):.1e}", "| max |K| =",
 # $\operatorname{range}G$ in step A7, and the fusion does the rest. Lemmas 1-2 and the constraint
 # $KU_1=0$, the paper's main design, are therefore **not exercised by the paper's example**;
 # the non-degenerate variant below exercises them. The fusion itself is checked against
-# `secest.covariance.information_fusion` on run 0 of the last step:
+# `secest.core.covariance.information_fusion` on run 0 of the last step:
 
 # %%
 last = est.steps[-1]
@@ -726,7 +727,7 @@ for i in range(model.N):
         [last.x_loc[j, 0] for j in nb], [last.P_loc[j] for j in nb], model.Pi[i, nb])
     fusion_gap = max(fusion_gap, np.abs(x_ci - est.x[-1, i, 0]).max(),
                      np.abs(P_ci - est.P[-1, i]).max())
-print(f"(19)-(21) via fusion_weights vs secest.covariance.information_fusion: {fusion_gap:.1e}")
+print(f"(19)-(21) via fusion_weights vs secest.core.covariance.information_fusion: {fusion_gap:.1e}")
 # %% [markdown]
 # ## Consistency (Theorem 1)
 #
@@ -1137,12 +1138,12 @@ display(Markdown(
 #
 # The example is time-varying, so we use the observability matrix of the window
 # $k_0..k_0+5$, $\mathcal O=[C_{k_0};\,C_{k_0+1}A_{k_0};\,\dots]$
-# (`secest.estimation.ltv_observability_matrix`), for every start $k_0$ of the run, per node
+# (`secest.core.estimation.ltv_observability_matrix`), for every start $k_0$ of the run, per node
 # with $C^i_k$ and with the attack-free $C^i_{2,k}=U^{iT}_{2,k}C^i_k$, and collectively with the
 # stacked $C_{2,k}=[C^1_{2,k};\dots;C^4_{2,k}]$ of Assumption 2. Nodes 2 and 3 have constant
 # $C^i$ and $A_k=e^{e_k}\exp(hA_0)$ is a scalar multiple of a constant matrix, so for them the
 # time-varying rank must equal the time-invariant rank of $(\exp(hA_0), C^i)$ from
-# `secest.systems.observability_rank`, a cross-check. The solvability condition of (13),
+# `secest.core.systems.observability_rank`, a cross-check. The solvability condition of (13),
 # $C^i_{2,k}\bar G^i_{2,k-1}\ne0$, is checked at every step.
 
 # %%

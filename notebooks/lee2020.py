@@ -105,8 +105,9 @@ import scipy.linalg as sla
 from IPython.display import Markdown, display
 from scipy.integrate import solve_ivp
 
-from secest import graphs, plotting, results, spaces, systems
-from secest.validation import ValidationError
+from secest.core import graphs, systems
+from secest.core.validation import ValidationError
+from secest.repro import plotting, results, spaces
 
 print(results.environment_summary())
 
@@ -524,7 +525,7 @@ print("eig(A) =", np.round(np.sort_complex(eig_A), 4))
 # (shape $(1,-2,1)$). It is Lyapunov stable but not asymptotically stable.
 #
 # **Unobservable subspaces.** $\mathcal U_i=\ker\operatorname{col}(C_i, C_iA,\dots,C_iA^{n-1})$,
-# computed by `secest.systems.unobservable_subspace` with an orthogonal staircase (Krylov
+# computed by `secest.core.systems.unobservable_subspace` with an orthogonal staircase (Krylov
 # iteration on $A/\|A\|$ with re-orthonormalisation and a relative rank tolerance): the raw
 # observability matrix of bank 1 has singular values from $1.3\cdot10^5$ down to $0.58$, so a
 # rank decision on it is fragile. Cross-check: the PBH test on each real invariant subspace
@@ -589,7 +590,7 @@ for (mu, _), row in zip(modes, pattern, strict=True):
 
 # %% [markdown]
 # **Assumption 2 (2q-redundant observability)** by enumeration of all $\binom{N}{N-2q}$ subsets
-# (`secest.systems.redundant_observability`). The paper states that $(C, A)$ is
+# (`secest.core.systems.redundant_observability`). The paper states that $(C, A)$ is
 # "2-redundant observable", i.e. $q=1$.
 
 # %%
@@ -999,7 +1000,7 @@ def unpack(X: np.ndarray) -> dict[str, np.ndarray]:
 # * replacing $\mathrm{sgn}$ by $\tanh(\cdot/\varepsilon)$ lets RK45 run, but it changes the
 #   model: the sliding equilibria move by $O(\varepsilon)$.
 #
-# **Our integrator: exponential Euler** (`secest.systems.integrate_switched_linear`,
+# **Our integrator: exponential Euler** (`secest.core.systems.integrate_switched_linear`,
 # `method="expeuler"`). Over each step the exogenous input $w$ is sampled at the midpoint and the
 # switching term $\phi(RX_k)$ at the left end, both held, and the linear part is integrated
 # exactly: $X_{k+1}=\Phi X_k+\Gamma_ww(t_k+dt/2)+\Gamma_s\phi(RX_k)$ with
@@ -2053,6 +2054,6 @@ for cid in claims:
 # | extras (ours) | — | Theorem 1 sweep and the minimiser of $f_\gamma$ (X2, X3), integrator comparison (X1), offset law, averaging baseline (X4), identification residual (Fig. S2), κ map | acceptance of the reproduction issues |
 
 # %%
-manifest_path = run.finish(solver="exponential Euler (secest.systems.integrate_switched_linear); "
+manifest_path = run.finish(solver="exponential Euler (secest.core.systems.integrate_switched_linear); "
                            "CLARABEL for the offset law and the minimisers of f_gamma")
 print("run manifest:", manifest_path.relative_to(results.repo_root()))

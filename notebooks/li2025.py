@@ -94,8 +94,9 @@ import numpy as np
 from IPython.display import Markdown, display
 from scipy import stats
 
-from secest import montecarlo, plotting, results, schedules, spaces
-from secest.validation import ValidationError
+from secest.core import montecarlo, schedules
+from secest.core.validation import ValidationError
+from secest.repro import plotting, results, spaces
 
 print(results.environment_summary())
 
@@ -220,7 +221,7 @@ print("A(5) =\n", np.round(A_ALL[min(5, T)], 4), "\ndet A(k) = 1:", np.allclose(
 # $\varepsilon(k)=\{\mathrm{mod}(m(k-1)+s,n_y)+1: s=0..m-1\}$ (2), period $U=\mathrm{lcm}(m,n_y)/m$,
 # $\Phi_{o(k)}=\sum_{r\in\varepsilon(k)}\phi_r$ (4) and the zero-input update
 # $\bar y_i(k)=\Phi_{o(k)}\tilde y_i(k)$ (3), (5). The schedule is the reusable
-# `secest.schedules` (0-based sensor indices = label − 1). Remark 1 (fairness): in every window
+# `secest.core.schedules` (0-based sensor indices = label − 1). Remark 1 (fairness): in every window
 # of $U$ steps each sensor is served $\mathrm{lcm}(m,n_y)/n_y$ times (C4).
 
 # %%

@@ -118,9 +118,10 @@ import matplotlib.pyplot as plt
 import numpy as np
 from IPython.display import Markdown, display
 
-from secest import covariance, graphs, montecarlo, plotting, results, spaces
-from secest import lmi as slmi
-from secest.validation import ValidationError
+from secest.core import covariance, graphs, montecarlo
+from secest.core import lmi as slmi
+from secest.core.validation import ValidationError
+from secest.repro import plotting, results, spaces
 
 print(results.environment_summary())
 print("cvxpy:", cp.__version__, "solvers:", cp.installed_solvers())
@@ -183,7 +184,7 @@ check_matrix("Q0", Q0, (2, 2), spd=True)
 # %%
 display(Markdown(spaces.provenance_markdown("ma2021")))
 print(f"design of the declared space: {len(spaces.design(SPACE))} points "
-      f"(python -m secest.sweep --list ma2021)")
+      f"(python -m secest.repro.sweep --list ma2021)")
 
 # %% [markdown]
 # The model constants that are not parameters:
@@ -680,7 +681,7 @@ def build_op1_problem(*, e1_, eps, links=LINKS, lam2_box=1e3):
 # and $\varpi$ are formed; (6) OP1 gives $\lambda^{(1)},\lambda^{(2)},Q_{ij,k+1}$; (7) $\hat W_{ij,k+1}$
 # follows from (17), and $S_{k+1}=\mathrm{chol}(P_{k+1})$ after symmetrisation.
 #
-# **Solves.** Every problem is solved by `secest.lmi.solve_certified`. CLARABEL runs first (with
+# **Solves.** Every problem is solved by `secest.core.lmi.solve_certified`. CLARABEL runs first (with
 # tolerances $10^{-7}$, and chordal decomposition off for the tiny, degenerate OP1). The status must
 # be `optimal`, and every LMI matrix $M$ must have its largest numpy eigenvalue $\le-$`cert_tol`:
 # the strict LMI $M<0$ holds beyond `cert_tol` (`certify="strict"`), even where the solver used up

@@ -15,8 +15,8 @@ from typing import Any
 
 import pytest
 
-from secest.results import repo_root
-from secest.run import execute_notebook
+from secest.repro.results import repo_root
+from secest.repro.run import execute_notebook
 
 
 def _not_json(constant: str) -> None:
@@ -49,7 +49,7 @@ def bench_harness() -> Any:
 def perturbation_point(key: str, **parameters: Any) -> dict[str, Any]:
     """``parameters``, checked to be one of ``key``'s perturbation points (so that the module's
     execution is the one tests/test_notebooks.py shares, not a second one)."""
-    from secest import spaces
+    from secest.repro import spaces
 
     points = spaces.perturbation_points(spaces.load(key))
     if parameters not in points:

@@ -4,7 +4,7 @@ For every public callable of :data:`MODULES` a valid call is declared in :data:`
 each parameter gets a *kind* whose catalogue of invalid values (wrong type, None, strings,
 NaN/inf, wrong shape, empty, out-of-range, non-symmetric / indefinite, absurd sizes, violated
 standing assumptions ...) is substituted one at a time. Every such call must raise a
-:class:`~secest.validation.ValidationError` whose message names the argument, within
+:class:`~secest.core.validation.ValidationError` whose message names the argument, within
 :data:`TIME_LIMIT` seconds. Outcomes:
 
 ``clear``    ValidationError naming the argument
@@ -35,15 +35,16 @@ from typing import Any
 
 import numpy as np
 
-MODULES = [
-    "validation", "graphs", "channels", "covariance", "detectors", "montecarlo",
-    "systems", "estimation", "filters", "schedules", "lmi",
-]
+MODULES = {  # label in SPECS -> module
+    **{m: f"secest.core.{m}" for m in ("validation", "graphs", "channels", "covariance", "detectors",
+                                       "montecarlo", "systems", "estimation", "schedules", "lmi")},
+    "ding2020": "secest.methods.ding2020",
+}
 TIME_LIMIT = 2.0
 # Public names that are records or exception / warning classes, not computations.
 NOT_CALLS = {
-    "validation.ValidationError", "validation.SizeLimitError", "filters.FilterHealthWarning",
-    "filters.SecureStep", "systems.RedundancyResult", "estimation.FeedthroughSVD",
+    "validation.ValidationError", "validation.SizeLimitError", "ding2020.FilterHealthWarning",
+    "ding2020.SecureStep", "systems.RedundancyResult", "estimation.FeedthroughSVD",
     "lmi.LMISolveReport", "lmi.LMISolveError", "lmi.InfeasibleLMIError", "lmi.UnboundedLMIError",
 }
 
@@ -209,7 +210,7 @@ FORTY_BANKS = [np.eye(6)[[i % 6]] for i in range(40)]
 def _lmi_fixture() -> tuple[Any, dict]:
     import cvxpy as cp
 
-    from secest import lmi
+    from secest.core import lmi
 
     x = cp.Variable((2, 2), symmetric=True)
     m = lmi.block_symmetric([[-x], [np.eye(2), -np.eye(2)]])
@@ -461,19 +462,19 @@ SPECS: dict[str, Spec] = {
         lambda: dict(A_seq=[A3, A3], C_seq=[BANKS[0], BANKS[1], BANKS[2]]),
         dict(A_seq=_join(_sequence(ARRAY), _custom(("too short", [A3]))), C_seq=_sequence(ARRAY))),
     # ------------------------------------------------------------------ filters
-    "filters.matrix_min": Spec(lambda: dict(X=P2, Y=np.eye(2), tol=1e-10, strict=False),
+    "ding2020.matrix_min": Spec(lambda: dict(X=P2, Y=np.eye(2), tol=1e-10, strict=False),
                                dict(X=_sym, Y=_sym, tol=NONNEG, strict=_bool)),
-    "filters.matrix_max": Spec(lambda: dict(X=P2, Y=np.eye(2), tol=1e-10, strict=False),
+    "ding2020.matrix_max": Spec(lambda: dict(X=P2, Y=np.eye(2), tol=1e-10, strict=False),
                                dict(X=_sym, Y=_sym, tol=NONNEG, strict=_bool)),
-    "filters.received_indicator": Spec(lambda: dict(x_post=np.ones((6, 3)), delta=1, adj=RING6),
+    "ding2020.received_indicator": Spec(lambda: dict(x_post=np.ones((6, 3)), delta=1, adj=RING6),
                                        dict(x_post=_join(_array(shape=False), _custom(("wrong nodes", np.ones((7, 3))))),
                                             delta=_delta, adj=_adj())),
-    "filters.consensus_prediction": Spec(
+    "ding2020.consensus_prediction": Spec(
         lambda: dict(x_post=np.ones((6, 3)), delta=1, adj=RING6, weights=H6, A=A3, kappa=0.1, validate=True),
         dict(x_post=ARRAY, delta=_delta, adj=_adj(connected=True), weights=_stochastic, A=ARRAY,
              kappa=NONNEG, validate=_bool)),
-    "filters.secure_filter_step": Spec(_ding_step, FILTER_KINDS),
-    "filters.secure_filter_node_step": Spec(_ding_node, NODE_KINDS),
+    "ding2020.secure_filter_step": Spec(_ding_step, FILTER_KINDS),
+    "ding2020.secure_filter_node_step": Spec(_ding_node, NODE_KINDS),
     # ------------------------------------------------------------------ schedules
     "schedules.rrl_map_period": Spec(lambda: dict(m=2, n_y=4),
                                      dict(m=_join(_int(1), _custom(("m > n_y", 5))), n_y=_int(1, huge=True))),
@@ -542,7 +543,7 @@ def _alarm(signum: int, frame: Any) -> None:
 
 
 def _classify(func: Callable, kwargs: dict, mention: str) -> tuple[str, str]:
-    from secest.validation import ValidationError
+    from secest.core.validation import ValidationError
 
     old = signal.signal(signal.SIGALRM, _alarm)
     signal.setitimer(signal.ITIMER_REAL, TIME_LIMIT)
@@ -566,8 +567,8 @@ def _classify(func: Callable, kwargs: dict, mention: str) -> tuple[str, str]:
 def public_callables() -> dict[str, Callable]:
     """``"module.name" -> object`` for every public callable of :data:`MODULES`."""
     out = {}
-    for mod_name in MODULES:
-        mod = importlib.import_module(f"secest.{mod_name}")
+    for mod_name, module in MODULES.items():
+        mod = importlib.import_module(module)
         names = getattr(mod, "__all__", [n for n in vars(mod) if not n.startswith("_")])
         for name in names:
             obj = getattr(mod, name)

@@ -1,4 +1,4 @@
-"""The arena (secest.arena, notebooks/arena.py): extensible by one card and one class, every cell
+"""The arena (secest.arena.matrix, notebooks/arena.py): extensible by one card and one class, every cell
 a number with its interval or a named N/A, the notebook's claims well formed. Measures, never votes."""
 
 from __future__ import annotations
@@ -13,11 +13,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import secest.methods  # noqa: F401  (registers the papers' methods)
-from secest import arena, estimators, scenarios
-from secest.estimators import METHODS, Estimate, Method, Score, register
-from secest.results import REQUIRED_KEYS, VERDICTS, repo_root
-from secest.validation import ValidationError
+import secest.arena.papers  # noqa: F401  (registers the papers' methods)
+from secest.arena import estimators, matrix, scenarios
+from secest.arena.estimators import METHODS, Estimate, Method, Score, register
+from secest.core.validation import ValidationError
+from secest.repro.results import REQUIRED_KEYS, VERDICTS, repo_root
 
 ROOT = repo_root()
 NUMBER = r"-?\d+(?:\.\d+)?(?:e-?\d+)?"
@@ -91,7 +91,7 @@ def test_a_toy_method_and_a_toy_scenario_appear_in_the_matrix(toy_cards: Path, t
     assert (toy.network.N, toy.attack.kind, toy.runs, toy.horizon) == (3, "bias", 3, 20)
     three_states = scenarios.scenario("target20", "none", runs=3, horizon=20)
     six_states = scenarios.scenario("inertia5", "none", runs=3, horizon=20)
-    m = arena.run_matrix([toy, three_states, six_states])  # methods=None: every registered one
+    m = matrix.run_matrix([toy, three_states, six_states])  # methods=None: every registered one
     assert "toy-hold" in m.methods and set(m.methods) == set(METHODS)
     assert {sc.name for sc in m.scenarios} == {"toy-home", "target20/none", "inertia5/none"}
     cell = m.cell("toy-home", "toy-hold")
@@ -101,7 +101,7 @@ def test_a_toy_method_and_a_toy_scenario_appear_in_the_matrix(toy_cards: Path, t
     assert na.status == "n/a" and na.reason == "the plant has at most 4 states (toy condition)"
     assert set(m.curves["toy-home"].rms) >= {"oracle", "toy-hold"}
     assert "toy-hold" not in m.curves["inertia5/none"].rms
-    rows = arena.table_rows(m)
+    rows = matrix.table_rows(m)
     assert len(rows) == 3 * len(m.methods)
     assert any(r["method"] == "toy-hold" and r["mean"].startswith("N/A: the plant") for r in rows)
 
@@ -131,8 +131,8 @@ def test_matrix_selects_networks_and_attacks() -> None:
 def test_every_cell_is_a_number_with_its_interval_or_a_named_na() -> None:
     sc = [scenarios.scenario(n, a, runs=4, horizon=30) for n, a in
           (("inertia5", "bias"), ("tank12", "message"), ("target20", "replacement"))]
-    m = arena.run_matrix(sc, ["oracle", "kf", "chi2-kf", "li2025"])
-    for row in arena.table_rows(m):
+    m = matrix.run_matrix(sc, ["oracle", "kf", "chi2-kf", "li2025"])
+    for row in matrix.table_rows(m):
         if row["status"] == "ok":
             assert WITH_INTERVAL.match(row["mean"]) and WITH_INTERVAL.match(row["worst"]), row
             for rate in ("detection", "false_alarm"):
@@ -140,24 +140,24 @@ def test_every_cell_is_a_number_with_its_interval_or_a_named_na() -> None:
         else:
             assert row["status"] == "N/A" and re.match(r"^N/A: \S", row["mean"]), row
     assert m.cell("tank12/message", "li2025").status == "n/a"
-    assert arena.cell_text(m.cell("inertia5/bias", "chi2-kf"))["detection"] != "–"
-    assert arena.cell_text(m.cell("inertia5/bias", "kf"))["detection"] == "–"
+    assert matrix.cell_text(m.cell("inertia5/bias", "chi2-kf"))["detection"] != "–"
+    assert matrix.cell_text(m.cell("inertia5/bias", "kf"))["detection"] == "–"
 
 
 def test_cell_text_refuses_what_cannot_be_shown() -> None:
     with pytest.raises(ValidationError, match="must name the failed condition"):
-        arena.cell_text(Score("n/a"))
+        matrix.cell_text(Score("n/a"))
     with pytest.raises(ValidationError, match="status must be one of"):
-        arena.cell_text(Score("maybe"))
+        matrix.cell_text(Score("maybe"))
     with pytest.raises(ValidationError, match="must carry its mean and worst"):
-        arena.cell_text(Score("ok"))
-    assert arena.cell_text(Score("diverged", "the estimate is not finite"))["mean"].startswith("diverged")
-    assert arena.fmt_interval((0.001234, 0.001, 0.0015), percent=True) == "0.123 % [0.1, 0.15]"
-    assert arena.fmt_interval((12345.0, 1e4, 2e4)) == "1.23e4 [1e4, 2e4]"
+        matrix.cell_text(Score("ok"))
+    assert matrix.cell_text(Score("diverged", "the estimate is not finite"))["mean"].startswith("diverged")
+    assert matrix.fmt_interval((0.001234, 0.001, 0.0015), percent=True) == "0.123 % [0.1, 0.15]"
+    assert matrix.fmt_interval((12345.0, 1e4, 2e4)) == "1.23e4 [1e4, 2e4]"
 
 
 def test_rate_interval_is_never_narrower_than_wilson_and_widens_with_correlation() -> None:
-    from secest.montecarlo import wilson_interval
+    from secest.core.montecarlo import wilson_interval
 
     rng = np.random.default_rng(0)
     where = np.ones((20, 50, 4), bool)
@@ -177,29 +177,29 @@ def test_rate_interval_is_never_narrower_than_wilson_and_widens_with_correlation
 
 def test_scaled_attacks_keep_the_draws() -> None:
     sc = scenarios.scenario("inertia5", "replacement", runs=3, horizon=20)
-    big = arena.scaled(sc, 10.0)
+    big = matrix.scaled(sc, 10.0)
     assert big.attack.magnitude == pytest.approx(10 * sc.attack.magnitude)
     a, b = scenarios.simulate(sc), scenarios.simulate(big)
     assert np.array_equal(a.attacked, b.attacked) and np.array_equal(a.y_clean, b.y_clean)
     hit = a.attacked[..., 0]
     assert np.allclose(b.y[hit][:, 0], 10 * a.y[hit][:, 0])  # the uniform draw, scaled
     dos = scenarios.scenario("inertia5", "dos", runs=3, horizon=20)
-    assert arena.scaled(dos, 10.0) is dos
+    assert matrix.scaled(dos, 10.0) is dos
     with pytest.raises(ValidationError, match="factor must be a positive finite number"):
-        arena.scaled(sc, 0.0)
+        matrix.scaled(sc, 0.0)
 
 
 def test_error_curve_and_activity() -> None:
     t = scenarios.simulate(scenarios.scenario("target20", "bias", runs=3, horizon=20))
     xhat = np.broadcast_to(t.x[:, :, None, :], (3, 21, 20, 3)).copy()
-    assert np.array_equal(arena.error_curve(xhat, t.x), np.zeros(21))
+    assert np.array_equal(matrix.error_curve(xhat, t.x), np.zeros(21))
     xhat[0, 4] = np.inf
-    curve = arena.error_curve(xhat, t.x)
+    curve = matrix.error_curve(xhat, t.x)
     assert np.isnan(curve[4]) and np.isfinite(np.delete(curve, 4)).all()
-    active = arena.attack_activity(t)
+    active = matrix.attack_activity(t)
     assert active[:6].max() == 0 and active[6:].min() == 1  # the bias starts at 30 % of 20 steps
     with pytest.raises(ValidationError, match="Incompatible dimensions of xhat and x"):
-        arena.error_curve(xhat[..., :2], t.x)
+        matrix.error_curve(xhat[..., :2], t.x)
 
 
 def test_evaluate_observes_every_run_and_refuses_unknown_methods() -> None:
@@ -210,9 +210,9 @@ def test_evaluate_observes_every_run_and_refuses_unknown_methods() -> None:
     with pytest.raises(ValidationError, match=r"methods \['nope'\] are not registered"):
         estimators.evaluate(sc, ["nope"])
     with pytest.raises(ValidationError, match="not registered"):
-        arena.run_matrix([sc], ["nope"])
+        matrix.run_matrix([sc], ["nope"])
     with pytest.raises(ValidationError, match="scenario names must be unique"):
-        arena.run_matrix([sc, sc], ["kf"])
+        matrix.run_matrix([sc, sc], ["kf"])
 
 
 @pytest.mark.notebook
@@ -255,7 +255,7 @@ def test_arena_notebook_fast_mode(run_notebook) -> None:
 def test_arena_figures_and_the_whole_table(run_notebook) -> None:
     """Every manifest figure and a whole table, at a perturbation point (tests/test_notebooks.py
     runs it; one shared execution)."""
-    from secest import spaces
+    from secest.repro import spaces
 
     point = spaces.perturbation_points(spaces.load("arena"))[-1]
     fig_dir = Path(run_notebook("arena", **point)["_fig_dir"])

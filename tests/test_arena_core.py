@@ -1,4 +1,4 @@
-"""The arena's scenarios, baselines, interface and scores (secest.scenarios, secest.estimators)."""
+"""The arena's scenarios, baselines, interface and scores (secest.arena.scenarios, secest.arena.estimators)."""
 
 from __future__ import annotations
 
@@ -7,9 +7,9 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from secest import estimators, scenarios
-from secest.estimators import METHODS, Estimate, Method, register
-from secest.validation import ValidationError
+from secest.arena import estimators, scenarios
+from secest.arena.estimators import METHODS, Estimate, Method, register
+from secest.core.validation import ValidationError
 
 
 def _scenario(network: str = "inertia5", attack: str = "none", **kw) -> scenarios.Scenario:
@@ -34,9 +34,14 @@ def test_trials_share_truth_and_noise_across_attacks() -> None:
     assert not np.array_equal(a.y, b.y) and b.attacked[:, :, 0].any() and not b.attacked[:, :, 1:].any()
     again = scenarios.simulate(_scenario(attack="bias"))
     assert np.array_equal(b.y, again.y)
-    # bounded noise: every component within NOISE_CLIP standard deviations
-    v = (a.y_clean - np.einsum("iyn,rkn->rkiy", a.scenario.C, a.x)) / a.scenario.plant.r_std[0]
-    assert np.abs(v).max() <= scenarios.NOISE_CLIP
+    # bounded noise: every component within NOISE_CLIP standard deviations. The clip is exact, but
+    # v is recovered as (C x + r z - C x) / r: the addition, the subtraction and the division each
+    # round once, by at most eps times the size of their operands (|C x| + r |z|, |z| <= NOISE_CLIP)
+    cx, r = np.einsum("iyn,rkn->rkiy", a.scenario.C, a.x), a.scenario.plant.r_std[0]
+    v = (a.y_clean - cx) / r
+    rounding = 3 * np.finfo(float).eps * (np.abs(cx) + scenarios.NOISE_CLIP * r) / r
+    assert np.all(np.abs(v) <= scenarios.NOISE_CLIP + rounding)
+    assert np.abs(v).max() > scenarios.NOISE_CLIP - 1e-9  # the clip is reached: the check is not vacuous
 
 
 def test_message_falsification_is_bounded_and_only_on_links() -> None:
@@ -112,7 +117,7 @@ def test_a_new_method_is_found_in_the_matrix() -> None:
 
 
 def test_register_refuses_what_is_not_a_method() -> None:
-    with pytest.raises(ValidationError, match="method must be a secest.estimators.Method"):
+    with pytest.raises(ValidationError, match="method must be a secest.arena.estimators.Method"):
         register(object())
 
 
@@ -125,7 +130,8 @@ def test_a_diverging_estimate_is_reported_not_scored() -> None:
 
 def test_filter_step_with_per_link_messages_equal_to_the_estimates_is_the_printed_step() -> None:
     """received[i, j] = x_j reproduces (3) exactly; a falsified link changes only its receiver."""
-    from secest import filters, graphs
+    from secest.core import graphs
+    from secest.methods import ding2020
 
     rng = np.random.default_rng(3)
     m, n = 5, 3
@@ -136,13 +142,13 @@ def test_filter_step_with_per_link_messages_equal_to_the_estimates_is_the_printe
     common = dict(A=np.eye(n), BBt=0.1 * np.eye(n), C=np.ones((m, 1, n)), DDt=np.eye(1), adj=adj,
                   weights=H, kappa=0.2, threshold=25.0)
     y = rng.standard_normal((2, m, 1))
-    plain = filters.secure_filter_step(x, P, 0.5 * P, 1, y, **common)
+    plain = ding2020.secure_filter_step(x, P, 0.5 * P, 1, y, **common)
     links = np.broadcast_to(x[:, None], (2, m, m, n)).copy()
-    same = filters.secure_filter_step(x, P, 0.5 * P, 1, y, received=links, **common)
+    same = ding2020.secure_filter_step(x, P, 0.5 * P, 1, y, received=links, **common)
     assert np.array_equal(plain.x_post, same.x_post)
     links[:, 0, 1] += 1.0  # node 0's message from node 1 is falsified
-    hit = filters.secure_filter_step(x, P, 0.5 * P, 1, y, received=links, **common)
+    hit = ding2020.secure_filter_step(x, P, 0.5 * P, 1, y, received=links, **common)
     changed = np.abs(hit.x_prior - plain.x_prior).max(axis=(0, 2)) > 0
     assert changed.tolist() == [True, False, False, False, False]
     with pytest.raises(ValidationError, match="Incompatible dimensions of received"):
-        filters.secure_filter_step(x, P, 0.5 * P, 1, y, received=links[:, :, :2], **common)
+        ding2020.secure_filter_step(x, P, 0.5 * P, 1, y, received=links[:, :, :2], **common)

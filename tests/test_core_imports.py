@@ -6,8 +6,9 @@ import json
 import subprocess
 import sys
 
-CORE = ["validation", "graphs", "channels", "covariance", "detectors", "montecarlo", "systems",
-        "estimation", "filters", "schedules"]
+CORE = [f"core.{m}" for m in ("validation", "tolerances", "graphs", "channels", "covariance", "detectors",
+                               "montecarlo", "systems", "estimation", "schedules")]
+CORE += ["methods.ding2020", "methods.guo2023", "methods.lee2020", "methods.li2025"]
 HEAVY = ["matplotlib", "papermill", "cvxpy", "IPython", "nbformat", "jupyter_client", "dask"]
 
 
@@ -22,4 +23,4 @@ def test_core_modules_import_without_heavy_dependencies() -> None:
 
 
 def test_lmi_imports_cvxpy_but_not_the_notebook_stack() -> None:
-    assert _loaded_after("import secest.lmi") == ["cvxpy"]
+    assert _loaded_after("import secest.core.lmi") == ["cvxpy"]

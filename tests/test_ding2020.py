@@ -18,9 +18,10 @@ import pytest
 from conftest import perturbation_point
 from scipy import stats
 
-from secest import filters, spaces
-from secest.results import repo_root
-from secest.run import execute_notebook
+from secest.methods import ding2020
+from secest.repro import spaces
+from secest.repro.results import repo_root
+from secest.repro.run import execute_notebook
 
 ROOT = repo_root()
 ATTACKED = ("sensor4", "sensor12")
@@ -348,7 +349,7 @@ def test_kappa0_no_inspection_equals_textbook_kalman_filter() -> None:
     kf_P = Pi.copy()
     worst = 0.0
     for k in range(steps):
-        st = filters.secure_filter_step(
+        st = ding2020.secure_filter_step(
             x_post, Pi, Gam, delta[k], ys[k][:, None], A=A, BBt=Q, C=C[:, None, :],
             DDt=np.array([[R]]), adj=adj, weights=H, kappa=0.0, threshold=25.0, inspect=False)
         x_post, Pi, Gam = st.x_post, st.Pi_post, st.Gamma_post

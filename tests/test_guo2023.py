@@ -17,10 +17,10 @@ import numpy as np
 import pytest
 from conftest import bench_harness, perturbation_point
 
-from secest import spaces
-from secest.results import declared_parameters, headline_value, point_verdict, repo_root
-from secest.run import execute_notebook
-from secest.validation import ValidationError
+from secest.core.validation import ValidationError
+from secest.repro import spaces
+from secest.repro.results import declared_parameters, headline_value, point_verdict, repo_root
+from secest.repro.run import execute_notebook
 
 ROOT = repo_root()
 FIG = ROOT / "figures" / "guo2023"

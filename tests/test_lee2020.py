@@ -17,9 +17,9 @@ import numpy as np
 import pytest
 from conftest import bench_harness, perturbation_point
 
-from secest import spaces
-from secest.results import VERDICTS, repo_root
-from secest.validation import ValidationError
+from secest.core.validation import ValidationError
+from secest.repro import spaces
+from secest.repro.results import VERDICTS, repo_root
 
 SQRT3 = np.sqrt(3.0)
 A_PAPER = np.pi / 3
@@ -328,7 +328,7 @@ def test_committed_fig1_data() -> None:
 
 
 def test_initial_conditions_are_parameters(alt) -> None:
-    from secest.results import declared_parameters
+    from secest.repro.results import declared_parameters
 
     declared = {k: ast.literal_eval(str(v)) for k, v in declared_parameters("lee2020").items()
                 if k in ("x0_plant", "z0_guess", "xhat0")}

@@ -19,9 +19,9 @@ import pytest
 from conftest import perturbation_point
 from papermill.exceptions import PapermillExecutionError
 
-from secest.results import repo_root
-from secest.run import execute_notebook
-from secest.validation import ValidationError
+from secest.core.validation import ValidationError
+from secest.repro.results import repo_root
+from secest.repro.run import execute_notebook
 
 ROOT = repo_root()
 FIG = ROOT / "figures" / "li2025"

@@ -8,11 +8,12 @@ import numpy as np
 import pytest
 from conftest import bench_harness
 
-import secest.methods  # noqa: F401  (registers the methods)
-from secest import scenarios
-from secest.estimators import METHODS
+import secest.arena.papers  # noqa: F401  (registers the methods)
+from secest.arena import scenarios
+from secest.arena.estimators import METHODS
+from secest.arena.papers import guo2023 as arena_guo2023
+from secest.core.validation import ValidationError
 from secest.methods import guo2023
-from secest.validation import ValidationError
 
 
 def _rel(a: np.ndarray, b: np.ndarray) -> float:
@@ -55,7 +56,7 @@ def test_estimator_equals_the_notebook_on_the_paper_example(notebook_run) -> Non
 def test_failing_links_per_run_match_the_shared_path_where_no_link_fails() -> None:
     sc = scenarios.scenario("inertia5", "bias", runs=4, horizon=40)
     t = scenarios.simulate(sc)
-    mdl = guo2023.arena_model(sc)
+    mdl = arena_guo2023.arena_model(sc)
     link = np.ones((4, 41), np.int8)
     link[0, 10:13] = 0
     shared = guo2023.run_estimator(mdl, t.y, keep_steps=False)
@@ -73,7 +74,7 @@ def test_the_estimate_does_not_depend_on_the_attack_signal() -> None:
     sc = scenarios.scenario("tank12", "bias", runs=3, horizon=60)
     clean = scenarios.simulate(replace(sc, attack=scenarios.cards()["attack"]["none"]))
     attacked = scenarios.simulate(sc)
-    mdl = guo2023.arena_model(sc)
+    mdl = arena_guo2023.arena_model(sc)
     a = guo2023.run_estimator(mdl, attacked.y, keep_steps=False)
     b = guo2023.run_estimator(mdl, clean.y, keep_steps=False)
     assert np.abs(a.x - b.x).max() <= 1e-10 * np.abs(b.x).max()
@@ -103,14 +104,14 @@ def test_alarm_statistic_is_the_normalised_attack_estimate() -> None:
     P = 0.01 * np.eye(4)
     u1 = np.array([[0.3]])
     cov = (sc.C[0] @ P @ sc.C[0].T + sc.R[0])[0, 0]
-    assert guo2023.attack_statistic(dec, sc.C[0], sc.R[0], P, u1)[0] == pytest.approx(0.09 / cov)
+    assert arena_guo2023.attack_statistic(dec, sc.C[0], sc.R[0], P, u1)[0] == pytest.approx(0.09 / cov)
 
 
 def test_not_applicable_when_the_attack_free_outputs_do_not_observe_the_plant() -> None:
     sc = scenarios.scenario("inertia5", "bias", runs=4, horizon=20)
     assumption2 = "(A, C_2) is observable, C_2 = [C_2^1; ...; C_2^N] the attack-free outputs (Assumption 2)"
     # every sensor attackable (Remark 1 literally): single-output nodes keep no attack-free output
-    assert guo2023.Guo2023(threat="all").not_applicable(sc) == assumption2
+    assert arena_guo2023.Guo2023(threat="all").not_applicable(sc) == assumption2
     # node 0 carries the only absolute angle; without it only differences remain (rigid mode lost)
     net = replace(sc.network, measures=np.array([[0], [3], [4], [3], [4]]))
     assert METHODS["guo2023"].not_applicable(replace(sc, network=net)) == assumption2
@@ -121,10 +122,10 @@ def test_not_applicable_when_the_attack_free_outputs_do_not_observe_the_plant() 
 def test_bad_input_is_refused_with_the_argument_named() -> None:
     sc = scenarios.scenario("inertia5", "none", runs=2, horizon=5)
     with pytest.raises(ValidationError, match="threat must be one of"):
-        guo2023.Guo2023(threat="some")
+        arena_guo2023.Guo2023(threat="some")
     with pytest.raises(ValidationError, match="threat must be one of"):
-        guo2023.arena_model(sc, threat="some")
-    mdl = guo2023.arena_model(sc)
+        arena_guo2023.arena_model(sc, threat="some")
+    mdl = arena_guo2023.arena_model(sc)
     with pytest.raises(ValidationError, match="Incompatible dimensions of ya"):
         guo2023.run_estimator(mdl, np.zeros((2, 6, 4, 1)))
     with pytest.raises(ValidationError, match="Incompatible dimensions of link"):

@@ -14,10 +14,11 @@ import numpy as np
 import pytest
 from conftest import bench_harness
 
-from secest import graphs, scenarios, systems
-from secest.estimators import METHODS
+from secest.arena import scenarios
+from secest.arena.estimators import METHODS
+from secest.core import graphs, systems
+from secest.core.validation import ValidationError
 from secest.methods import lee2020 as L
-from secest.validation import ValidationError
 
 notebook_definitions = bench_harness().notebook_definitions
 

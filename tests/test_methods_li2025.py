@@ -8,11 +8,13 @@ import numpy as np
 import pytest
 from conftest import bench_harness
 
-import secest.methods  # noqa: F401  (registers the methods)
-from secest import montecarlo, scenarios
-from secest.estimators import METHODS
+import secest.arena.papers  # noqa: F401  (registers the methods)
+from secest.arena import scenarios
+from secest.arena.estimators import METHODS
+from secest.arena.papers import li2025 as arena_li2025
+from secest.core import montecarlo
+from secest.core.validation import ValidationError
 from secest.methods import li2025
-from secest.validation import ValidationError
 
 T_NB, F_NB = 30, 8
 
@@ -155,7 +157,7 @@ def test_without_attack_on_a_complete_graph_it_is_the_centralised_kalman_filter(
     sc = scenarios.scenario("inertia5", "none", runs=3, horizon=40)
     sc = replace(sc, network=replace(sc.network, adj=np.ones((5, 5)) - np.eye(5)))
     t = scenarios.simulate(sc)
-    est = li2025.Li2025(weights=(1e-300, 1.0, 1e-2, 0.1, 0.1)).run(t)
+    est = arena_li2025.Li2025(weights=(1e-300, 1.0, 1e-2, 0.1, 0.1)).run(t)
     ref = _kalman(sc, t.y)
     assert np.abs(est.xhat - ref[:, :, None]).max() <= 1e-8 * np.abs(ref).max()
 
@@ -182,7 +184,7 @@ def test_the_method_runs_on_a_small_scenario(attack: str) -> None:
 
 def test_the_attacked_packet_gets_the_paper_coefficients() -> None:
     """psi_check = 0.7 (card): c0, kappa_x, kappa_xi of the corrected bound at the arena weights."""
-    lam, a1, a2, a3, a4 = li2025.ARENA_WEIGHTS
+    lam, a1, a2, a3, a4 = arena_li2025.ARENA_WEIGHTS
     c0, kx, kxi = li2025.bound_coefficients(0.7, a2, a3, a4)
     assert (c0, kx, kxi) == pytest.approx((1.033, 3.33, 33.3))
     assert li2025.bound_coefficients(1.0, a2, a3, a4) == (1.0, 0.0, 0.0)
@@ -203,9 +205,9 @@ def test_bad_input_is_refused_with_the_argument_named() -> None:
     with pytest.raises(ValidationError, match="variant must be one of"):
         li2025.bound_coefficients(0.5, 0.1, 0.1, 0.1, "printed")
     with pytest.raises(ValidationError, match="weights must be 5 positive numbers"):
-        li2025.Li2025(weights=(1.0, 1.0))
+        arena_li2025.Li2025(weights=(1.0, 1.0))
     with pytest.raises(ValidationError, match="variant must be one of"):
-        li2025.Li2025(variant="x")
+        arena_li2025.Li2025(variant="x")
     args = (np.zeros((2, 3, 1, 1)), np.zeros((3, 1), int), np.eye(2), np.eye(2), np.ones((1, 2)),
             np.zeros((2, 1, 2)), np.eye(2), [(1e-3, 1, 1, 1, 1)], 1.0, 0.0, 1.0)
     with pytest.raises(ValidationError, match="update must be one of"):

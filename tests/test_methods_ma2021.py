@@ -15,11 +15,13 @@ import numpy as np
 import pytest
 from conftest import bench_harness
 
-import secest.methods  # noqa: F401  (registers the methods)
-from secest import covariance, montecarlo, scenarios
-from secest.estimators import METHODS
+import secest.arena.papers  # noqa: F401  (registers the methods)
+from secest.arena import scenarios
+from secest.arena.estimators import METHODS
+from secest.arena.papers import ma2021 as arena_ma2021
+from secest.core import covariance, montecarlo
+from secest.core.validation import ValidationError
 from secest.methods import ma2021 as my
-from secest.validation import ValidationError
 
 notebook_definitions = bench_harness().notebook_definitions
 
@@ -190,7 +192,7 @@ def test_sensor_attacks_are_outside_assumption_1() -> None:
 
 
 def test_a_step_no_solver_certifies_makes_it_not_applicable_and_is_named(monkeypatch) -> None:
-    from secest.lmi import InfeasibleLMIError
+    from secest.core.lmi import InfeasibleLMIError
 
     real = my.solve
 
@@ -202,9 +204,9 @@ def test_a_step_no_solver_certifies_makes_it_not_applicable_and_is_named(monkeyp
 
     monkeypatch.setattr(my, "solve", failing)
     sc = _small(horizon=7)  # a horizon of its own: not in the design cache
-    reason = my.Ma2021().not_applicable(sc)
+    reason = arena_ma2021.Ma2021().not_applicable(sc)
     assert reason is not None and reason.startswith("Theorems 2-3") and "at step 3" in reason
-    d = my.Ma2021().design(sc)
+    d = arena_ma2021.Ma2021().design(sc)
     assert np.all(np.isfinite(d.P[:4])) and np.all(np.isnan(d.P[4:])) and np.all(np.isnan(d.G[3:]))
 
 
@@ -213,14 +215,14 @@ def test_the_reduced_design_is_the_optimum_of_the_full_lmi_with_neighbour_innova
     F free, arbitrary x^ and phi(z)) has the optimum of the reduced LMI (F = A, H = 0)."""
     import cvxpy as cp
 
-    from secest import lmi as slmi
+    from secest.core import lmi as slmi
 
     sc = scenarios.scenario("target20", "message", runs=2, horizon=1)
     ring = np.roll(np.eye(3), 1, axis=1) + np.roll(np.eye(3), -1, axis=1)
     net = replace(sc.network, adj=ring, measures=np.array([[0], [1], [1]]))
     sc = replace(sc, network=net)
     A, C, n, N = sc.plant.A, sc.C, sc.plant.n, 3
-    V_half, U_half = my.noise_halves(sc)
+    V_half, U_half = arena_ma2021.noise_halves(sc)
     P0 = n * sc.plant.x0_std**2 * np.eye(n)
     S = np.linalg.cholesky(P0)
     rng = np.random.default_rng(1)
@@ -255,7 +257,7 @@ def test_the_reduced_design_is_the_optimum_of_the_full_lmi_with_neighbour_innova
 
 def test_bad_inputs_are_refused_with_the_argument_named() -> None:
     sc = _small()
-    V_half, U_half = my.noise_halves(sc)
+    V_half, U_half = arena_ma2021.noise_halves(sc)
     P0 = np.eye(6)
     with pytest.raises(ValidationError, match="Incompatible dimensions of C"):
         my.linear_design(sc.plant.A, sc.C[:, :, :5], V_half, U_half, P0, 3)
@@ -283,4 +285,4 @@ def test_bad_inputs_are_refused_with_the_argument_named() -> None:
     with pytest.raises(ValidationError, match="nphi"):
         my.Dims(2, 2, 1, 1, 0)
     with pytest.raises(ValidationError, match="p must lie in"):
-        my.Ma2021(p=1.0)
+        arena_ma2021.Ma2021(p=1.0)

@@ -10,15 +10,15 @@ import jupytext
 import nbformat
 import pytest
 
-from secest.results import (
+from secest.core.validation import ValidationError
+from secest.repro.results import (
     REQUIRED_KEYS,
     VERDICTS,
     declared_parameters,
     repo_root,
     validate_parameters,
 )
-from secest.run import execute_notebook
-from secest.validation import ValidationError
+from secest.repro.run import execute_notebook
 
 ROOT = repo_root()
 KEYS = sorted(p.stem for p in (ROOT / "notebooks").glob("*.py"))
@@ -131,7 +131,7 @@ def test_committed_notebook_has_no_checkout_path(key: str) -> None:
 
 
 def _perturbation_cases() -> list[tuple[str, int]]:
-    from secest import spaces
+    from secest.repro import spaces
 
     cases = []
     for key in KEYS:
@@ -147,7 +147,7 @@ def test_notebook_runs_off_its_default_point(key: str, index: int, run_notebook)
     """Fast mode at a point of the declared space other than the default (edges included).
 
     The execution is shared with a module's fixture that asks for the same point."""
-    from secest import spaces
+    from secest.repro import spaces
 
     point = spaces.perturbation_points(spaces.load(key))[index]
     claims = run_notebook(key, **point)  # read as strict JSON: no NaN, no Infinity

@@ -17,18 +17,18 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
-from secest import (
+from secest.core import (
     channels,
     covariance,
     detectors,
     estimation,
-    filters,
     graphs,
     montecarlo,
     schedules,
     systems,
 )
-from secest.validation import ValidationError, check_psd, check_real
+from secest.core.validation import ValidationError, check_psd, check_real
+from secest.methods import ding2020
 
 settings.register_profile(
     "secest-ci",
@@ -211,9 +211,9 @@ def filter_inputs(draw):
 @given(filter_inputs())
 def test_secure_filter_step_invariants(kw) -> None:
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore", filters.FilterHealthWarning)  # flags are checked below
-        st_ = filters.secure_filter_step(**kw)
-        jo = filters.secure_filter_step(**kw, joseph=True)
+        warnings.simplefilter("ignore", ding2020.FilterHealthWarning)  # flags are checked below
+        st_ = ding2020.secure_filter_step(**kw)
+        jo = ding2020.secure_filter_step(**kw, joseph=True)
     m, n = kw["x_post"].shape
     for M in (st_.Pi_post, st_.Gamma_post, st_.Pi_prior, st_.Gamma_prior):
         assert M.shape == (m, n, n) and np.all(np.isfinite(M))
@@ -232,8 +232,8 @@ def test_secure_filter_step_invariants(kw) -> None:
 @CI
 @given(spd(3), spd(3))
 def test_matrix_min_and_max_bound_both_arguments(X, Y) -> None:
-    lo, _ = filters.matrix_min(X, Y)
-    hi, _ = filters.matrix_max(X, Y)
+    lo, _ = ding2020.matrix_min(X, Y)
+    hi, _ = ding2020.matrix_max(X, Y)
     scale = max(np.abs(np.linalg.eigvalsh(X)).max(), np.abs(np.linalg.eigvalsh(Y)).max())
     for Z in (X, Y):
         assert np.linalg.eigvalsh(Z - lo)[0] >= -1e-9 * scale
@@ -267,7 +267,7 @@ def _is_real(v) -> bool:
 def test_random_kappa(value) -> None:
     adj = graphs.ring_graph(4)
     _refused_or_valid(
-        lambda k: filters.consensus_prediction(np.ones((4, 2)), 1, adj, graphs.row_stochastic_weights(adj),
+        lambda k: ding2020.consensus_prediction(np.ones((4, 2)), 1, adj, graphs.row_stochastic_weights(adj),
                                                np.eye(2), k),
         value, lambda v: _is_real(v) and v >= 0)
 

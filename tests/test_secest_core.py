@@ -13,13 +13,14 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 from scipy import stats  # noqa: E402
 
-from secest import channels, covariance, detectors, graphs, montecarlo, plotting, results  # noqa: E402
-from secest.validation import (  # noqa: E402
+from secest.core import channels, covariance, detectors, graphs, montecarlo  # noqa: E402
+from secest.core.validation import (  # noqa: E402
     ValidationError,
     as_matrix,
     check_positive_int,
     check_probability,
 )
+from secest.repro import plotting, results
 
 # ---------------------------------------------------------------- validation
 
@@ -479,7 +480,7 @@ def test_resolve_and_declared_parameters() -> None:
 
 
 def test_run_manifest_written(toy, monkeypatch) -> None:
-    from secest import spaces
+    from secest.repro import spaces
 
     monkeypatch.setattr(results, "repo_root", lambda: toy)
     monkeypatch.setattr(spaces, "_root", lambda: toy)
@@ -518,7 +519,7 @@ def test_environment_summary_uses_repo_relative_paths() -> None:
 def test_strip_coalesces_split_streams() -> None:
     from nbformat.v4 import new_output
 
-    from secest.build import _coalesce_streams
+    from secest.repro.build import _coalesce_streams
 
     outs = [new_output("stream", name="stdout", text="a\n"), new_output("stream", name="stdout", text="b\n"),
             new_output("stream", name="stderr", text="w\n"), new_output("stream", name="stdout", text="c\n")]
@@ -549,7 +550,7 @@ def test_min_eig_and_ci_bad_input() -> None:
 
 
 def test_build_steps(tmp_path, monkeypatch) -> None:
-    from secest import build
+    from secest.repro import build
 
     with pytest.raises(ValidationError, match="key 'nope' names no notebook source"):
         build.build_ipynb("nope")
@@ -570,7 +571,7 @@ def test_build_steps(tmp_path, monkeypatch) -> None:
 
 
 def test_run_cli_parses_values_by_declared_type(monkeypatch) -> None:
-    from secest import run
+    from secest.repro import run
 
     seen = {}
     monkeypatch.setattr(run, "execute_notebook",

@@ -1,12 +1,12 @@
-"""Unit tests of secest.estimation (feed-through SVD, constrained gain, fusion weights, LTV rank)."""
+"""Unit tests of secest.core.estimation (feed-through SVD, constrained gain, fusion weights, LTV rank)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from secest import covariance, systems
-from secest.estimation import (
+from secest.core import covariance, systems
+from secest.core.estimation import (
     FeedthroughSVD,
     constrained_gain,
     feedthrough_decomposition,
@@ -14,7 +14,7 @@ from secest.estimation import (
     ltv_observability_matrix,
     relative_rank,
 )
-from secest.validation import ValidationError
+from secest.core.validation import ValidationError
 
 
 def _spd(rng: np.random.Generator, n: int, floor: float = 0.1) -> np.ndarray:

@@ -1,11 +1,12 @@
-"""Unit tests of secest.filters (the distributed secure filter of ding2020)."""
+"""Unit tests of secest.methods.ding2020 (the distributed secure filter of ding2020)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from secest.filters import (
+from secest.core.validation import ValidationError
+from secest.methods.ding2020 import (
     consensus_prediction,
     matrix_max,
     matrix_min,
@@ -13,7 +14,6 @@ from secest.filters import (
     secure_filter_node_step,
     secure_filter_step,
 )
-from secest.validation import ValidationError
 
 T = 0.05
 A = np.array([[1, T, T**2 / 2], [0, 1, T], [0, 0, 1.0]])
@@ -283,7 +283,7 @@ def test_sparse_and_dense_network_give_identical_steps() -> None:
     """adj / weights as scipy.sparse (large networks) compute exactly the dense result."""
     import scipy.sparse as sp
 
-    from secest import graphs
+    from secest.core import graphs
 
     rng = np.random.default_rng(11)
     m, n = 12, 3

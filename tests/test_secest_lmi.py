@@ -1,4 +1,4 @@
-"""Unit tests of secest.lmi: symmetric assembly, dimensions, certified solves, infeasibility."""
+"""Unit tests of secest.core.lmi: symmetric assembly, dimensions, certified solves, infeasibility."""
 
 from __future__ import annotations
 
@@ -6,8 +6,8 @@ import cvxpy as cp
 import numpy as np
 import pytest
 
-from secest import lmi
-from secest.validation import ValidationError
+from secest.core import lmi
+from secest.core.validation import ValidationError
 
 
 def _values(expr):

@@ -9,8 +9,9 @@ import cvxpy as cp
 import numpy as np
 import pytest
 
-from secest import channels, covariance, detectors, filters, graphs, lmi, systems
-from secest.validation import SizeLimitError, ValidationError, check_row_stochastic
+from secest.core import channels, covariance, detectors, graphs, lmi, systems
+from secest.core.validation import SizeLimitError, ValidationError, check_row_stochastic
+from secest.methods import ding2020
 
 T = 0.05
 A = np.array([[1, T, T**2 / 2], [0, 1, T], [0, 0, 1.0]])
@@ -132,7 +133,7 @@ def test_row_stochastic_weights_default_composes_with_the_filter() -> None:
     adj, C = _ding_network()
     H = graphs.row_stochastic_weights(adj)
     P = np.broadcast_to(np.eye(3), (8, 3, 3))
-    st = filters.secure_filter_step(np.ones((8, 3)), P, P, 1, np.zeros((8, 1)), A=A, BBt=BBT, C=C,
+    st = ding2020.secure_filter_step(np.ones((8, 3)), P, P, 1, np.zeros((8, 1)), A=A, BBt=BBT, C=C,
                                     DDt=DDT, adj=adj, weights=H, kappa=0.004, threshold=25.0)
     assert st.x_post.shape == (8, 3) and not st.joseph
 
@@ -208,22 +209,22 @@ def _two_rings(m: int = 6) -> np.ndarray:
 def test_filter_refuses_violated_standing_assumptions(change, message) -> None:
     args, kw = _step_args()
     with pytest.raises(ValidationError, match=message):
-        filters.secure_filter_step(*args, **{**kw, **change})
+        ding2020.secure_filter_step(*args, **{**kw, **change})
 
 
 def test_filter_refuses_bounds_out_of_order_or_indefinite() -> None:
     (x, P, _, d, y), kw = _step_args()
     with pytest.raises(ValidationError, match=r"Gamma_post\[0\] must lie below Pi_post in the Loewner order"):
-        filters.secure_filter_step(x, P, 2 * P, d, y, **kw)
+        ding2020.secure_filter_step(x, P, 2 * P, d, y, **kw)
     bad = P * np.array([1.0, 1.0, -1.0])
     with pytest.raises(ValidationError, match=r"Pi_post\[0\] must be positive semidefinite"):
-        filters.secure_filter_step(x, bad, 0 * P, d, y, **kw)
+        ding2020.secure_filter_step(x, bad, 0 * P, d, y, **kw)
 
 
 def test_node_step_refuses_negative_weights() -> None:
     P = np.eye(3)
     with pytest.raises(ValidationError, match="h_nbrs must be positive and sum to 1"):
-        filters.secure_filter_node_step(np.zeros(3), P, P, np.zeros((2, 3)), np.stack([P, P]),
+        ding2020.secure_filter_node_step(np.zeros(3), P, P, np.zeros((2, 3)), np.stack([P, P]),
                                         [-0.5, 1.5], 1, np.zeros(1), A=A, BBt=BBT, C_i=[[4.0, -0.8, 1.0]],
                                         DDt=DDT, kappa=0.004, threshold=25.0)
 
@@ -231,7 +232,7 @@ def test_node_step_refuses_negative_weights() -> None:
 def test_consensus_prediction_validates_adj() -> None:
     H = graphs.row_stochastic_weights(graphs.ring_graph(4))
     with pytest.raises(ValidationError, match="adj must be a 0/1 matrix with zero diagonal"):
-        filters.consensus_prediction(np.zeros((4, 3)), 1, np.ones((4, 4)), H, A, 0.1)
+        ding2020.consensus_prediction(np.zeros((4, 3)), 1, np.ones((4, 4)), H, A, 0.1)
 
 
 # ---------------------------------------------------------------- filter: (35) and health
@@ -247,7 +248,7 @@ def _ding_run(p0: float, steps: int, *, joseph: bool = False, count: bool = True
     for _ in range(steps):
         x = A @ x + 0.2 * rng.standard_normal(3)
         y = np.einsum("iyn,n->iy", C, x) + 0.05 * rng.standard_normal((8, 1))
-        st = filters.secure_filter_step(xh, Pi, G, 1, y, A=A, BBt=BBT, C=C, DDt=DDT, adj=adj,
+        st = ding2020.secure_filter_step(xh, Pi, G, 1, y, A=A, BBt=BBT, C=C, DDt=DDT, adj=adj,
                                         weights=H, kappa=0.004, threshold=25.0, joseph=joseph,
                                         rejections=rej if count else None)
         xh, Pi, G, rej = st.x_post, st.Pi_post, st.Gamma_post, st.rejections
@@ -266,7 +267,7 @@ def test_joseph_form_is_recorded_and_agrees_with_35() -> None:
 
 def test_lockout_is_flagged_and_warned_about() -> None:
     """Pi_0 = Gamma_0 = 1e8 I with consistent initial errors: the nodes reject every measurement."""
-    with pytest.warns(filters.FilterHealthWarning, match="rejected every measurement for lockout_steps = 10"):
+    with pytest.warns(ding2020.FilterHealthWarning, match="rejected every measurement for lockout_steps = 10"):
         out = _ding_run(1e8, 14)
     assert np.all(out[-1].locked_out) and np.all(out[-1].rejections >= 10)
     with warnings.catch_warnings():
@@ -277,14 +278,14 @@ def test_lockout_is_flagged_and_warned_about() -> None:
 def test_loss_of_psd_is_flagged_and_warned_about() -> None:
     (x, P, _, d, y), kw = _step_args()
     bad = np.broadcast_to(np.diag([1.0, 1.0, -5.0]), P.shape)  # only reachable with validate=False
-    with pytest.warns(filters.FilterHealthWarning, match="Pi\\^\\+ lost PSD at"):
-        st = filters.secure_filter_step(x, bad, 0 * P, d, y, **kw, validate=False, inspect=False)
+    with pytest.warns(ding2020.FilterHealthWarning, match="Pi\\^\\+ lost PSD at"):
+        st = ding2020.secure_filter_step(x, bad, 0 * P, d, y, **kw, validate=False, inspect=False)
     assert not np.all(st.Pi_psd)
 
 
 def test_feedthrough_without_unknown_input_columns() -> None:
     """n_u = 0 (no attack channel at a node) is a valid case of guo2023's transform: p = 0."""
-    from secest.estimation import feedthrough_decomposition
+    from secest.core.estimation import feedthrough_decomposition
 
     out = feedthrough_decomposition(np.zeros((2, 0)), np.eye(2))
     assert out.rank == 0 and out.U2.shape == (2, 2) and out.T1.shape == (0, 2)

@@ -1,4 +1,4 @@
-"""Unit tests of secest.schedules (RRL-MAP of li2025, eqs. (2)-(5), Remark 1)."""
+"""Unit tests of secest.core.schedules (RRL-MAP of li2025, eqs. (2)-(5), Remark 1)."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ from math import lcm
 import numpy as np
 import pytest
 
-from secest.schedules import (
+from secest.core.schedules import (
     rrl_map_period,
     rrl_map_phase,
     rrl_map_selector,
@@ -15,7 +15,7 @@ from secest.schedules import (
     rrl_map_window_counts,
     zero_input_update,
 )
-from secest.validation import ValidationError
+from secest.core.validation import ValidationError
 
 
 def paper_sets(k: int, m: int, n_y: int) -> set[int]:

@@ -1,4 +1,4 @@
-"""Unit tests of secest.systems (observability helpers, 2q-redundant observability)."""
+"""Unit tests of secest.core.systems (observability helpers, 2q-redundant observability)."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 
-from secest.systems import (
+from secest.core.systems import (
     RedundancyResult,
     discretize_zoh,
     integrate_switched_linear,
@@ -18,7 +18,7 @@ from secest.systems import (
     stack_banks,
     unobservable_subspace,
 )
-from secest.validation import ValidationError
+from secest.core.validation import ValidationError
 
 
 def three_inertia() -> tuple[np.ndarray, np.ndarray]:

@@ -31,8 +31,8 @@ from urllib.parse import unquote, urldefrag, urlsplit
 
 import pytest
 
-from secest.results import repo_root
-from secest.site import (
+from secest.repro.results import repo_root
+from secest.repro.site import (
     beyond_keys,
     claim_label,
     load_manifest,
@@ -77,7 +77,7 @@ RAW_MATH = re.compile(
 def site() -> Path:
     """Build the site like `make html` (fresh environment: every warning is reported)."""
     prep = subprocess.run(
-        [sys.executable, "-m", "secest.site", "prepare", str(SRC.relative_to(ROOT))],
+        [sys.executable, "-m", "secest.repro.site", "prepare", str(SRC.relative_to(ROOT))],
         cwd=ROOT,
         capture_output=True,
         text=True,
@@ -572,7 +572,7 @@ def test_opens_from_disk_without_network(browser_context: Any, site: Path, name:
 
 
 def test_claim_row_shows_interval_premise_robustness_and_section() -> None:
-    from secest.site import _claim_row
+    from secest.repro.site import _claim_row
 
     heads = [
         (2, "Fig. 4 — position $x_{1,k}$ and its estimates", "fig-4--position--and-its-estimates"),
@@ -614,7 +614,7 @@ def test_claim_row_shows_interval_premise_robustness_and_section() -> None:
 
 
 def test_claim_row_rejects_a_section_that_names_no_heading() -> None:
-    from secest.site import SiteError, _claim_row
+    from secest.repro.site import SiteError, _claim_row
 
     entry = {
         "paper": "p",
@@ -631,7 +631,7 @@ def test_claim_row_rejects_a_section_that_names_no_heading() -> None:
 
 
 def test_format_value_is_short() -> None:
-    from secest.site import format_value
+    from secest.repro.site import format_value
 
     assert format_value(0.123456789) == "0.1235"
     assert format_value(True) == "true"
@@ -641,7 +641,7 @@ def test_format_value_is_short() -> None:
 
 
 def test_protect_table_maths_only_mends_rows_split_inside_maths() -> None:
-    from secest.site import protect_table_maths
+    from secest.repro.site import protect_table_maths
 
     table = "| a | b |\n|---|---|\n| $|z|>3$ | ok |\n| $x$ | `$|` |"
     fixed = protect_table_maths(table).split("\n")
@@ -651,8 +651,8 @@ def test_protect_table_maths_only_mends_rows_split_inside_maths() -> None:
 
 
 def test_heading_anchors_match_the_built_pages(site: Path) -> None:
-    """The anchors secest.site computes for notebook headings (claim links) exist on the pages."""
-    from secest.site import notebook_headings, read_notebook
+    """The anchors secest.repro.site computes for notebook headings (claim links) exist on the pages."""
+    from secest.repro.site import notebook_headings, read_notebook
 
     for key in notebook_keys(ROOT):
         ids = parsed(site / f"{page_of(key)}.html").ids

@@ -9,10 +9,10 @@ from pathlib import Path
 
 import pytest
 
-from secest import spaces
-from secest.results import repo_root
-from secest.run import safe_outputs
-from secest.validation import ValidationError
+from secest.core.validation import ValidationError
+from secest.repro import spaces
+from secest.repro.results import repo_root
+from secest.repro.run import safe_outputs
 
 ROOT = repo_root()
 KEYS = sorted(p.stem for p in (ROOT / "notebooks").glob("*.py"))
@@ -127,7 +127,7 @@ def test_every_notebook_space_loads(key: str) -> None:
 
 def _run(*args: str) -> subprocess.CompletedProcess:
     return subprocess.run(
-        [sys.executable, "-m", "secest.run", *args], capture_output=True, text=True, cwd=ROOT, timeout=60
+        [sys.executable, "-m", "secest.repro.run", *args], capture_output=True, text=True, cwd=ROOT, timeout=60
     )
 
 

@@ -11,8 +11,8 @@ from pathlib import Path
 
 import pytest
 
-from secest import spaces, sweep
-from secest.results import repo_root
+from secest.repro import spaces, sweep
+from secest.repro.results import repo_root
 
 ROOT = repo_root()
 
@@ -247,7 +247,7 @@ def test_a_remote_cluster_gives_the_same_table_as_a_local_one(tmp_path: Path) ->
 
 
 def test_robustness_markdown_lists_every_claim_of_the_summary() -> None:
-    from secest import results
+    from secest.repro import results
 
     summary = json.loads((ROOT / "figures" / "lee2020" / "robustness.json").read_text())
     table = results.robustness_markdown("lee2020").splitlines()

@@ -1,4 +1,4 @@
-"""secest.verify: reproduced or drifted, within declared tolerances (no notebook is executed here)."""
+"""secest.repro.verify: reproduced or drifted, within declared tolerances (no notebook is executed here)."""
 
 from __future__ import annotations
 
@@ -14,9 +14,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import pytest
 
-from secest import plotting, results, verify
-from secest.results import DETERMINISTIC, Tolerance
-from secest.validation import ValidationError
+from secest.core.validation import ValidationError
+from secest.repro import plotting, results, verify
+from secest.repro.results import DETERMINISTIC, Tolerance
 
 ROOT = results.repo_root()
 KEY = "guo2023"  # the smallest committed result folder
@@ -266,7 +266,7 @@ def test_save_data_records_tolerances_and_drops_stale_entries(tmp_path) -> None:
     assert table["fig2_demo"] == [{"columns": ["k"], **DETERMINISTIC.as_dict()}]
     plotting.save_data(tmp_path, "fig1_demo", data, tolerance=tol)
     assert sidecar.read_bytes() == first  # deterministic
-    (tmp_path / "fig2_demo.csv").unlink()  # what `secest.build prepare` does before a run
+    (tmp_path / "fig2_demo.csv").unlink()  # what `secest.repro.build prepare` does before a run
     plotting.save_data(tmp_path, "fig1_demo", data, tolerance={"x": LOOSE})
     table = json.loads(sidecar.read_text())
     assert set(table) == {"fig1_demo"} and table["fig1_demo"][1]["columns"] == ["x[0]", "x[1]"]

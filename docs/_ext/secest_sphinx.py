@@ -37,7 +37,7 @@ from sphinx.application import Sphinx
 from sphinx.transforms import SphinxTransform
 from sphinx.util import logging
 
-from secest.site import ROOT, load_manifest
+from secest.repro.site import ROOT, load_manifest
 
 logger = logging.getLogger(__name__)
 

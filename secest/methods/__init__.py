@@ -1,12 +1,7 @@
-"""The five papers' estimators as arena methods (one module per paper key).
+"""The five papers' estimators, one module per paper key, as plain functions.
 
-Importing this package registers every method with :data:`secest.estimators.METHODS`.
-Each module holds the estimator the paper notebook derives, as plain functions the
-notebook calls, and a :class:`secest.estimators.Method` that runs it on a shared scenario
-after checking the conditions of its theory. Modules that need optional dependencies
-(ma2021: cvxpy) import them only when the method runs.
+Each line carries the paper's equation number; the paper's notebook imports these functions
+and shows their source where its derivation reaches them, and the arena
+(:mod:`secest.arena.papers`) wraps the same functions. This package imports only
+:mod:`secest.core` (ma2021's LMIs need the ``lmi`` extra).
 """
-
-from secest.methods import ding2020, guo2023, lee2020, li2025, ma2021
-
-__all__ = ["ding2020", "guo2023", "lee2020", "li2025", "ma2021"]

@@ -30,7 +30,7 @@ Reading on a shared scenario (:class:`Guo2023`, rules fixed before any arena run
   example of Sec. V); ``x0 = 0``, ``P_0`` the prior covariance of the card.
 * **Alarms** (ours, not the paper's): the attack estimate ``u_1`` of an attackable node is
   tested against zero with its covariance bound ``Sigma^-1 (C_1 P_bar C_1^T + R_1) Sigma^-T``,
-  chi-square at level :data:`secest.estimators.CHI2_ALPHA` (the baseline's).
+  chi-square at level :data:`secest.arena.estimators.CHI2_ALPHA` (the baseline's).
 """
 
 from __future__ import annotations
@@ -41,25 +41,18 @@ from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy import stats
 
-from secest import graphs, systems
-from secest.covariance import symmetrize
-from secest.estimation import FeedthroughSVD, feedthrough_decomposition
-from secest.estimators import CHI2_ALPHA, Estimate, Method, register
-from secest.scenarios import Scenario, Trial
-from secest.validation import ValidationError
+from secest.core import graphs
+from secest.core.covariance import symmetrize
+from secest.core.estimation import FeedthroughSVD, feedthrough_decomposition
+from secest.core.validation import ValidationError
 
 __all__ = [
-    "THREATS",
-    "Guo2023",
     "GuoModel",
     "GuoRun",
     "GuoState",
     "GuoStep",
     "LocalGains",
-    "arena_model",
-    "attack_statistic",
     "constrained_gain",
     "estimator_step",
     "fuse",
@@ -92,7 +85,7 @@ def constrained_gain(S: Array, Theta: Array, U1: Array) -> Array:
 
     .. math::  K = S \\Theta [I - U_1 (U_1^T \\Theta U_1)^{-1} U_1^T \\Theta]
 
-    The batched form of :func:`secest.estimation.constrained_gain` (the same expression, in
+    The batched form of :func:`secest.core.estimation.constrained_gain` (the same expression, in
     the same order), for stacks of matrices over the leading axes.
 
     Parameters
@@ -183,7 +176,7 @@ def local_gains(
         Fused bound ``P_bar^i_{k-1}``.
     dec_prev, dec : FeedthroughSVD
         SVD of ``H_bar^i`` at ``k-1`` (for ``V_1, V_2``) and at ``k`` (``U_1, U_2, T_1``),
-        possibly stacked over nodes (:func:`secest.estimation.feedthrough_decomposition`).
+        possibly stacked over nodes (:func:`secest.core.estimation.feedthrough_decomposition`).
     C, R : (..., n_y, n_x), (..., n_y, n_y) arrays
         ``C^i_k``, ``R^i_k``.
 
@@ -746,176 +739,3 @@ def run_estimator(
         x_loc=stacked("x_loc", 1),
         checks={name: np.array([s.checks[name] for s in steps]) for name in ("KU1", "M2B2", "G1")},
     )
-
-
-# ---------------------------------------------------------------------------------- the arena
-
-
-THREATS = ("card", "all")
-"""Readings of the attack channels ``H^i``: from the attack card, or every sensor."""
-
-
-def arena_model(sc: Scenario, threat: str = "card") -> GuoModel:
-    """The shared scenario as the model (1)-(3): time-invariant, no ``d``, per-node ``a^i``.
-
-    Node ``i`` has the attack input ``a^i`` of dimension ``n_y`` (``H^i = I``, ``G_bar^i = 0``)
-    when the reading ``threat`` makes its sensor attackable, and none otherwise.
-
-    Parameters
-    ----------
-    sc : Scenario
-        The shared scenario: ``A``, ``Q``, ``C_i``, ``R_i`` of its plant and network, its prior
-        ``x0_std`` and its graph.
-    threat : {"card", "all"}, default "card"
-        :data:`THREATS`: attackable sensors read from the attack card (``Scenario.attacked_nodes``)
-        or every sensor (Remark 1 taken literally).
-
-    Returns
-    -------
-    GuoModel
-        Time-invariant, ``n_d = 0``, ``pi_ij = 1/(|N_i| + 1)`` on the closed neighbourhood,
-        ``x_hat_0 = 0``, ``P_0 = x0_std^2 I``.
-
-    Raises
-    ------
-    ValidationError
-        Unknown ``threat``.
-    """
-    if threat not in THREATS:
-        raise ValidationError(f"threat must be one of {THREATS}, found {threat!r}")
-    N, ny = sc.C.shape[:2]
-    n = sc.plant.n
-    hit = set(range(N)) if threat == "all" else set(sc.attacked_nodes)
-    Hs = [np.eye(ny) if i in hit else np.zeros((ny, 0)) for i in range(N)]
-    Gs = [np.zeros((n, H.shape[1])) for H in Hs]
-    A, Q, C, R = sc.plant.A, sc.plant.Q, sc.C, sc.R
-    return GuoModel(
-        nx=n, N=N, A=lambda k: A, Q=lambda k: Q, C=lambda k: C, R=lambda k: R,
-        Gbar=lambda k: Gs, Hbar=lambda k: Hs,
-        Pi=graphs.row_stochastic_weights(sc.network.adj, self_weight=True),
-        x0_hat=np.zeros(n), P0=sc.plant.x0_std**2 * np.eye(n),
-    )
-
-
-def attack_statistic(dec: FeedthroughSVD, C: Array, R: Array, P: Array, u1: Array) -> Array:
-    """Normalised attack estimate ``u1^T Cov^-1 u1``, ``Cov = Sigma^-1 (C_1 P C_1^T + R_1) Sigma^-T``.
-
-    Ours, not the paper's: ``u_hat_1 - u_1 = Sigma^-1 (C_1 x_tilde + v_1)``, where the fused
-    error is independent of ``v_1 = T_1 v`` (``K U_1 = 0`` and ``T_1 R U_2 = 0``), so ``Cov`` bounds
-    its covariance whenever ``P_bar`` bounds the fused one (Theorem 1).
-
-    Parameters
-    ----------
-    dec : FeedthroughSVD
-        The node's decomposition.
-    C, R : (n_y, n_x), (n_y, n_y) arrays
-        The node's output matrix and noise covariance.
-    P : (..., n_x, n_x) array
-        Fused bounds ``P_bar^i_k`` (steps, possibly runs).
-    u1 : (..., p) array
-        Attack estimates ``u_hat^i_{1,k}``.
-
-    Returns
-    -------
-    (...,) array
-    """
-    C1 = dec.T1 @ C
-    S_inv = np.linalg.inv(dec.Sigma)
-    cov = S_inv @ (C1 @ P @ C1.T + dec.T1 @ R @ dec.T1.T) @ S_inv.T
-    return np.einsum("...i,...i->...", u1, np.linalg.solve(cov, u1[..., None])[..., 0])
-
-
-class Guo2023(Method):
-    """SVD decoupling of the attack input, constrained local gain (28), CI fusion (19)-(21).
-
-    Design rules (fixed from the paper before any arena run; see the module docstring):
-    ``H^i = I`` on the sensors the attack card names (``threat="card"``, the paper's known
-    attack channels (2)), ``n_d = 0``, ``pi_ij = 1/(|N_i| + 1)`` on the closed neighbourhood
-    (Sec. V), ``x0 = 0``, ``P_0`` the prior, SVD rank tolerance ``1e-10``; only the local
-    estimates are exchanged (``scale = x0_std``); a lost message is left out of the fusion
-    and the weights renormalised; alarms (ours): chi-square test of ``u_hat_1`` at
-    :data:`~secest.estimators.CHI2_ALPHA`.
-
-    Parameters
-    ----------
-    threat : {"card", "all"}, default "card"
-        Reading of the attack channels ``H^i`` (:data:`THREATS`, :func:`arena_model`): the
-        sensors the attack card names, or every sensor (Assumption 2 then fails on
-        single-output nodes and the method answers "not applicable").
-    rtol : float, default 1e-10
-        Relative rank tolerance of the SVD of ``H_bar^i`` (decides ``p_i = rank H_bar^i``).
-    """
-
-    name = "guo2023"
-    title = "guo2023: SVD input decoupling, K U1 = 0 gain, CI fusion"
-    kind = "paper"
-    reading = (
-        "H^i = I on the sensors the attack card names (the paper's known attack channels), no d; "
-        "nodes send x^{i,i} once per step (bounds are data-independent, not sent); a lost message "
-        "is left out of the CI fusion, weights renormalised; pi_ij = 1/(|N_i|+1) (Sec. V); "
-        "alarms (ours): chi-square test of u_hat_1 at 1e-3"
-    )
-
-    def __init__(self, threat: str = "card", rtol: float = 1e-10) -> None:
-        if threat not in THREATS:
-            raise ValidationError(f"threat must be one of {THREATS}, found {threat!r}")
-        self.threat = threat
-        self.rtol = rtol
-
-    def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
-        mdl = arena_model(sc, self.threat)
-        A, C, R = sc.plant.A, sc.C, sc.R
-        decs = [feedthrough_decomposition(mdl.Hbar(0)[i], R[i], rtol=self.rtol) for i in range(mdl.N)]
-        Gs = mdl.Gbar(0)
-        ny = C.shape[1]
-        C2 = np.vstack([d.U2.T @ C[i] for i, d in enumerate(decs)])
-        rank_ok = all(
-            np.linalg.matrix_rank(d.U2.T @ C[i] @ Gs[i] @ d.V2) == d.V2.shape[1]
-            for i, d in enumerate(decs)
-        )
-        adj = sc.network.adj
-        connected = True
-        try:
-            graphs.check_connected(adj)
-        except ValidationError:
-            connected = False
-        return [
-            ("the graph is undirected and connected (Sec. II)",
-             bool(np.array_equal(adj, adj.T)) and connected),
-            ("A is invertible (Assumption 1)", bool(np.linalg.cond(A) < 1e12)),
-            ("n_y_i >= n_u at every node (standing assumption after (3))",
-             all(ny >= H.shape[1] for H in mdl.Hbar(0))),
-            ("C_2^i G_bar_2^i has full column rank at every node (solvability of (10), (13))", rank_ok),
-            ("(A, C_2) is observable, C_2 = [C_2^1; ...; C_2^N] the attack-free outputs (Assumption 2)",
-             bool(C2.shape[0] > 0 and systems.is_observable(A, C2))),
-        ]
-
-    def run(self, trial: Trial) -> Estimate:
-        sc = trial.scenario
-        mdl = arena_model(sc, self.threat)
-        scale = sc.plant.x0_std
-        dos = not np.all(trial.link == 1)
-        res = run_estimator(
-            mdl, trial.y, received=lambda k, m: trial.received(k, m, scale),
-            link=trial.link if dos else None, keep_steps=False, rtol=self.rtol,
-        )
-        runs, K1, N, _ = trial.y.shape
-        alarms = np.zeros((runs, K1, N), bool)
-        threshold = {}
-        for i, H in enumerate(mdl.Hbar(0)):
-            dec = feedthrough_decomposition(H, sc.R[i], rtol=self.rtol)
-            if dec.rank == 0:
-                continue
-            thr = threshold.setdefault(dec.rank, float(stats.chi2.ppf(1 - CHI2_ALPHA, dec.rank)))
-            P_i = res.P[..., i, :, :]
-            alarms[:, :, i] = attack_statistic(dec, sc.C[i], sc.R[i], P_i, res.u1[i]) > thr
-        notes = {"threat": self.threat}
-        if sc.attack.kind == "message":
-            notes["outside theory"] = "falsified fusion messages are not in the paper's model (2)"
-        if dos:
-            notes["outside theory"] = "Theorem 2 assumes every exchange; lost ones are left out of (19)"
-        bound = res.P if res.P.ndim == 5 else res.P[None]
-        return Estimate(res.x, alarms=alarms, bound=bound, notes=notes)
-
-
-register(Guo2023)

@@ -10,7 +10,7 @@ Two layers, both plain functions on arrays:
   observation pattern of every bank and the common basis of Assumption 4 (the notebook's
   grouped projected-orthonormal construction; for repeated eigenvalues the brief's
   subset-intersection fallback, ours); the partial-observer gains of (5); the stacked matrices of
-  (1), (5), (6) [or (11)] integrated by :func:`secest.systems.integrate_switched_linear`
+  (1), (5), (6) [or (11)] integrated by :func:`secest.core.systems.integrate_switched_linear`
   (exponential Euler). Called on the paper's example these give the notebook's numbers to
   round-off (``tests/test_methods_lee2020.py``).
 * **The sampled-data reading on a shared scenario** (ours): the same (5) and (6), integrated by
@@ -57,21 +57,17 @@ The arena method (:class:`Lee2020`) reads a scenario as follows.
 
 from __future__ import annotations
 
-import hashlib
 from collections.abc import Callable, Sequence
 from itertools import combinations
-from typing import Any, NamedTuple
+from typing import NamedTuple
 
 import numpy as np
 import scipy.linalg as sla
 from numpy.typing import NDArray
 from scipy import stats
 
-from secest import graphs, systems
-from secest.estimators import CHI2_ALPHA, Estimate, Method, register
-from secest.results import SIGN_DRIVEN
-from secest.scenarios import Scenario, Trial
-from secest.validation import ValidationError, as_matrix, check_positive_int
+from secest.core import graphs, systems
+from secest.core.validation import ValidationError, as_matrix, check_positive_int
 
 __all__ = [
     "CHATTER_FRACTION",
@@ -81,7 +77,6 @@ __all__ = [
     "POLES",
     "Q",
     "Basis",
-    "Lee2020",
     "NetworkSystem",
     "SampledObserver",
     "SampledRun",
@@ -273,8 +268,9 @@ def mode_pattern(
 ) -> Array:
     """Observation pattern of every real mode: ``pattern[k, i] = 1`` iff bank ``i`` sees mode ``k``.
 
-    Read off the unobservable subspaces ``U_i`` (staircase, :func:`secest.systems.unobservable_subspace`)
-    and cross-checked with the PBH test ``C_i X_k != 0``.
+    Read off the unobservable subspaces ``U_i`` (staircase,
+    :func:`secest.core.systems.unobservable_subspace`) and cross-checked with
+    the PBH test ``C_i X_k != 0``.
 
     Parameters
     ----------
@@ -998,141 +994,3 @@ def alarm_rule(
         above = np.flatnonzero(~below)
         first[i] = max(slew, above[-1] + 1 if above.size else 0)
     return tau, first
-
-
-# ----------------------------------------------------------------------------- the arena method
-
-
-def _digest(*arrays: Any) -> str:
-    h = hashlib.sha1()
-    for a in arrays:
-        h.update(np.ascontiguousarray(np.asarray(a, dtype=float)).tobytes())
-        h.update(b"|")
-    return h.hexdigest()
-
-
-@register
-class Lee2020(Method):
-    """Partial observers (5) and the median-embedded observer (6), sampled-data reading.
-
-    Parameters
-    ----------
-    kappa : float, default :data:`KAPPA`
-        Positive gain of the sign (median) correction of (6), 0.5 in Section IV.
-    gamma : float, default :data:`GAMMA`
-        Positive coupling gain of (6) (the consensus term is ``kappa gamma sum_j``), 2 in
-        Section IV.
-    q : int, default :data:`Q`
-        Number of sensor banks that may be attacked (Assumption 1); the plant must be
-        ``2q``-redundant observable (Assumption 2).
-    poles : {"near", "shifted"}, default :data:`POLES`
-        Observer-pole rule of (5) (:func:`observer_gains`).
-    chatter : float, default :data:`CHATTER_FRACTION`
-        Chattering amplitude allowed, as a fraction of the smallest sensor noise, which
-        fixes the sub-step (:func:`substeps`).
-    """
-
-    name = "lee2020"
-    title = "lee2020: partial observers + distributed median (sign) correction"
-    kind = "paper"
-    tolerance = SIGN_DRIVEN  # sign-driven (Filippov) correction: last bits flip a sgn elsewhere
-    reading = (
-        "(5)+(6) in continuous time on Ac (exponential Euler, sub-steps by the chattering rule), y_k "
-        "held over (t_{k-1}, t_k]; x_hat_i sent once per period and held in the consensus term as "
-        "received (falsified or not); lost: no coupling; kappa 0.5, gamma 2, q 1 (paper), poles "
-        "'shifted' (real parts -1)"
-    )
-
-    def __init__(
-        self,
-        kappa: float = KAPPA,
-        gamma: float = GAMMA,
-        q: int = Q,
-        poles: str = POLES,
-        chatter: float = CHATTER_FRACTION,
-    ) -> None:
-        if poles not in ("near", "shifted"):
-            raise ValidationError(f"poles must be 'near' or 'shifted', found {poles!r}")
-        for name, value in (("kappa", kappa), ("gamma", gamma), ("chatter", chatter)):
-            if not (np.isfinite(value) and value > 0):
-                raise ValidationError(f"{name} must be a positive number, found {value!r}")
-        self.kappa, self.gamma, self.chatter = float(kappa), float(gamma), float(chatter)
-        self.poles = poles
-        self.q = check_positive_int("q", q)
-        self._designs: dict[str, dict[str, Any]] = {}
-
-    def _design(self, sc: Scenario) -> dict[str, Any]:
-        """Basis, gains and sampled matrices of ``sc`` (data-independent: computed once, cached)."""
-        key = _digest(sc.plant.Ac, sc.C, sc.R, sc.network.adj, sc.plant.dt, sc.plant.q_std,
-                      sc.plant.x0_std, sc.horizon)
-        if key in self._designs:
-            return self._designs[key]
-        A, banks = sc.plant.Ac, list(sc.C)
-        adj = sc.network.adj
-        d: dict[str, Any] = {"graph": bool(np.array_equal(adj, adj.T))}
-        try:
-            graphs.check_connected(adj)
-        except ValidationError:
-            d["graph"] = False
-        N = len(banks)
-        d["redundant"] = N - 2 * self.q >= 1 and systems.redundant_observability(A, banks, self.q).holds
-        d["basis"] = basis = assumption4_basis(A, banks)
-        d["gains"] = None
-        if basis.ok:
-            try:
-                gains, closed = observer_gains(A, basis.V, basis.S, banks, self.poles)
-            except (ValueError, ArithmeticError):
-                gains = None
-            else:
-                if all(np.linalg.eigvals(F).real.max() < 0 for F in closed):
-                    d["gains"] = gains
-        if d["gains"] is not None and d["graph"]:
-            r_std = np.sqrt(np.diagonal(sc.R, axis1=1, axis2=2))
-            m = substeps(self.kappa, basis.V, sc.C, r_std, sc.plant.dt, self.chatter, FINEST_SUBSTEP)
-            d["observer"] = sampled_observer(A, basis.V, basis.S, d["gains"], sc.C, adj, self.kappa,
-                                             self.gamma, sc.plant.dt, m)
-            d["tau"], d["first"] = alarm_rule(A, basis.V, basis.S, d["gains"], sc.C, sc.R, sc.plant.Q,
-                                              sc.plant.x0_std, self.kappa, sc.plant.dt, sc.horizon,
-                                              CHI2_ALPHA)
-        self._designs[key] = d
-        return d
-
-    def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
-        d = self._design(sc)
-        q = self.q
-        return [
-            ("Assumption 3: the communication graph is undirected and connected", d["graph"]),
-            (f"Assumption 1: at most q = {q} sensor bank(s) attacked", len(sc.attacked_nodes) <= q),
-            (f"Assumption 2: (C, A) is 2q-redundant observable, q = {q} (any N - 2q banks observe "
-             "the plant)", bool(d["redundant"])),
-            ("Assumption 4: a basis in which every bank's unobservable subspace is spanned by basis "
-             f"vectors (our {d['basis'].construction} construction, verified)", d["basis"].ok),
-            (f"(5): observer gains place eig(F_i) by the '{self.poles}' rule (F_i Hurwitz)",
-             d["gains"] is not None),
-        ]
-
-    def run(self, trial: Trial) -> Estimate:
-        sc = trial.scenario
-        reason = self.not_applicable(sc)
-        if reason is not None:
-            raise ValidationError(f"lee2020 is not applicable to {sc.name}: {reason}")
-        d = self._design(sc)
-        obs: SampledObserver = d["observer"]
-        res = run_sampled(obs, trial.y, lambda k, m: trial.received(k, m, sc.plant.x0_std), trial.link)
-        exceed = np.abs(res.zbar - res.xbar) > d["tau"]
-        steps = np.arange(trial.y.shape[1])[:, None]
-        alarms = np.any(exceed, axis=-1) & (steps >= d["first"][None, :])[None]
-        outside = ["sensor and process noise (the paper's model (1) is noise-free)"]
-        if sc.attack.kind == "message":
-            outside.append("falsified messages (the paper's links are reliable, Assumption 3)")
-        if sc.attack.kind == "dos":
-            outside.append("lost messages (the paper's links are reliable, Assumption 3)")
-        notes = {
-            "substeps": obs.substeps,
-            "substep_s": sc.plant.dt / obs.substeps,
-            "poles": self.poles,
-            "basis": d["basis"].construction,
-            "alarms_from_step": [int(f) for f in d["first"]],
-            "outside_theory": outside,
-        }
-        return Estimate(res.xhat, alarms=alarms, notes=notes)

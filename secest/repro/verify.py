@@ -2,8 +2,8 @@
 
 Command line::
 
-    python -m secest.verify [KEY ...]                            # what `make verify` runs
-    python -m secest.verify --against DIR [--reference DIR] [KEY ...]
+    python -m secest.repro.verify [KEY ...]                            # what `make verify` runs
+    python -m secest.repro.verify --against DIR [--reference DIR] [KEY ...]
 
 The first form executes each notebook in paper mode into ``build/verify/<key>/``
 (never over the committed files) and compares it with the committed
@@ -17,7 +17,7 @@ What is compared, number by number:
   and mappings) and of its ``interval`` with the claim's ``tolerance``; ``holds`` and
   ``verdict`` exactly; non-numeric leaves exactly.
 * every CSV column with the tolerance recorded in ``tolerances.json`` (written by
-  :func:`secest.plotting.save_data`); non-numeric cells exactly.
+  :func:`secest.repro.plotting.save_data`); non-numeric cells exactly.
 * the sweep's outputs (``robustness.csv``, ``robustness_<id>.png``) only when both
   sides hold them: a paper-mode run does not write them (``make robustness`` does).
 * PNGs are never compared byte-wise: their data is in the CSVs. Their RMS pixel
@@ -26,8 +26,8 @@ What is compared, number by number:
 
 A number ``b`` reproduces ``a`` when ``|b - a| <= atol + rtol*|a| + r``, with ``r``
 the larger of the decimal steps the two were written with
-(:meth:`secest.results.Tolerance.resolution`: a tenth of the column's tolerance in
-CSVs, of :data:`~secest.results.DETERMINISTIC` in claims): differences below the
+(:meth:`secest.repro.results.Tolerance.resolution`: a tenth of the column's tolerance in
+CSVs, of :data:`~secest.repro.results.DETERMINISTIC` in claims): differences below the
 written precision cannot be seen. Where the two folders
 declare different tolerances, the reference's is used and the change is noted.
 
@@ -55,8 +55,8 @@ from typing import Any
 
 import numpy as np
 
-from secest.results import DETERMINISTIC, Tolerance, notebook_path, repo_root
-from secest.validation import ValidationError
+from secest.core.validation import ValidationError
+from secest.repro.results import DETERMINISTIC, Tolerance, notebook_path, repo_root
 
 __all__ = [
     "NotebookReport",
@@ -68,7 +68,7 @@ __all__ = [
 ]
 
 CLAIMS_FILE = "claims.json"
-TOLERANCES_FILE = "tolerances.json"  # = secest.plotting.TOLERANCES_FILE (no matplotlib import here)
+TOLERANCES_FILE = "tolerances.json"  # = plotting.TOLERANCES_FILE (no matplotlib import here)
 
 
 @dataclass
@@ -83,7 +83,7 @@ class Quantity:
         The tolerance it was compared with.
     written : Tolerance
         The tolerance its numbers were rounded with when written (claims:
-        :data:`~secest.results.DETERMINISTIC`; CSV columns: their own).
+        :data:`~secest.repro.results.DETERMINISTIC`; CSV columns: their own).
     compared, beyond : int
         Numbers (and non-numeric cells) compared, and how many left the tolerance.
     max_rel, max_rel_at : float, str
@@ -502,7 +502,7 @@ def run_paper_mode(key: str, out_root: Path) -> tuple[Path, float]:
     papermill.PapermillExecutionError
         If a cell of the notebook raises.
     """
-    from secest.run import execute_notebook
+    from secest.repro.run import execute_notebook
 
     notebook_path(key)  # unknown key -> ValidationError before anything is deleted
     folder = out_root / key
@@ -680,7 +680,8 @@ def main(argv: list[str] | None = None) -> int:
         did not, 2 on bad input (a key naming no notebook, a missing folder).
         argparse exits with status 2 on malformed arguments.
     """
-    parser = argparse.ArgumentParser(prog="python -m secest.verify", description=__doc__.split("\n")[0])
+    parser = argparse.ArgumentParser(prog="python -m secest.repro.verify",
+                                     description=__doc__.split("\n")[0])
     parser.add_argument("keys", nargs="*", metavar="KEY", help="notebook keys (default: all)")
     parser.add_argument("--against", type=Path, help="compare this result folder instead of running")
     parser.add_argument("--reference", type=Path, help="folder compared with (default: figures/)")
@@ -689,7 +690,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         reports = verify(args.keys, against=args.against, reference=args.reference)
     except ValidationError as exc:
-        print(f"secest.verify: {exc}", file=sys.stderr)
+        print(f"secest.repro.verify: {exc}", file=sys.stderr)
         return 2
     if args.against is not None:
         for report in reports:

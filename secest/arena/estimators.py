@@ -2,7 +2,7 @@
 
 Every estimator, the five papers' and the baselines', is a :class:`Method`: it names the
 conditions its theory needs (:meth:`Method.conditions`), checked on a scenario before it
-runs, and :meth:`Method.run` turns one :class:`secest.scenarios.Trial` (all Monte Carlo runs
+runs, and :meth:`Method.run` turns one :class:`secest.arena.scenarios.Trial` (all Monte Carlo runs
 at once) into an :class:`Estimate`: every node's estimate at every step, and the method's
 alarms and covariance bounds where it has them. A method whose condition fails on a
 scenario does not run there; the arena reports "not applicable: <condition>".
@@ -34,9 +34,9 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import stats
 
-from secest.results import DETERMINISTIC, Tolerance
-from secest.scenarios import Scenario, Trial
-from secest.validation import ValidationError
+from secest.arena.scenarios import Scenario, Trial
+from secest.core.tolerances import DETERMINISTIC, Tolerance
+from secest.core.validation import ValidationError
 
 __all__ = [
     "CHI2_ALPHA",
@@ -92,9 +92,9 @@ class Method:
         ``"paper"`` (one of the five reproduced estimators) or ``"baseline"``.
     reading : str
         How the method is read on the shared scenarios where its paper's setting differs.
-    tolerance : secest.results.Tolerance
+    tolerance : secest.repro.results.Tolerance
         How closely a re-run on another machine reproduces its estimates (and the scores
-        made of them): :data:`~secest.results.DETERMINISTIC` unless the method amplifies
+        made of them): :data:`~secest.repro.results.DETERMINISTIC` unless the method amplifies
         rounding (sign-driven dynamics, interior-point solves).
     """
 
@@ -137,7 +137,7 @@ def register(method: Method | type[Method]) -> Method | type[Method]:
     """
     inst = method() if isinstance(method, type) and issubclass(method, Method) else method
     if not isinstance(inst, Method) or not inst.name:
-        raise ValidationError("method must be a secest.estimators.Method with a non-empty name")
+        raise ValidationError("method must be a secest.arena.estimators.Method with a non-empty name")
     METHODS[inst.name] = inst
     return method
 
@@ -416,7 +416,7 @@ def score(trial: Trial, estimate: Estimate, oracle: Estimate, *, burn_in: int | 
         Status ``"ok"`` with the RMSE ratios (and detection / false-alarm rates when the
         method raises alarms), or ``"diverged"``.
     """
-    from secest.montecarlo import bootstrap_interval
+    from secest.core.montecarlo import bootstrap_interval
 
     K = trial.x.shape[1] - 1
     burn = K // 5 if burn_in is None else burn_in
@@ -461,7 +461,7 @@ def rate(alarms: NDArray[np.bool_], where: NDArray[np.bool_]) -> tuple[float, fl
     -------
     (rate, low, high)
     """
-    from secest.montecarlo import bootstrap_interval, wilson_interval
+    from secest.core.montecarlo import bootstrap_interval, wilson_interval
 
     hits = (alarms & where).reshape(alarms.shape[0], -1).sum(axis=1)
     total = where.reshape(where.shape[0], -1).sum(axis=1)
@@ -502,11 +502,11 @@ def evaluate(
         Called as ``observe(name, trial, estimate)`` for every method that ran (the oracle
         first), e.g. to keep error curves without holding every estimate in memory.
     trial : Trial, optional
-        The runs to use (default: :func:`secest.scenarios.simulate` of ``sc``).
+        The runs to use (default: :func:`secest.arena.scenarios.simulate` of ``sc``).
     burn_in : int, optional
         Steps not scored (default ``K // 5``, see :func:`score`).
     """
-    from secest.scenarios import simulate
+    from secest.arena.scenarios import simulate
 
     unknown = [n for n in names or [] if n not in METHODS]
     if unknown:

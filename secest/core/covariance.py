@@ -3,7 +3,7 @@
 Conventions follow the estimation literature: ``P`` is an error covariance,
 ``H`` a measurement matrix, ``R`` a measurement-noise covariance, ``K`` a gain.
 Symmetrisation is explicit (keyword ``symmetrize_result``) so a reader sees where it
-happens. Every PSD / PD test uses the relative rule of :mod:`secest.validation`.
+happens. Every PSD / PD test uses the relative rule of :mod:`secest.core.validation`.
 """
 
 from __future__ import annotations
@@ -13,8 +13,8 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from secest import validation as V
-from secest.validation import ValidationError, as_matrix, check_psd
+from secest.core import validation as V
+from secest.core.validation import ValidationError, as_matrix, check_psd
 
 __all__ = [
     "check_psd",
@@ -69,14 +69,14 @@ def min_eig(P: ArrayLike) -> float | NDArray[np.float64]:
 def is_psd(P: ArrayLike, *, tol: float = V.RTOL, strict: bool = False) -> bool:
     """Whether ``P`` is a finite symmetric PSD (PD if ``strict``) matrix.
 
-    Same relative rule as :func:`check_psd` (see :mod:`secest.validation`); a matrix
+    Same relative rule as :func:`check_psd` (see :mod:`secest.core.validation`); a matrix
     that is not square or not finite is not PSD.
 
     Parameters
     ----------
     P : array_like, shape (n, n)
         Matrix to test.
-    tol : float, default secest.validation.RTOL
+    tol : float, default secest.core.validation.RTOL
         Relative tolerance.
     strict : bool, default False
         Test positive definiteness.

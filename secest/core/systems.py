@@ -29,8 +29,8 @@ from typing import NamedTuple
 import numpy as np
 import scipy.linalg as sla
 
-from secest import validation as V
-from secest.validation import ValidationError, as_matrix
+from secest.core import validation as V
+from secest.core.validation import ValidationError, as_matrix
 
 __all__ = [
     "RedundancyResult",
@@ -312,7 +312,7 @@ def redundant_observability(
     ------
     ValidationError
         Non-square ``A``, a bank with the wrong number of columns, a negative or non-integer
-        ``q``, or ``q`` too large (``N - 2q < 1``); :class:`~secest.validation.SizeLimitError`
+        ``q``, or ``q`` too large (``N - 2q < 1``); :class:`~secest.core.validation.SizeLimitError`
         if more than ``MAX_SUBSETS`` subsets would be enumerated.
     """
     A = _check_A(A)

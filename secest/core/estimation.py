@@ -12,7 +12,7 @@ unknown input ``u`` enters the output through a feed-through matrix ``H``:
    trace-minimising gain under ``K U_1 = 0`` (guo2023, (28))
 ``fusion_weights``
    matrix weights of consensus-on-information fusion (guo2023, (19)-(20)); batched
-   form of :func:`secest.covariance.information_fusion`
+   form of :func:`secest.core.covariance.information_fusion`
 ``ltv_observability_matrix``
    observability matrix of a linear time-varying pair
    ``col(C_k, C_{k+1} A_k, C_{k+2} A_{k+1} A_k, ...)``
@@ -26,9 +26,9 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from secest import validation as V
-from secest.covariance import check_psd, symmetrize
-from secest.validation import ValidationError, as_matrix
+from secest.core import validation as V
+from secest.core.covariance import check_psd, symmetrize
+from secest.core.validation import ValidationError, as_matrix
 
 __all__ = [
     "FeedthroughSVD",
@@ -198,7 +198,7 @@ def fusion_weights(
 
     guo2023 (19)-(20): ``P = [sum_j w_j P_j^{-1}]^{-1}`` and ``W_j = w_j P P_j^{-1}``, so that
     the fused estimate is ``x = sum_j W_j x_j`` (21) and ``sum_j W_j = I`` when the weights
-    sum to one. This is :func:`secest.covariance.information_fusion` returning the matrix
+    sum to one. This is :func:`secest.core.covariance.information_fusion` returning the matrix
     weights instead of the estimate, so that the fusion applies to a whole batch of
     Monte Carlo runs at once (``x = np.einsum("jab,rjb->ra", W, xs)``) and the exact joint
     error covariance can be propagated.
@@ -253,7 +253,7 @@ def ltv_observability_matrix(
     ``C_seq = [C_0, ..., C_{L-1}]`` and ``A_seq = [A_0, ..., A_{L-2}]`` (the last ``A`` is not
     needed; a sequence of length ``L`` is accepted too). ``rank O = n`` means the initial
     state of the window is determined by the outputs of the window. For a constant pair it
-    equals :func:`secest.systems.observability_matrix`.
+    equals :func:`secest.core.systems.observability_matrix`.
 
     Parameters
     ----------

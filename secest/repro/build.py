@@ -1,12 +1,12 @@
 """Notebook build steps used by the Makefile.
 
-``python -m secest.build ipynb KEY``
+``python -m secest.repro.build ipynb KEY``
    build ``notebooks/KEY.ipynb`` from ``KEY.py`` (one way)
-``python -m secest.build prepare KEY``
+``python -m secest.repro.build prepare KEY``
    delete KEY's old PNG/CSV figures before a run
-``python -m secest.build strip KEY``
+``python -m secest.repro.build strip KEY``
    strip timing metadata and cell ids after a run
-``python -m secest.build manifest KEY..``
+``python -m secest.repro.build manifest KEY..``
    check that every figure listed in ``figures/manifest.toml`` exists
 
 The ``.ipynb`` is always rebuilt from the ``.py`` (never synced the other way:
@@ -24,8 +24,8 @@ from pathlib import Path
 import jupytext
 import nbformat
 
-from secest.results import repo_root
-from secest.validation import ValidationError
+from secest.core.validation import ValidationError
+from secest.repro.results import repo_root
 
 __all__ = [
     "build_ipynb",

@@ -28,8 +28,8 @@ from math import lcm
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from secest import validation as V
-from secest.validation import ValidationError
+from secest.core import validation as V
+from secest.core.validation import ValidationError
 
 __all__ = [
     "rrl_map_period",

@@ -7,11 +7,11 @@ PNGs carry no software/version metadata and are byte-identical across runs.
 Inside a notebook the saved PNG is also displayed inline, right under the code
 that made it (the rendered notebooks and the site show exactly the committed file).
 
-Each CSV column has a reproduction tolerance (a :class:`secest.results.Tolerance`,
-default :data:`~secest.results.DETERMINISTIC`) declared where the data is saved.
+Each CSV column has a reproduction tolerance (a :class:`secest.repro.results.Tolerance`,
+default :data:`~secest.repro.results.DETERMINISTIC`) declared where the data is saved.
 Its numbers are written to a tenth of that tolerance (:meth:`Tolerance.round`), and
 the tolerances of every CSV in a folder are recorded in ``<fig_dir>/tolerances.json``,
-which ``python -m secest.verify`` reads::
+which ``python -m secest.repro.verify`` reads::
 
     {"<csv stem>": [{"columns": ["t", "x[0]"], "rtol": 1e-09, "atol": 1e-12, "reason": "..."}, ...]}
 
@@ -35,8 +35,8 @@ import numpy as np
 from matplotlib.figure import Figure
 from numpy.typing import ArrayLike
 
-from secest.results import DETERMINISTIC, Tolerance
-from secest.validation import ValidationError
+from secest.core.validation import ValidationError
+from secest.repro.results import DETERMINISTIC, Tolerance
 
 __all__ = [
     "COLUMN_WIDTH",
@@ -140,7 +140,7 @@ def _column_tolerances(names: list[str], keys: list[str], tolerance: ColumnToler
     """The tolerance of each column (see :func:`save_data`).
 
     An exact column name or data key first, else the first matching glob in the mapping's
-    order, else :data:`~secest.results.DETERMINISTIC`.
+    order, else :data:`~secest.repro.results.DETERMINISTIC`.
     """
     if tolerance is None or isinstance(tolerance, Tolerance):
         return [tolerance or DETERMINISTIC] * len(names)
@@ -211,9 +211,9 @@ def save_data(
         The columns; a 2-D array ``key`` gives the columns ``key[0]``, ``key[1]``, ...
     tolerance : Tolerance or mapping, optional
         How closely a re-run on another machine must reproduce the columns: one
-        :class:`~secest.results.Tolerance` for all, or a mapping from a column name
+        :class:`~secest.repro.results.Tolerance` for all, or a mapping from a column name
         (``"x[1]"``), a data key (``"x"``: all its columns) or a glob (``"err_*"``) to
-        a tolerance; other columns get :data:`~secest.results.DETERMINISTIC`. Every
+        a tolerance; other columns get :data:`~secest.repro.results.DETERMINISTIC`. Every
         pattern must match a column. Recorded in ``<fig_dir>/tolerances.json``.
 
     Returns

@@ -4,7 +4,7 @@ Graphs are handled as dense 0/1 adjacency matrices ``A`` with ``A[i, j] = 1``
 when node ``i`` receives from node ``j`` (``j`` is an in-neighbour of ``i``);
 the diagonal is zero, so a neighbourhood ``N_i`` never contains ``i`` itself
 (as in ding2020, Section II). networkx converts graphs, scipy checks connectivity.
-Dense ``N x N`` matrices are limited to ``N <= secest.validation.MAX_DENSE_NODES``.
+Dense ``N x N`` matrices are limited to ``N <= secest.core.validation.MAX_DENSE_NODES``.
 """
 
 from __future__ import annotations
@@ -15,8 +15,8 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.sparse import csgraph
 from scipy.spatial import cKDTree
 
-from secest import validation as V
-from secest.validation import ValidationError, as_matrix
+from secest.core import validation as V
+from secest.core.validation import ValidationError, as_matrix
 
 __all__ = [
     "adjacency",
@@ -240,7 +240,7 @@ def row_stochastic_weights(adj: ArrayLike, *, self_weight: bool = False) -> NDAr
     """Uniform row-stochastic weights ``h_ij = 1/|N_i|`` on the edges.
 
     The default (``h_ii = 0``, every row summing to one over ``N_i``) is the weight matrix of
-    ding2020 (Section II, Section V) that :func:`secest.filters.secure_filter_step` expects.
+    ding2020 (Section II, Section V) that :func:`secest.methods.ding2020.secure_filter_step` expects.
 
     Parameters
     ----------
@@ -277,8 +277,8 @@ def check_row_stochastic(weights: ArrayLike, *, tol: float = V.RTOL) -> NDArray[
     ----------
     weights : array_like, shape (N, N)
         Weight matrix.
-    tol : float, default secest.validation.RTOL
-        Relative tolerance of the row sums (rule in :mod:`secest.validation`).
+    tol : float, default secest.core.validation.RTOL
+        Relative tolerance of the row sums (rule in :mod:`secest.core.validation`).
 
     Returns
     -------

@@ -1,7 +1,7 @@
-"""Shared scenarios of the arena: plants, networks and attacks as data (``secest/cards.toml``).
+"""Shared scenarios of the arena: plants, networks and attacks as data (``secest/arena/cards.toml``).
 
 A **scenario** is a plant observed by a sensor network under one attack, over a horizon,
-with a number of Monte Carlo runs. Every card lives in ``secest/cards.toml``: a new plant,
+with a number of Monte Carlo runs. Every card lives in ``secest/arena/cards.toml``: a new plant,
 network or attack is one TOML table; the ``[matrix]`` crosses every network (with its plant)
 with every attack, and a ``[scenario.<name>]`` table adds one named scenario (a network and
 an attack, optionally its own horizon, runs and seed) outside the cross. More cards can be
@@ -39,7 +39,7 @@ import numpy as np
 import scipy.linalg as sla
 from numpy.typing import NDArray
 
-from secest.validation import ValidationError, as_matrix, check_positive_int, check_probability
+from secest.core.validation import ValidationError, as_matrix, check_positive_int, check_probability
 
 __all__ = [
     "ATTACK_KINDS",
@@ -191,7 +191,7 @@ class Attack:
         ``x0_std``).
     p, q : float, defaults 0.0 and 1.0
         ``"dos"``: failure (up -> down) and recovery (down -> up) probabilities per step of the
-        Gilbert-Elliott chain shared by every link (:func:`secest.channels.gilbert_elliott`);
+        Gilbert-Elliott chain shared by every link (:func:`secest.core.channels.gilbert_elliott`);
         the defaults keep every link up.
     """
 
@@ -329,7 +329,7 @@ Extra = str | Path | Mapping[str, Any] | None
 
 
 def _cards(extra: Extra = None) -> dict[str, Any]:
-    text = resources.files("secest").joinpath("cards.toml").read_text()
+    text = resources.files("secest.arena").joinpath("cards.toml").read_text()
     raw = tomllib.loads(text)
     if extra is None:
         return raw
@@ -381,7 +381,7 @@ def _plant(name: str, card: dict[str, Any]) -> Plant:
 
 
 def _graph(name: str, card: dict[str, Any]) -> NDArray[np.float64]:
-    from secest import graphs
+    from secest.core import graphs
 
     N = check_positive_int(f"network {name}: N", card["N"], minimum=2)
     kind = card["graph"]
@@ -626,7 +626,7 @@ def simulate(sc: Scenario) -> Trial:
     y, attacked = _sensor_attack(sc, y_clean, r_std, attack_rng)
     link = np.ones((R, K + 1), dtype=np.int8)
     if att.kind == "dos":
-        from secest import channels
+        from secest.core import channels
 
         link = channels.gilbert_elliott(att.p, att.q, K + 1, channel_rng, size=R)
     hits = np.zeros((R, K + 1, N, N), dtype=bool)

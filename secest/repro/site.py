@@ -1,6 +1,6 @@
 """Generate the Sphinx source tree of the site (``make html``) from the repository's own files.
 
-``python -m secest.site prepare build/site-src`` writes a source tree that
+``python -m secest.repro.site prepare build/site-src`` writes a source tree that
 ``sphinx-build -c docs build/site-src build/html`` renders. Nothing here is a
 second copy of a result: every generated page is derived, at build time, from
 the one file that holds it, so the site stays true when they change.
@@ -45,7 +45,7 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
-from secest.validation import ValidationError
+from secest.core.validation import ValidationError
 
 __all__ = [
     "SiteError",
@@ -67,7 +67,7 @@ __all__ = [
     "verdict_table",
 ]
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 DOCS = ROOT / "docs"
 VERDICT_TAGS = ("[Re]", "[Re, partial]", "[¬Re]")
 BEYOND_KEYS = ("arena",)
@@ -180,7 +180,7 @@ def load_manifest(root: Path = ROOT) -> dict[str, Any]:
     Parameters
     ----------
     root : Path, optional
-        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+        Repository root; default: the one this package lives in (``secest.repro.site.ROOT``).
 
     Returns
     -------
@@ -196,7 +196,7 @@ def paper_keys(root: Path = ROOT) -> list[str]:
     Parameters
     ----------
     root : Path, optional
-        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+        Repository root; default: the one this package lives in (``secest.repro.site.ROOT``).
 
     Returns
     -------
@@ -260,7 +260,7 @@ def readme_papers(root: Path = ROOT) -> dict[str, dict[str, str]]:
     Parameters
     ----------
     root : Path, optional
-        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+        Repository root; default: the one this package lives in (``secest.repro.site.ROOT``).
 
     Returns
     -------
@@ -494,7 +494,7 @@ def verdict_table(root: Path = ROOT) -> str:
     Parameters
     ----------
     root : Path, optional
-        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+        Repository root; default: the one this package lives in (``secest.repro.site.ROOT``).
 
     Returns
     -------
@@ -614,7 +614,7 @@ def readme_markdown(root: Path = ROOT) -> str:
     Parameters
     ----------
     root : Path, optional
-        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+        Repository root; default: the one this package lives in (``secest.repro.site.ROOT``).
 
     Returns
     -------
@@ -637,7 +637,7 @@ def errata_markdown(root: Path = ROOT) -> str:
     Parameters
     ----------
     root : Path, optional
-        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+        Repository root; default: the one this package lives in (``secest.repro.site.ROOT``).
 
     Returns
     -------
@@ -662,7 +662,7 @@ def claims_markdown(root: Path = ROOT) -> str:
     Parameters
     ----------
     root : Path, optional
-        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+        Repository root; default: the one this package lives in (``secest.repro.site.ROOT``).
 
     Returns
     -------
@@ -824,7 +824,7 @@ def gallery_markdown(root: Path = ROOT) -> str:
     Parameters
     ----------
     root : Path, optional
-        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+        Repository root; default: the one this package lives in (``secest.repro.site.ROOT``).
 
     Returns
     -------
@@ -1184,7 +1184,7 @@ def prepare(srcdir: str | Path, root: Path = ROOT) -> list[Path]:
         The source tree, ``build/<name>`` under ``root`` (``build/site-src`` for
         ``make html``): relative links to repository files assume that depth.
     root : Path, optional
-        Repository root; default: the one this package lives in (``secest.site.ROOT``).
+        Repository root; default: the one this package lives in (``secest.repro.site.ROOT``).
 
     Returns
     -------
@@ -1236,7 +1236,7 @@ def prepare(srcdir: str | Path, root: Path = ROOT) -> list[Path]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Command-line entry point: ``python -m secest.site prepare [SRCDIR]``.
+    """Command-line entry point: ``python -m secest.repro.site prepare [SRCDIR]``.
 
     Parameters
     ----------
@@ -1253,14 +1253,15 @@ def main(argv: list[str] | None = None) -> int:
     """
     import argparse
 
-    parser = argparse.ArgumentParser(prog="python -m secest.site", description=__doc__.split("\n")[0])
+    parser = argparse.ArgumentParser(prog="python -m secest.repro.site",
+                                     description=__doc__.split("\n")[0])
     sub = parser.add_subparsers(dest="command", required=True)
     p = sub.add_parser("prepare", help="write the Sphinx source tree")
     p.add_argument("srcdir", nargs="?", default="build/site-src")
     args = parser.parse_args(argv)
     if args.command == "prepare":
         files = prepare(ROOT / args.srcdir if not os.path.isabs(args.srcdir) else args.srcdir)
-        print(f"secest.site: {len(files)} source files in {args.srcdir}")
+        print(f"secest.repro.site: {len(files)} source files in {args.srcdir}")
     return 0
 
 

@@ -15,8 +15,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from secest import validation as V
-from secest.validation import ValidationError, check_probability
+from secest.core import validation as V
+from secest.core.validation import ValidationError, check_probability
 
 __all__ = [
     "bernoulli",

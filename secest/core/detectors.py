@@ -18,8 +18,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import stats
 
-from secest import validation as V
-from secest.validation import ValidationError, check_probability
+from secest.core import validation as V
+from secest.core.validation import ValidationError, check_probability
 
 __all__ = ["chi2_alarm", "chi2_false_alarm", "chi2_passes", "chi2_test", "chi2_threshold", "nis"]
 

@@ -84,7 +84,7 @@ class ValidationError(ValueError):
 
 
 class SizeLimitError(ValidationError):
-    """An argument asks for more work or memory than the limits of :mod:`secest.validation`."""
+    """An argument asks for more work or memory than the limits of :mod:`secest.core.validation`."""
 
 
 def _show(value: object) -> str:
@@ -407,7 +407,7 @@ def check_size(name: str, value: int, limit: int, what: str) -> int:
     if value > limit:
         raise SizeLimitError(
             f"{name} asks for {value:.3g} {what}, more than the limit {limit:.3g} "
-            f"(secest.validation; raise it deliberately if you need more)"
+            f"(secest.core.validation; raise it deliberately if you need more)"
         )
     return value
 

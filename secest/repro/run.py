@@ -2,9 +2,9 @@
 
 Command line::
 
-    python -m secest.run lee2020 -p gamma_ex 3.0 -p T_ex 60   # -> build/run/lee2020/
-    python -m secest.run ding2020 --list                       # every parameter, its domain, tag
-    python -m secest.run lee2020 --in-place                    # what `make figures` does
+    python -m secest.repro.run lee2020 -p gamma_ex 3.0 -p T_ex 60   # -> build/run/lee2020/
+    python -m secest.repro.run ding2020 --list                       # every parameter, its domain, tag
+    python -m secest.repro.run lee2020 --in-place                    # what `make figures` does
 
 Every ``-p NAME VALUE`` is parsed by the declared type of NAME (booleans accept
 true/false, yes/no, 1/0; ``None`` is None) and checked against its domain in
@@ -28,9 +28,9 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from secest import spaces
-from secest.results import notebook_path, repo_root
-from secest.validation import ValidationError
+from secest.core.validation import ValidationError
+from secest.repro import spaces
+from secest.repro.results import notebook_path, repo_root
 
 __all__ = ["KERNEL", "execute_notebook", "list_parameters", "main", "safe_outputs"]
 
@@ -79,7 +79,7 @@ def execute_notebook(
         Paper key.
     parameters : mapping, optional
         Values injected after the ``parameters`` cell; names and values are
-        checked against ``notebooks/<key>.toml`` first (:func:`secest.spaces.validate`).
+        checked against ``notebooks/<key>.toml`` first (:func:`secest.repro.spaces.validate`).
     output : str or Path, optional
         Output notebook path; the input notebook itself when omitted.
     source : str or Path, optional
@@ -161,7 +161,7 @@ def safe_outputs(key: str, params: Mapping[str, Any], output: str | Path | None)
 def list_parameters(key: str) -> str:
     """One line per parameter: name, default, admissible values, tag, declared space, comment.
 
-    What ``python -m secest.run KEY --list`` prints.
+    What ``python -m secest.repro.run KEY --list`` prints.
 
     Parameters
     ----------
@@ -178,7 +178,7 @@ def list_parameters(key: str) -> str:
     ------
     ValidationError
         If ``key`` names no notebook or its ``notebooks/<key>.toml`` is invalid
-        (see :func:`secest.spaces.load`).
+        (see :func:`secest.repro.spaces.load`).
     """
     space = spaces.load(key)
     rows = [("name", "default", "admissible", "tag", "declared space", "comment")]
@@ -231,7 +231,7 @@ def main(argv: list[str] | None = None) -> int:
         (``papermill.PapermillExecutionError``).
     """
     parser = argparse.ArgumentParser(
-        prog="python -m secest.run",
+        prog="python -m secest.repro.run",
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )

@@ -6,8 +6,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import stats
 
-from secest import validation as V
-from secest.validation import ValidationError, check_probability
+from secest.core import validation as V
+from secest.core.validation import ValidationError, check_probability
 
 __all__ = [
     "anees_bounds",

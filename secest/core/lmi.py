@@ -42,8 +42,8 @@ from typing import Any
 import cvxpy as cp
 import numpy as np
 
-from secest import validation as V
-from secest.validation import ValidationError
+from secest.core import validation as V
+from secest.core.validation import ValidationError
 
 __all__ = [
     "InfeasibleLMIError",

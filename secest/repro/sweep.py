@@ -1,9 +1,9 @@
 """Robustness sweeps: run a notebook over the design of its declared space, on Dask.
 
 A verdict measured at one point of a space the paper does not pin down is an
-opinion. ``make robustness [NB=<key>]`` (``python -m secest.sweep KEY ...``)
+opinion. ``make robustness [NB=<key>]`` (``python -m secest.repro.sweep KEY ...``)
 executes each notebook with papermill at every point of the design of its
-declared space (:func:`secest.spaces.design`), figures off, and writes
+declared space (:func:`secest.repro.spaces.design`), figures off, and writes
 
 ``figures/<key>/robustness.csv``
    one row per point: its parameters, status, and for each claim ``<id>.outcome``
@@ -16,7 +16,7 @@ declared space (:func:`secest.spaces.design`), figures off, and writes
    for every claim whose outcome varies: where it holds over the swept axes.
 
 The notebooks read ``robustness.json`` when they write their claims
-(:func:`secest.results.write_claims`), so run ``make robustness`` before ``make figures``.
+(:func:`secest.repro.results.write_claims`), so run ``make robustness`` before ``make figures``.
 
 Execution: a Dask ``LocalCluster`` with one single-threaded worker process per
 core by default, or an existing cluster with ``--scheduler tcp://host:port``
@@ -42,9 +42,9 @@ from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from secest import spaces
-from secest.results import headline_value, point_verdict, repo_root
-from secest.validation import ValidationError
+from secest.core.validation import ValidationError
+from secest.repro import spaces
+from secest.repro.results import headline_value, point_verdict, repo_root
 
 __all__ = [
     "describe_region",
@@ -61,7 +61,7 @@ OUTCOMES = ("holds", "fails", "fails-premise")
 # ---------------------------------------------------------------------------- points and caching
 
 
-TOOLING = frozenset({"secest/sweep.py", "secest/verify.py", "secest/site.py"})
+TOOLING = frozenset({"secest/repro/sweep.py", "secest/repro/verify.py", "secest/repro/site.py"})
 """Modules that never run inside a notebook: they do not enter a point's id."""
 
 
@@ -75,7 +75,8 @@ def source_hash(key: str, root: Path | None = None) -> str:
     package = sorted(
         p
         for p in (package_root / "secest").rglob("*")
-        if p.suffix in (".py", ".toml") and p.is_file() and p.parent.name + "/" + p.name not in TOOLING
+        if p.suffix in (".py", ".toml") and p.is_file()
+        and p.relative_to(package_root).as_posix() not in TOOLING
     )
     h.update(f"notebooks/{key}.py".encode())
     h.update(((root or package_root) / "notebooks" / f"{key}.py").read_bytes())
@@ -93,7 +94,7 @@ def point_id(key: str, parameters: Mapping[str, Any], src: str) -> str:
 
 def build_source(key: str, folder: Path, src: str, root: Path | None = None) -> Path:
     """Build ``notebooks/<key>.py`` into a fresh ``.ipynb`` (so sweeps never run a stale one)."""
-    from secest.build import notebook_from_source
+    from secest.repro.build import notebook_from_source
 
     path = folder / f"source-{src[:12]}.ipynb"
     if not path.exists():
@@ -126,7 +127,7 @@ def run_point(
     dict
         ``{"status": "ok", "claims": {...}}`` or ``{"status": "failed", "error": last line}``.
     """
-    from secest.run import execute_notebook
+    from secest.repro.run import execute_notebook
 
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)
@@ -207,7 +208,7 @@ def run_sweep(
     out : str or Path, optional
         Where ``<key>/robustness.*`` are written; ``figures/`` by default.
     points, base : mapping of key to points / parameters, optional
-        Replace the design of :func:`secest.spaces.design` and the ``[sweep] base``
+        Replace the design of :func:`secest.repro.spaces.design` and the ``[sweep] base``
         (used by tests and benchmarks to run small sweeps).
     fresh : bool
         Ignore finished points and run everything again.
@@ -379,12 +380,12 @@ def summarise(space: spaces.Space, rows: Sequence[Mapping[str, Any]], points: Se
     dict
         Claim id -> ``verdict``, ``points`` (finished points with an outcome),
         ``failed_points`` (points that did not finish), ``outcomes`` (count per
-        outcome), ``fraction_holds``, ``interval`` (a :func:`secest.results.interval`
+        outcome), ``fraction_holds``, ``interval`` (a :func:`secest.repro.results.interval`
         entry), ``region`` (:func:`describe_region`) and ``axes`` (the axes it was
         described over). Claims without any finished point are left out.
     """
-    from secest.montecarlo import wilson_interval
-    from secest.results import interval
+    from secest.core.montecarlo import wilson_interval
+    from secest.repro.results import interval
 
     columns = dict.fromkeys(c for row in rows for c in row)
     claim_ids = [c[: -len(".outcome")] for c in columns if c.endswith(".outcome")]
@@ -622,7 +623,7 @@ def plot_claim(
     """
     import matplotlib.pyplot as plt
 
-    from secest.plotting import COLUMN_WIDTH, use_style
+    from secest.repro.plotting import COLUMN_WIDTH, use_style
 
     use_style()
     ok = [(r, p) for r, p in zip(rows, points, strict=True) if r[f"{cid}.outcome"] in OUTCOMES]
@@ -760,7 +761,7 @@ def _print_summary(key: str, outcome: Mapping[str, Any]) -> None:
 
 
 def main(argv: Iterable[str] | None = None) -> int:
-    """Command-line entry point: ``python -m secest.sweep [KEY ...] [--scheduler ADDR]``.
+    """Command-line entry point: ``python -m secest.repro.sweep [KEY ...] [--scheduler ADDR]``.
 
     Parameters
     ----------
@@ -777,7 +778,7 @@ def main(argv: Iterable[str] | None = None) -> int:
         invalid (printed to stderr). argparse exits with status 2 on malformed arguments.
     """
     parser = argparse.ArgumentParser(
-        prog="python -m secest.sweep",
+        prog="python -m secest.repro.sweep",
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )

@@ -5,7 +5,8 @@ Every notebook declares its parameters in the cell tagged ``parameters`` of
 ``notebooks/<key>.toml`` says for every parameter
 
 * its **domain**: type and admissible values, checked before a kernel starts
-  (``python -m secest.run``) and again when the notebook starts (:class:`secest.results.Run`);
+  (``python -m secest.repro.run``) and again when the notebook starts
+  (:class:`secest.repro.results.Run`);
 * its **provenance** ``tag``: ``PAPER`` (printed in the paper), ``MISSING`` (the paper
   withholds it; ours is a choice), ``RECONSTRUCTED`` (garbled in the paper, read by us),
   ``CORRECTED`` (printed wrongly, corrected by us) or ``ours`` (our own addition);
@@ -52,7 +53,7 @@ from typing import Any
 
 import numpy as np
 
-from secest.validation import ValidationError
+from secest.core.validation import ValidationError
 
 __all__ = [
     "TAGS",
@@ -92,7 +93,7 @@ _SWEEP_KEYS = {"base", "design", "n", "seed", "perturb"}
 
 
 def _root() -> Path:
-    return Path(__file__).resolve().parent.parent
+    return Path(__file__).resolve().parents[2]
 
 
 # ---------------------------------------------------------------------------- the parameters cell

@@ -1,16 +1,16 @@
 """The arena: every registered method on every scenario, scored against the oracle on shared runs.
 
-:func:`run_matrix` runs :func:`secest.estimators.evaluate` once per scenario, so that every
-method of a scenario is fed the same :class:`~secest.scenarios.Trial` (truth, noises,
-attacks, channel), and keeps, besides the :class:`~secest.estimators.Score` of each cell,
+:func:`run_matrix` runs :func:`secest.arena.estimators.evaluate` once per scenario, so that every
+method of a scenario is fed the same :class:`~secest.arena.scenarios.Trial` (truth, noises,
+attacks, channel), and keeps, besides the :class:`~secest.arena.estimators.Score` of each cell,
 the network-mean RMS error of each method over time (:class:`Curves`) and what each method
 cost (wall time, machine-dependent: never written to a committed file). :func:`cell_text`
 and :func:`table_rows` turn a cell into the words of the arena's table: every number with
 its 95 % interval, or ``N/A: <the failed condition>``, or ``diverged``.
 
-A new scenario is one card (``secest/cards.toml`` or ``extra=`` of
-:func:`secest.scenarios.matrix`); a new method is one :class:`~secest.estimators.Method`
-passed to :func:`~secest.estimators.register`. Both appear in the matrix without any change
+A new scenario is one card (``secest/arena/cards.toml`` or ``extra=`` of
+:func:`secest.arena.scenarios.matrix`); a new method is one :class:`~secest.arena.estimators.Method`
+passed to :func:`~secest.arena.estimators.register`. Both appear in the matrix without any change
 here.
 """
 
@@ -24,10 +24,10 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from secest import estimators
-from secest.estimators import METHODS, Estimate, Score
-from secest.scenarios import Scenario, Trial, simulate
-from secest.validation import ValidationError
+from secest.arena import estimators
+from secest.arena.estimators import METHODS, Estimate, Score
+from secest.arena.scenarios import Scenario, Trial, simulate
+from secest.core.validation import ValidationError
 
 __all__ = [
     "STATUSES",
@@ -72,7 +72,7 @@ class Curves:
 
 @dataclass
 class Matrix:
-    """The arena's result: a :class:`~secest.estimators.Score` per (scenario, method).
+    """The arena's result: a :class:`~secest.arena.estimators.Score` per (scenario, method).
 
     Attributes
     ----------
@@ -147,7 +147,7 @@ def attack_activity(trial: Trial) -> NDArray[np.float64]:
     Parameters
     ----------
     trial : Trial
-        One simulated scenario (``secest.scenarios.simulate``).
+        One simulated scenario (``secest.arena.scenarios.simulate``).
     """
     kind = trial.scenario.attack.kind
     if kind in ("bias", "replacement"):
@@ -170,8 +170,8 @@ def run_matrix(
 ) -> Matrix:
     """Score ``methods`` (default: every registered one) on every scenario.
 
-    One :func:`~secest.scenarios.simulate` per scenario feeds every method
-    (:func:`secest.estimators.evaluate`); the oracle is the reference of each ratio.
+    One :func:`~secest.arena.scenarios.simulate` per scenario feeds every method
+    (:func:`secest.arena.estimators.evaluate`); the oracle is the reference of each ratio.
 
     Parameters
     ----------
@@ -182,7 +182,7 @@ def run_matrix(
     curves : bool
         Keep each method's error over time (:class:`Curves`).
     burn_in : int, optional
-        Steps not scored; default ``K // 5`` (as :func:`secest.estimators.score`).
+        Steps not scored; default ``K // 5`` (as :func:`secest.arena.estimators.score`).
     """
     names = list(METHODS) if methods is None else list(methods)
     unknown = [n for n in names if n not in METHODS]
