@@ -100,7 +100,7 @@ DETERMINISTIC = Tolerance(
 """Default tolerance of a claim and of figure data: deterministic linear algebra."""
 
 # Named tolerances for the kinds of computation whose last bits another machine amplifies.
-# Each was chosen above what re-runs under other BLAS kernels / CPU features measured (README,
+# Each was chosen above what re-runs under other BLAS kernels / CPU features measured (the site's
 # "Reproducibility"); a notebook declares its own where none of these fits.
 ROUNDING_RESIDUAL = Tolerance(
     rtol=1e-9,

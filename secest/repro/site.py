@@ -24,8 +24,9 @@ page                   generated from
 ``gallery``            ``figures/manifest.toml``
 ``errata``             ``ERRATA.md``, links rewritten to the paper pages
 ``readme``             ``README.md``, links rewritten
-``environment``        ``docs/environment.md``, ``environment.lock``, README's
-                       section on re-running and each notebook's ``parameters`` cell
+``environment``        ``docs/environment.md``, ``environment.lock`` and each
+                       notebook's ``parameters`` cell
+``architecture``, ...  the other static pages ``docs/*.md``, copied
 ``api``                the modules of :mod:`secest` (autosummary + napoleon)
 =====================  ==========================================================
 
@@ -548,15 +549,6 @@ def readme_intro(root: Path = ROOT) -> tuple[str, str]:
     if not m:
         raise SiteError("README.md has no ```bash block with `make figures` and `make test`")
     return _rewrite_links(intro, root, Path(".")), m.group(1)
-
-
-def readme_section(title: str, root: Path = ROOT) -> str:
-    """The body of README's ``## <title>...`` section (heading dropped), links rewritten."""
-    text = (root / "README.md").read_text()
-    m = re.search(rf"^## {re.escape(title)}[^\n]*\n(.*?)(?=^## |\Z)", text, flags=re.M | re.S)
-    if not m:
-        raise SiteError(f"README.md has no section '## {title}...' (the environment page needs it)")
-    return _rewrite_links(m.group(1).strip(), root, Path(".")) + "\n"
 
 
 def _rel(root: Path, docdir: Path) -> str:
@@ -1217,7 +1209,6 @@ def prepare(srcdir: str | Path, root: Path = ROOT) -> list[Path]:
     _write(gen / "verdicts.md", verdict_table(root), written)
     _write(gen / "lock.md", lock_markdown(root), written)
     _write(gen / "parameters.md", parameters_markdown(root), written)
-    _write(gen / "rerun.md", readme_section("Reading and re-running", root), written)
     _write(src / "readme.md", readme_markdown(root), written)
     _write(src / "errata.md", errata_markdown(root), written)
     _write(src / "claims.md", claims_markdown(root), written)
