@@ -11,7 +11,8 @@ ifeq ($(PYVER),)
 $(error PYTHON=$(PYTHON) does not run: name an interpreter, e.g. PYTHON=python3.13)
 endif
 ifeq ($(filter $(PYVER),$(SUPPORTED)),)
-$(error PYTHON=$(PYTHON) is Python $(PYVER); supported and tested: $(SUPPORTED))
+$(warning PYTHON=$(PYTHON) is Python $(PYVER), which this package is not tested on (tested: $(SUPPORTED)); \
+  the lock may not install or the tests may fail)
 endif
 VENV   := .venv/py$(PYVER)
 PY     := $(VENV)/bin/python
