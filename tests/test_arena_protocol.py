@@ -1,0 +1,48 @@
+"""The arena's pre-registered protocol: readable, and its seeds disjoint from every seed used before."""
+
+from __future__ import annotations
+
+import tomllib
+
+import pytest
+from conftest import repo_root
+
+from secest.arena import protocol
+from secest.core.validation import ValidationError
+from secest.repro import spaces
+
+
+def _seeds_used_before() -> set[int]:
+    """Trial seeds the repository ran: the matrix's (cards.toml) and the arena's declared space."""
+    cards = tomllib.loads((repo_root() / "secest" / "arena" / "cards.toml").read_text())
+    space = spaces.load("arena")
+    used = {cards["matrix"]["seed"], space.parameters["seed"].default}
+    used |= {int(v) for v in space.axes["seed"].values}
+    used |= {int(p["seed"]) for p in tomllib.loads(
+        (repo_root() / "notebooks" / "arena.toml").read_text())["sweep"]["perturb"]}
+    return used
+
+
+def test_the_protocol_loads_and_its_seeds_are_new() -> None:
+    p = protocol.load()
+    val, test = set(p["seeds"]["validation"]), set(p["seeds"]["test"])
+    assert val and test and not val & test
+    used = _seeds_used_before()
+    assert used == {1, 2, 3, 2026}
+    assert not (val | test) & used
+    for method, constants in p["search"].items():
+        assert all(isinstance(v, list) and v for v in constants.values()), method
+
+
+@pytest.mark.parametrize("text, match", [
+    ("[seeds]\nvalidation = [1]\ntest = [1]\n[score]\n[divergence]\n[detection]\n[tuning]\n[search]\n",
+     "disjoint"),
+    ("[seeds]\nvalidation = []\ntest = [2]\n[score]\n[divergence]\n[detection]\n[tuning]\n[search]\n",
+     "seeds.validation"),
+    ("[seeds]\nvalidation = [1]\ntest = [2]\n[score]\n[divergence]\n[detection]\n[tuning]\n[search.x]\nk = 3\n",
+     "search.x.k"),
+    ("[seeds]\nvalidation = [1]\ntest = [2]\n", "expected the tables"),
+])
+def test_a_malformed_protocol_is_refused(text: str, match: str) -> None:
+    with pytest.raises(ValidationError, match=match):
+        protocol.load(text)
