@@ -121,6 +121,30 @@ def test_register_refuses_what_is_not_a_method() -> None:
         register(object())
 
 
+def test_register_refuses_a_taken_or_reserved_name() -> None:
+    class Impostor(estimators.Method):
+        name = "oracle"
+
+    with pytest.raises(ValidationError, match="method name 'oracle' is reserved"):
+        register(Impostor)
+    with pytest.raises(ValidationError, match="method name 'oracle' is reserved"):
+        register(Impostor, replace=True)
+    assert type(METHODS["oracle"]).__name__ == "Oracle"
+
+    class Twin(estimators.Method):
+        name = "kf"
+
+    before = METHODS["kf"]
+    with pytest.raises(ValidationError, match="'kf' is already registered .*replace=True"):
+        register(Twin)
+    assert METHODS["kf"] is before
+    try:
+        register(Twin, replace=True)
+        assert type(METHODS["kf"]) is Twin
+    finally:
+        METHODS["kf"] = before
+
+
 def test_a_diverging_estimate_is_reported_not_scored() -> None:
     t = scenarios.simulate(_scenario())
     oracle = METHODS["oracle"].run(t)
@@ -152,3 +176,31 @@ def test_filter_step_with_per_link_messages_equal_to_the_estimates_is_the_printe
     assert changed.tolist() == [True, False, False, False, False]
     with pytest.raises(ValidationError, match="Incompatible dimensions of received"):
         ding2020.secure_filter_step(x, P, 0.5 * P, 1, y, received=links[:, :, :2], **common)
+
+
+BIAS = {"title": "a bias", "kind": "bias", "nodes": [0], "start": 0.3, "magnitude": 40.0}
+
+
+@pytest.mark.parametrize("change, match", [
+    ({"magnitud": 40.0, "magnitude": None}, r"unknown key 'magnitud' \(did you mean 'magnitude'\?\)"),
+    ({"nodes": None}, r"missing key\(s\) \['nodes'\]"),
+    ({"start": 1.5}, "start"),
+    ({"nodes": [-1]}, "nodes must be a non-empty list of node indices >= 0"),
+    ({"nodes": []}, "nodes must be a non-empty list"),
+    ({"magnitude": 0.0}, "magnitude must be a positive number"),
+    ({"prob": 0.3}, r"unknown key 'prob'"),
+])
+def test_a_bad_attack_card_is_refused_by_name(change: dict, match: str) -> None:
+    card = {k: v for k, v in {**BIAS, **change}.items() if v is not None}
+    with pytest.raises(ValidationError, match=match):
+        scenarios.cards(extra={"attack": {"mine": card}})
+
+
+def test_a_bad_network_or_plant_key_is_refused_by_name() -> None:
+    net = {"title": "t", "plant": "target", "N": 4, "graph": "ring", "measures": [[0]] * 4}
+    scenarios.cards(extra={"network": {"ok4": net}})  # valid as written
+    with pytest.raises(ValidationError, match=r"network bad4: unknown key 'degre' \(did you mean 'degree'"):
+        scenarios.cards(extra={"network": {"bad4": {**net, "degre": 4}}})
+    with pytest.raises(ValidationError, match=r"network rgg4: missing key\(s\) \['radius', 'seed'\]"):
+        scenarios.cards(extra={"network": {"rgg4": {**net, "graph": "rgg"}}})
+    assert set(scenarios.CARD_KEYS) == {"plant", "network", "attack"}

@@ -42,6 +42,7 @@ __all__ = [
     "CHI2_ALPHA",
     "CONSENSUS_ROUNDS",
     "METHODS",
+    "RESERVED",
     "Estimate",
     "Method",
     "Score",
@@ -121,7 +122,11 @@ METHODS: dict[str, Method] = {}
 """Every registered method by name, in registration order (baselines first)."""
 
 
-def register(method: Method | type[Method]) -> Method | type[Method]:
+RESERVED = frozenset({"oracle"})
+"""Names that no method may take over: the oracle is the reference of every score."""
+
+
+def register(method: Method | type[Method], *, replace: bool = False) -> Method | type[Method]:
     """Add ``method`` to :data:`METHODS` and return it unchanged (usable as a class decorator).
 
     Parameters
@@ -129,15 +134,31 @@ def register(method: Method | type[Method]) -> Method | type[Method]:
     method : Method instance, or a Method subclass
         A class is instantiated without arguments for the registry; the class itself
         is returned, so it stays constructible with other design parameters.
+    replace : bool, default False
+        Replace a method already registered under the same name (never a :data:`RESERVED` one).
 
     Returns
     -------
     Method or type
         ``method`` itself.
+
+    Raises
+    ------
+    ValidationError
+        If ``method`` is not a :class:`Method` with a non-empty name, or its name is taken
+        (unless ``replace``) or reserved.
     """
     inst = method() if isinstance(method, type) and issubclass(method, Method) else method
-    if not isinstance(inst, Method) or not inst.name:
+    if not isinstance(inst, Method) or not isinstance(inst.name, str) or not inst.name:
         raise ValidationError("method must be a secest.arena.estimators.Method with a non-empty name")
+    if inst.name in METHODS:
+        if inst.name in RESERVED:
+            raise ValidationError(f"method name {inst.name!r} is reserved "
+                                  "(the reference of every score)")
+        if not replace:
+            taken = type(METHODS[inst.name]).__name__
+            raise ValidationError(f"method name {inst.name!r} is already registered ({taken}); "
+                                  "pass replace=True to replace it")
     METHODS[inst.name] = inst
     return method
 

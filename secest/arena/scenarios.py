@@ -27,6 +27,7 @@ to whatever it exchanges (:meth:`Trial.received`).
 
 from __future__ import annotations
 
+import difflib
 import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -43,6 +44,7 @@ from secest.core.validation import ValidationError, as_matrix, check_positive_in
 
 __all__ = [
     "ATTACK_KINDS",
+    "CARD_KEYS",
     "NOISE_CLIP",
     "Attack",
     "Network",
@@ -58,6 +60,70 @@ __all__ = [
 NOISE_CLIP = 3.0
 """Process and measurement noises are clipped at this many standard deviations per component."""
 ATTACK_KINDS = ("none", "bias", "replacement", "message", "dos")
+
+CARD_KEYS: dict[str, dict[str, str]] = {
+    "plant": {
+        "title": "one line for tables and figures",
+        "source": "where the numbers come from",
+        "Ac": "continuous-time dynamics x' = Ac x, a square matrix",
+        "dt": "sampling period [s], > 0",
+        "q_std": "process-noise standard deviation per component, > 0",
+        "outputs": "catalogue of sensor rows, a matrix with n columns",
+        "r_std": "noise standard deviation of each output, > 0",
+        "x0_std": "prior standard deviation of every state component, > 0",
+        "state_names": "one name per state component",
+    },
+    "network": {
+        "title": "one line for tables and figures",
+        "plant": "name of the plant card it observes",
+        "N": "number of nodes, >= 2",
+        "graph": "ring, complete or rgg (random geometric graph in the unit square)",
+        "degree": "ring only, optional: even degree >= 2 (default 2)",
+        "radius": "rgg only: connection radius",
+        "seed": "rgg only: seed of the node positions",
+        "measures": "per node, the rows of the plant's outputs it measures (0-based)",
+    },
+    "attack": {
+        "title": "one line for tables and figures",
+        "kind": "one of ATTACK_KINDS",
+        "nodes": "bias, replacement: attacked sensor nodes, 0-based indices",
+        "start": "bias: onset as a fraction of the horizon, in [0, 1]",
+        "prob": "replacement: probability a measurement is replaced; "
+                "message: that a message is falsified",
+        "magnitude": "bias, replacement: in noise standard deviations; "
+                     "message: in the message's scale",
+        "p": "dos: failure probability per step of the shared Gilbert-Elliott chain",
+        "q": "dos: recovery probability per step",
+    },
+}
+"""Every key a card may have, with what it means: the one schema the validator and the docs use."""
+
+_ATTACK_KEYS = {
+    "none": (set(), set()),
+    "bias": ({"nodes", "start", "magnitude"}, set()),
+    "replacement": ({"nodes", "prob", "magnitude"}, set()),
+    "message": ({"prob", "magnitude"}, set()),
+    "dos": ({"p", "q"}, set()),
+}
+"""Per attack kind: (required keys, optional keys) beyond ``title`` and ``kind``."""
+_NETWORK_KEYS = {
+    "ring": (set(), {"degree"}),
+    "complete": (set(), set()),
+    "rgg": ({"radius", "seed"}, set()),
+}
+"""Per graph kind: (required, optional) keys beyond the common ones."""
+
+
+def _check_keys(kind: str, name: str, card: Mapping[str, Any], required: set[str],
+                allowed: set[str]) -> None:
+    """Refuse a card with a key outside ``allowed`` (naming the nearest valid key) or one missing."""
+    for key in sorted(set(card) - allowed):
+        near = difflib.get_close_matches(key, sorted(allowed), n=1)
+        hint = f" (did you mean {near[0]!r}?)" if near else ""
+        raise ValidationError(f"{kind} {name}: unknown key {key!r}{hint}; valid: {sorted(allowed)}")
+    missing = sorted(required - set(card))
+    if missing:
+        raise ValidationError(f"{kind} {name}: missing key(s) {missing}")
 
 
 @dataclass(frozen=True)
@@ -358,6 +424,8 @@ def _cards(extra: Extra = None) -> dict[str, Any]:
 
 
 def _plant(name: str, card: dict[str, Any]) -> Plant:
+    keys = set(CARD_KEYS["plant"])
+    _check_keys("plant", name, card, keys, keys)
     Ac = as_matrix(f"plant {name}: Ac", card["Ac"], square=True)
     outputs = as_matrix(f"plant {name}: outputs", card["outputs"], (None, Ac.shape[0]))
     r_std = as_matrix(f"plant {name}: r_std", card["r_std"], (outputs.shape[0],))
@@ -401,6 +469,9 @@ def _graph(name: str, card: dict[str, Any]) -> NDArray[np.float64]:
 
 
 def _network(name: str, card: dict[str, Any], plants: dict[str, Plant]) -> Network:
+    common = {"title", "plant", "N", "graph", "measures"}
+    required, optional = _NETWORK_KEYS.get(card.get("graph"), (set(), set()))
+    _check_keys("network", name, card, common | required, common | optional | required)
     if card["plant"] not in plants:
         raise ValidationError(f"network {name}: plant {card['plant']!r} has no card")
     adj = _graph(name, card)
@@ -417,12 +488,24 @@ def _network(name: str, card: dict[str, Any], plants: dict[str, Plant]) -> Netwo
 
 
 def _attack(name: str, card: dict[str, Any]) -> Attack:
-    kind = card["kind"]
+    kind = card.get("kind")
     if kind not in ATTACK_KINDS:
         raise ValidationError(f"attack {name}: kind must be one of {ATTACK_KINDS}, found {kind!r}")
-    for key in ("prob", "p", "q"):
+    required, optional = _ATTACK_KEYS[kind]
+    base = {"title", "kind"}
+    _check_keys("attack", name, card, base | required, base | required | optional)
+    for key in ("prob", "p", "q", "start"):
         if key in card:
             check_probability(f"attack {name}: {key}", card[key])
+    nodes = card.get("nodes", [0])
+    if (not isinstance(nodes, list) or not nodes
+            or not all(isinstance(i, int) and not isinstance(i, bool) and i >= 0 for i in nodes)):
+        raise ValidationError(f"attack {name}: nodes must be a non-empty list of node indices >= 0, "
+                              f"found {nodes!r}")
+    size = card.get("magnitude", 1.0)
+    if isinstance(size, bool) or not isinstance(size, int | float) or not (np.isfinite(size)
+                                                                           and size > 0):
+        raise ValidationError(f"attack {name}: magnitude must be a positive number, found {size!r}")
     return Attack(
         name,
         card["title"],
