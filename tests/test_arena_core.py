@@ -204,3 +204,23 @@ def test_a_bad_network_or_plant_key_is_refused_by_name() -> None:
     with pytest.raises(ValidationError, match=r"network rgg4: missing key\(s\) \['radius', 'seed'\]"):
         scenarios.cards(extra={"network": {"rgg4": {**net, "graph": "rgg"}}})
     assert set(scenarios.CARD_KEYS) == {"plant", "network", "attack"}
+
+
+def test_score_and_evaluate_check_shapes_trials_and_burn_in() -> None:
+    sc = _scenario()
+    t = scenarios.simulate(sc)
+    oracle = METHODS["oracle"].run(t)
+    K = sc.horizon
+    with pytest.raises(ValidationError, match=r"estimate.xhat: expected \(.*\), found"):
+        estimators.score(t, Estimate(oracle.xhat[:, :, :-1]), oracle)  # one node missing
+    with pytest.raises(ValidationError, match=r"estimate.xhat"):
+        estimators.score(t, Estimate(oracle.xhat[..., :1]), oracle)  # one state component
+    for bad in (-1, K, 1.5, True):
+        with pytest.raises(ValidationError, match=rf"burn_in must be an integer in \[0, {K - 1}\]"):
+            estimators.score(t, oracle, oracle, burn_in=bad)
+        with pytest.raises(ValidationError, match="burn_in"):
+            estimators.evaluate(sc, ["oracle"], burn_in=bad)
+    other = scenarios.simulate(replace(sc, seed=sc.seed + 1))
+    with pytest.raises(ValidationError, match="trial: drawn for scenario"):
+        estimators.evaluate(sc, ["oracle"], trial=other)
+    assert estimators.score(t, oracle, oracle, burn_in=K - 1).status == "ok"

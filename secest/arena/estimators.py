@@ -46,6 +46,7 @@ __all__ = [
     "Estimate",
     "Method",
     "Score",
+    "check_burn_in",
     "evaluate",
     "rate",
     "register",
@@ -440,7 +441,9 @@ def score(trial: Trial, estimate: Estimate, oracle: Estimate, *, burn_in: int | 
     from secest.core.montecarlo import bootstrap_interval
 
     K = trial.x.shape[1] - 1
-    burn = K // 5 if burn_in is None else burn_in
+    burn = check_burn_in(burn_in, K)
+    _check_estimate("estimate", estimate, trial)
+    _check_estimate("oracle", oracle, trial)
     if not np.all(np.isfinite(estimate.xhat)):
         return Score("diverged", "the estimate is not finite in some run")
     ref = rmse(oracle.xhat, trial.x, burn).mean(axis=1)
@@ -464,6 +467,55 @@ def score(trial: Trial, estimate: Estimate, oracle: Estimate, *, burn_in: int | 
             result.detection = rate(alarms, attacked)
         result.false_alarm = rate(alarms, ~attacked)
     return result
+
+
+
+def check_burn_in(burn_in: int | None, K: int) -> int:
+    """``burn_in`` checked against the horizon ``K``: an int in [0, K - 1]; None gives ``K // 5``.
+
+    Parameters
+    ----------
+    burn_in : int or None
+        Steps left out of every statistic.
+    K : int
+        The horizon (steps after the initial one).
+
+    Returns
+    -------
+    int
+        The burn-in.
+
+    Raises
+    ------
+    ValidationError
+        If ``burn_in`` is not an integer in [0, K - 1].
+    """
+    if burn_in is None:
+        return K // 5
+    if isinstance(burn_in, bool) or not isinstance(burn_in, int | np.integer) or not 0 <= burn_in < K:
+        raise ValidationError(f"burn_in must be an integer in [0, {K - 1}] (the horizon is {K} steps), "
+                              f"found {burn_in!r}")
+    return int(burn_in)
+
+
+def _scenario_key(sc: Scenario) -> tuple:
+    """What identifies a scenario's draws: its name, cards, horizon, runs and seed."""
+    return (sc.name, sc.plant.name, sc.network.name, sc.attack, sc.horizon, sc.runs, sc.seed)
+
+
+def _check_estimate(name: str, est: Estimate, trial: Trial) -> None:
+    """``est`` has one estimate per run, step, node and state component of ``trial``."""
+    runs, K1, N, _ = trial.y.shape
+    want = (runs, K1, N, trial.scenario.plant.n)
+    xhat = getattr(est, "xhat", None)
+    if not isinstance(est, Estimate) or not isinstance(xhat, np.ndarray):
+        raise ValidationError(f"{name} must be an Estimate, found {type(est).__name__}")
+    if xhat.shape != want:
+        raise ValidationError(f"Incompatible dimensions of {name}.xhat: expected {want} "
+                              f"(runs, K + 1, nodes, states), found {xhat.shape}")
+    if est.alarms is not None and np.shape(est.alarms) != want[:3]:
+        raise ValidationError(f"Incompatible dimensions of {name}.alarms: expected {want[:3]}, "
+                              f"found {np.shape(est.alarms)}")
 
 
 def rate(alarms: NDArray[np.bool_], where: NDArray[np.bool_]) -> tuple[float, float, float]:
@@ -532,6 +584,9 @@ def evaluate(
     unknown = [n for n in names or [] if n not in METHODS]
     if unknown:
         raise ValidationError(f"methods {unknown} are not registered; registered: {list(METHODS)}")
+    check_burn_in(burn_in, sc.horizon)
+    if trial is not None and _scenario_key(trial.scenario) != _scenario_key(sc):
+        raise ValidationError(f"trial: drawn for scenario {trial.scenario.name!r}, not for {sc.name!r}")
     trial = simulate(sc) if trial is None else trial
     oracle = METHODS["oracle"].run(trial)
     if observe is not None:
