@@ -8,10 +8,13 @@ with probability ``alpha_bar`` (5). The gains come from the recursive LMI (30) (
 come from LMI (18) (OP1 (31)); by Markov's inequality (Lemma 4, corrected: ``P_k = (1 - p) B_k``)
 the error stays in the ellipsoid ``B_k`` with probability at least ``p``.
 
-**The paper's Algorithm 1** (its nonlinear example, the ma2021 notebook): :func:`build_op2`,
-:func:`set_op2_parameters`, :func:`build_op1`, :func:`set_op1_parameters`, :func:`mbar`,
-:func:`solve`, :func:`estimator_update`, :func:`varpi` and :func:`weight_update` are the notebook's
-equations (its re-derived row blocks of (24)-(28), per-node multipliers E3, corrections E1-E2).
+**The paper's Algorithm 1** (its nonlinear example, the ma2021 notebook, which runs and shows
+these functions): :func:`run_algorithm1` is the recursion over ``k`` on a :class:`Model`, built
+from :func:`build_op2`, :func:`set_op2_parameters`, :func:`build_op1`, :func:`set_op1_parameters`,
+:func:`mbar`, :func:`solve`, :func:`estimator_update` (:func:`update_all`), :func:`varpi` and
+:func:`weight_update` (the re-derived row blocks of (24)-(28), per-node multipliers E3,
+corrections E1-E2), with the per-step problems built once per configuration
+(:func:`step_problems`); it returns an :class:`Algorithm1Run`.
 
 **The arena's reading** (:class:`Ma2021`; rules fixed before any arena run):
 
