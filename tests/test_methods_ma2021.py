@@ -241,6 +241,10 @@ def test_algorithm1_refuses_bad_input_naming_the_argument() -> None:
         my.run_algorithm1(model, y[:2], received, **(kw | {"xhat0": np.zeros((2, 2))}))
     with pytest.raises(ValidationError, match="p must lie in"):
         my.run_algorithm1(model, y[:2], received, **(kw | {"p": 1.0}))
+    with pytest.raises(ValidationError, match="Incompatible dimensions of V_inv"):
+        my.run_algorithm1(model, y[:2], received, **(kw | {"V_inv": np.eye(2)}))
+    with pytest.raises(ValidationError, match="model must be a Model"):
+        my.run_algorithm1({"f": None}, y[:2], received, **kw)
 
 
 # ------------------------------------------------------------------------------- the arena

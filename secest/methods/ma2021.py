@@ -1010,6 +1010,8 @@ def run_algorithm1(
     """
     from secest.core import lmi as slmi
 
+    if not isinstance(model, Model):
+        raise ValidationError(f"model must be a Model, found {type(model).__name__}")
     th = _theta(theta)
     n_nodes, nx, ny = th.shape[0], dims.nx, dims.ny
     Y = np.asarray(y, float)
@@ -1029,7 +1031,8 @@ def run_algorithm1(
     Ls, As = as_matrix("L", L, (nx, nx)), as_matrix("aleph", aleph, (ny, nx))
     for i in range(n_nodes):
         sp.params["L"][i].value, sp.params["aleph"][i].value = Ls, As
-    sp.params["Vinv"].value, sp.params["Uinv"].value = V_inv, U_inv
+    sp.params["Vinv"].value = as_matrix("V_inv", V_inv, (dims.nv, dims.nv))
+    sp.params["Uinv"].value = as_matrix("U_inv", U_inv, (dims.nu, dims.nu))
     if design == "op3":
         sp.params["Bell"].value = as_matrix("B_fixed", B_fixed, (nx, nx))
     lk_all = links(th)
