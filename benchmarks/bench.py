@@ -38,7 +38,6 @@ from harness import (  # noqa: E402
     load_notebook,
     measure,
     not_measured,
-    notebook_definitions,
 )
 
 from secest.repro.results import repo_root  # noqa: E402
@@ -370,26 +369,72 @@ def bench_ma2021(repeats: int) -> list[Row]:
     """
     from secest.core import lmi as slmi
     from secest.core import montecarlo
+    from secest.methods import ma2021 as my
+    from secest.repro import spaces
 
-    nb = notebook_definitions(
-        "ma2021", "alpha_sequence", "simulate", "get_problem", "build_op2_problem", "seed", "T_run",
-        "alpha_bar", "e3", "eps_lmi", "shared_multipliers", "r_bound", "CLARABEL_OPTS", "SCS_OPTS",
-        "cert_tol", mode="fast", figures=False)
-    alpha = nb["alpha_sequence"](montecarlo.spawn_rngs(nb["seed"], 1)[0], nb["T_run"],
-                                 nb["alpha_bar"])
-    res = nb["simulate"](alpha=alpha, estimator="nn")
-    if res["failures"]:
-        raise RuntimeError(f"ma2021 fast run had infeasible steps: {res['failures']}")
-    const = dict(alpha_bar_=nb["alpha_bar"], e3_=nb["e3"], eps=nb["eps_lmi"],
-                 shared=nb["shared_multipliers"], r_bound_=nb["r_bound"], design="op2")
-    cached = nb["get_problem"]("nn", **const)
+    # the paper's example as read (the notebook's defaults in notebooks/ma2021.toml), fast mode
+    d = {name: par.default for name, par in spaces.load("ma2021").parameters.items()}
+    fn = {"x": (lambda u: u, lambda u: np.ones_like(u)), "sin": (np.sin, np.cos),
+          "cos": (np.cos, lambda u: -np.sin(u))}
+
+    def terms(t, x):
+        return np.array([sum(c * fn[f][0](w * x[v - 1] + b) for c, f, v, w, b in row) for row in t])
+
+    def jac(t, x):
+        J = np.zeros((len(t), 2))
+        for r, row in enumerate(t):
+            for c, f, v, w, b in row:
+                J[r, v - 1] += c * w * fn[f][1](w * x[v - 1] + b)
+        return J
+
+    gt = [d["g1_terms"], d["g2_terms"], d["g3_terms"]]
+
+    def E(i, k):
+        return [np.array([[0.25], [0.2 + d["E1_amp"] * np.cos(k + 1)]]),
+                np.array([[0.2], [0.15 + 0.1 * np.sin(2 * k)]]),
+                np.array([[0.25 + d["E3_amp"] * np.sin(k)], [0.15]])][i]
+
+    model = my.Model(f=lambda x: terms(d["f_terms"], x), jac_f=lambda x: jac(d["f_terms"], x),
+                     g=lambda i, x: terms(gt[i], x), jac_g=lambda i, x: jac(gt[i], x),
+                     B=lambda k: np.array([[0.1 + 0.01 * np.cos(k + 1)], [0.2 + 0.01 * np.sin(k)]]),
+                     E=E)
+    T_run = min(int(d["T"]), 8)
+    x = np.zeros((T_run + 1, 2))
+    x[0] = d["x0"]
+    for k in range(T_run):
+        x[k + 1] = model.f(x[k]) + model.B(k) @ np.array([0.3 * np.cos(2 * k)])
+    y = np.array([[model.g(i, x[k]) + E(i, k) @ np.array([0.4 * np.sin(k)]) for i in range(3)]
+                  for k in range(T_run + 1)])
+    alpha = (montecarlo.spawn_rngs(d["seed"], 1)[0].random(T_run) < d["alpha_bar"]).astype(float)
+
+    def received(k, z):  # (5), chi of the example
+        return np.array([zj + alpha[k] * np.array([0.15 * np.sin(zj[0]), 0.3 * np.cos(zj[1])])
+                         for zj in z])
+
+    theta = np.array([[0, 1, 0], [1, 0, 1], [0, 1, 0]], dtype=float)
+    dims, problems = my.Dims(2, 2, 1, 1, 2), {}
+    s = d["L_scale"]
+    res = my.run_algorithm1(
+        model, y, received, theta=theta, dims=dims, xhat0=d["xhat0"], P0=d["P0"], W0=d["W0"],
+        Q0=d["Q0"], alpha_bar=d["alpha_bar"], e1=d["e1"], e3=d["e3"], L=s * np.eye(2),
+        aleph=s * np.eye(2), V_inv=np.eye(1), U_inv=np.eye(1), p=d["p"], eps=d["eps_lmi"],
+        lam2_box=d["lam2_max"], tol=d["cert_tol"], shared=d["shared_multipliers"],
+        r_bound=d["r_bound"], varpi_form=d["varpi_form"], cache=problems)
+    if res.failures:
+        raise RuntimeError(f"ma2021 fast run had infeasible steps: {res.failures}")
+    const = dict(alpha_bar=d["alpha_bar"], e3=d["e3"], eps=d["eps_lmi"],
+                 shared=d["shared_multipliers"], r_bound=d["r_bound"], design="op2")
+    cached, _ = my.step_problems(theta, dims, nn=True, e1=d["e1"], lam2_box=d["lam2_max"],
+                                 cache=problems, **const)
     values = {q.name(): q.value for q in cached.problem.parameters()}
+    nb = {"T_run": T_run, "cert_tol": d["cert_tol"], "CLARABEL_OPTS": my.CLARABEL_OPTS,
+          "SCS_OPTS": my.SCS_OPTS}
     step = nb["T_run"] - 1
     cl_opts = {**nb["CLARABEL_OPTS"], "warm_start": False}
     scs_opts = {**nb["SCS_OPTS"], "warm_start": False}
 
     def fresh():
-        sp = nb["build_op2_problem"](nn=True, **const)
+        sp = my.build_op2(theta, dims, nn=True, **const)
         for q in sp.problem.parameters():
             q.value = values[q.name()]
         return sp

@@ -1,160 +1,250 @@
-"""ma2021 in the arena (secest.methods.ma2021): equivalence with the notebook, the arena method.
+"""secest.methods.ma2021 on the paper's example (Section IV), and the arena method.
 
-The notebook's own objects are taken by name with ``benchmarks/harness.py``'s
-``notebook_definitions``: only the statements defining them (and what those read) run, no text
-marker. The Taylor scales are passed as the notebook's parameters ``L_scale`` and ``aleph_scale``
-(so its rule choosing them, which runs the estimators, is not executed); the names and calls used
-here exist in the notebook both before and after its reviewer-grade restructuring.
+The example's data (the reconstructed f, g_i, E_i, x_0, ...) are the defaults of
+``notebooks/ma2021.toml``; the values compared with are the committed ``figures/ma2021`` data of
+the notebook's paper-mode run, within the tolerance they declare (LMI_ITERATES).
 """
 
 from __future__ import annotations
 
+import csv
+import json
 from dataclasses import replace
 
 import numpy as np
 import pytest
-from conftest import bench_harness
 
 import secest.arena.papers  # noqa: F401  (registers the methods)
 from secest.arena import scenarios
 from secest.arena.estimators import METHODS
 from secest.arena.papers import ma2021 as arena_ma2021
-from secest.core import covariance, montecarlo
+from secest.core import montecarlo
+from secest.core.tolerances import LMI_ITERATES
 from secest.core.validation import ValidationError
 from secest.methods import ma2021 as my
-
-notebook_definitions = bench_harness().notebook_definitions
+from secest.repro import results, spaces
 
 pytest.importorskip("cvxpy")
 
-STEPS_NB = 4  # steps of the paper's example run by the equivalence test
-S_TAYLOR = 0.15  # L_i = aleph_i = 0.15 I, the notebook's rule value
+FIGS = results.repo_root() / "figures" / "ma2021"
+THETA = np.array([[0, 1, 0], [1, 0, 1], [0, 1, 0]], dtype=float)
+DIMS = my.Dims(2, 2, 1, 1, 2)
+_FN = {"x": (lambda u: u, lambda u: np.ones_like(u)), "sin": (np.sin, np.cos),
+       "cos": (np.cos, lambda u: -np.sin(u))}
 
-NOTEBOOK_NAMES = (
-    "B_mat", "E_mat", "N", "NPHI", "NU", "NV", "NX", "NY", "P0", "Q0", "THETA", "U_inv", "V_inv",
-    "PROBLEMS", "W0", "alpha_bar", "alpha_sequence", "build_op2_problem", "chi", "e1", "e3", "eps_lmi", "f",
-    "g", "jac_f", "jac_g", "lam2_max", "mu_noise", "phi", "r_bound", "seed", "shared_multipliers",
-    "simulate", "v_noise", "varpi_form", "x0", "xhat0",
-)
+
+def _terms(terms, x):
+    return np.array([sum(c * _FN[fn][0](w * x[v - 1] + b) for c, fn, v, w, b in row)
+                     for row in terms])
+
+
+def _jac(terms, x):
+    J = np.zeros((len(terms), 2))
+    for r, row in enumerate(terms):
+        for c, fn, v, w, b in row:
+            J[r, v - 1] += c * w * _FN[fn][1](w * x[v - 1] + b)
+    return J
+
+
+def _example():
+    """The paper's example as read (the notebook's defaults): model, data and run settings."""
+    d = {name: par.default for name, par in spaces.load("ma2021").parameters.items()}
+    gt = [d["g1_terms"], d["g2_terms"], d["g3_terms"]]
+
+    def E(i, k):
+        return [np.array([[0.25], [0.2 + d["E1_amp"] * np.cos(k + 1)]]),
+                np.array([[0.2], [0.15 + 0.1 * np.sin(2 * k)]]),
+                np.array([[0.25 + d["E3_amp"] * np.sin(k)], [0.15]])][i]
+
+    model = my.Model(f=lambda x: _terms(d["f_terms"], x), jac_f=lambda x: _jac(d["f_terms"], x),
+                     g=lambda i, x: _terms(gt[i], x), jac_g=lambda i, x: _jac(gt[i], x),
+                     B=lambda k: np.array([[0.1 + 0.01 * np.cos(k + 1)], [0.2 + 0.01 * np.sin(k)]]),
+                     E=E, phi=np.tanh)
+    T = int(d["T"])
+    x = np.zeros((T + 1, 2))
+    x[0] = d["x0"]
+    for k in range(T):
+        x[k + 1] = model.f(x[k]) + model.B(k) @ np.array([0.3 * np.cos(2 * k)])
+    y = np.array([[model.g(i, x[k]) + E(i, k) @ np.array([0.4 * np.sin(k)]) for i in range(3)]
+                  for k in range(T + 1)])
+    alpha = (montecarlo.spawn_rngs(d["seed"], 1)[0].random(T) < d["alpha_bar"]).astype(float)
+
+    def received(k, z):  # (5)
+        return np.array([zj + alpha[k] * _chi(zj) for zj in z])
+
+    s = d["L_scale"]
+    kw = dict(theta=THETA, dims=DIMS, xhat0=d["xhat0"], P0=d["P0"], W0=d["W0"], Q0=d["Q0"],
+              alpha_bar=d["alpha_bar"], e1=d["e1"], e3=d["e3"], L=s * np.eye(2), aleph=s * np.eye(2),
+              V_inv=np.eye(1), U_inv=np.eye(1), p=d["p"], eps=d["eps_lmi"], lam2_box=d["lam2_max"],
+              tol=d["cert_tol"], varpi_form=d["varpi_form"], r_bound=d["r_bound"],
+              shared=d["shared_multipliers"], fallback="SCS")
+    return model, x, y, received, kw, alpha
+
+
+def _chi(z):
+    """The injected function chi of the example (4)."""
+    return np.array([0.15 * np.sin(z[0]), 0.30 * np.cos(z[1])])
+
+
+def _csv(stem):
+    with (FIGS / f"{stem}.csv").open(newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    return {key: np.array([float(r[key]) for r in rows]) for key in rows[0]}
 
 
 @pytest.fixture(scope="module")
-def nb():
-    """The notebook's functions and example values, by name (fast mode, no figures, nothing run)."""
-    ns = notebook_definitions("ma2021", *NOTEBOOK_NAMES, mode="fast", figures=False,
-                              L_scale=S_TAYLOR, aleph_scale=S_TAYLOR)
-    # The notebook caches its OP1/OP2 problems (PROBLEMS) and the statement defining its Taylor
-    # scale runs the estimators once, filling that cache. A re-solved cached problem differs from
-    # a freshly built one at the solver's tolerance (~1e-7: cvxpy maps parameters through another
-    # path after the first solve, the notebook's X5 "DPP gap"), so the reference is rebuilt fresh,
-    # like the problems the secest side builds.
-    ns["PROBLEMS"].clear()
-    rng = montecarlo.spawn_rngs(ns["seed"], 1)[0]
-    ns["_alpha"] = ns["alpha_sequence"](rng, STEPS_NB, ns["alpha_bar"])
-    return ns
+def example():
+    model, x, y, received, kw, alpha = _example()
+    cache = {}
+    nn = my.run_algorithm1(model, y, received, nn=True, keep_rows=True, cache=cache, **kw)
+    conv = my.run_algorithm1(model, y, received, nn=False, cache=cache, **kw)
+    return {"model": model, "x": x, "y": y, "received": received, "kw": kw, "nn": nn,
+            "conv": conv, "cache": cache, "alpha": alpha}
 
 
-def _algorithm1(ns, estimator):
-    """The notebook's `simulate` (Algorithm 1) rebuilt from secest.methods.ma2021's functions."""
-    theta, N, alpha = ns["THETA"], ns["N"], ns["_alpha"]
-    dims = my.Dims(ns["NX"], ns["NY"], ns["NV"], ns["NU"], ns["NPHI"])
-    nn = estimator == "nn"
-    sp = my.build_op2(theta, dims, nn=nn, alpha_bar=ns["alpha_bar"], e3=ns["e3"], eps=ns["eps_lmi"],
-                      shared=ns["shared_multipliers"], r_bound=ns["r_bound"])
-    op1 = my.build_op1(theta, dims, e1=ns["e1"], eps=ns["eps_lmi"], lam2_box=ns["lam2_max"])
-    links = my.links(theta)
-    f, g, jac_f, jac_g, E_mat = ns["f"], ns["g"], ns["jac_f"], ns["jac_g"], ns["E_mat"]
-    x = np.zeros((alpha.size + 1, dims.nx))
-    x[0] = ns["x0"]
-    for k in range(alpha.size):
-        x[k + 1] = f(x[k]) + ns["B_mat"](k) @ ns["v_noise"](k)
-    xh = np.zeros((alpha.size + 1, N, dims.nx))
-    xh[0] = ns["xhat0"]
-    P = np.asarray(ns["P0"], float)
-    Ps = [P]
-    What = {lk: np.asarray(ns["W0"], float).copy() for lk in links}
-    Q = {lk: np.asarray(ns["Q0"], float).copy() for lk in links}
-    for i in range(N):
-        sp.params["L"][i].value = S_TAYLOR * np.eye(dims.nx)
-        sp.params["aleph"][i].value = S_TAYLOR * np.eye(dims.ny, dims.nx)
-    sp.params["Vinv"].value, sp.params["Uinv"].value = ns["V_inv"], ns["U_inv"]
-    lam = []
-    for k in range(alpha.size):
-        S = np.linalg.cholesky(covariance.symmetrize(P))
-        z = np.array([g(i, x[k]) + E_mat(i, k) @ ns["mu_noise"](k) - g(i, xh[k, i]) for i in range(N)])
-        z_recv = np.array([z[j] + alpha[k] * ns["chi"](z[j]) for j in range(N)])
-        ph = ns["phi"](z)
-        Mbar = {lk: my.mbar(Q[lk], dims.nphi) for lk in links}
-        my.set_op2_parameters(sp, S=S, xhat=xh[k], fhat=[f(xh[k, i]) for i in range(N)],
-                              Phi=[jac_f(xh[k, i]) for i in range(N)],
-                              Psi=[jac_g(i, xh[k, i]) for i in range(N)],
-                              E=[E_mat(i, k) for i in range(N)], B=ns["B_mat"](k),
-                              W_hat=What, phi=ph, Mbar=Mbar)
-        my.solve(sp, k, "OP2")
-        F = np.stack([v.value for v in sp.vars["F"]])
-        G = np.stack([v.value for v in sp.vars["G"]])
-        H = np.zeros((N, N, dims.nx, dims.ny))
-        for lk in links:
-            H[lk] = sp.vars["H"][lk].value
-        W_arr = np.zeros((N, N, dims.ny, dims.nphi))
-        for lk in links:
-            W_arr[lk] = What[lk]
-        recv = np.broadcast_to(z_recv[None], (N, N, dims.ny))
-        xh[k + 1] = my.estimator_update(F, G, H, xh[k], z, recv, theta, W_hat=W_arr if nn else None,
-                                        phi_own=ph, alpha_bar=ns["alpha_bar"])
-        P = covariance.symmetrize(np.asarray(sp.vars["P"].value))
-        Ps.append(P)
-        if not nn:
-            continue
-        z1 = np.array([g(i, x[k + 1]) + E_mat(i, k + 1) @ ns["mu_noise"](k + 1) - g(i, xh[k + 1, i])
-                       for i in range(N)])
-        Hd = {lk: sp.vars["H"][lk].value for lk in links}
-        vp = my.varpi(Hd, [jac_g(i, xh[k + 1, i]) for i in range(N)], z1, theta, ns["alpha_bar"],
-                      ns["varpi_form"])
-        my.set_op1_parameters(op1, vp, ph, Mbar)
-        my.solve(op1, k, "OP1", chordal=False)
-        step = []
-        for lk in links:
-            l1, l2 = float(op1.vars[lk]["l1"].value), float(op1.vars[lk]["l2"].value)
-            What[lk] = my.weight_update(What[lk], l1, l2, vp[lk], ph[lk[0]])
-            Q[lk] = covariance.symmetrize(op1.vars[lk]["Q"].value)
-            step.append((l1, l2))
-        lam.append(step)
-    return {"xh": xh, "P": np.array(Ps), "lam": np.array(lam)}
+def _close(mine, committed, what):
+    ok = np.abs(mine - committed) <= LMI_ITERATES.atol + LMI_ITERATES.rtol * np.abs(committed)
+    assert ok.all(), f"{what}: largest difference {np.max(np.abs(mine - committed)):.3g}"
 
 
-@pytest.mark.parametrize("estimator", ["nn", "conv"])
-def test_algorithm1_equals_the_notebook_on_the_paper_example(nb, estimator) -> None:
-    ref = nb["simulate"](alpha=nb["_alpha"], estimator=estimator)  # at L_scale = aleph_scale = S_TAYLOR
-    mine = _algorithm1(nb, estimator)
-    assert not ref["failures"]
-    pairs = [("xh", ref["xh"]), ("P", ref["P"])]
-    if estimator == "nn":
-        pairs.append(("lam", ref["lam"]))
-    for key, want in pairs:
-        scale = max(np.abs(want).max(), 1.0)
-        assert np.abs(mine[key] - want).max() <= 1e-10 * scale, key
+@pytest.mark.parametrize(("run", "stems"), [("nn", ("fig1_nn_state1", "fig2_nn_state2")),
+                                             ("conv", ("fig5_conv_state1", "fig6_conv_state2"))])
+def test_algorithm1_gives_the_committed_estimates_of_the_paper_example(example, run, stems) -> None:
+    res = example[run]
+    for comp, stem in enumerate(stems):
+        data = _csv(stem)
+        assert np.allclose(example["x"][:, comp], data["x"], rtol=1e-9, atol=1e-9)  # the plant
+        for i in range(3):
+            _close(res.xh[:, i, comp], data[f"xhat_node{i + 1}"], f"{stem} node {i + 1}")
+    diag = _csv("extra_diagnostics")
+    _close(np.trace(res.Bell, axis1=1, axis2=2), diag[f"trB_{run}"], f"tr B_k ({run})")
 
 
-def test_op2_builder_options_give_the_notebook_problem_data(nb) -> None:
-    """Printed shared multipliers, one r-bound per link and OP3: the same canonical problem."""
-    opts = dict(alpha_bar=0.67, e3=3.0, eps=1e-6)
-    theirs = nb["build_op2_problem"](nn=True, alpha_bar_=0.67, e3_=3.0, eps=1e-6, shared=True,
-                                     r_bound_="per_link", design="op3").problem
-    mine = my.build_op2(nb["THETA"], my.Dims(2, 2, 1, 1, 2), nn=True, shared=True, r_bound="per_link",
-                        design="op3", **opts).problem
-    rng = np.random.default_rng(0)
-    values = {}
-    for q in theirs.parameters():
-        v = rng.standard_normal(q.shape)
-        values[q.name()] = v + v.T if q.is_symmetric() and v.ndim == 2 else v
-    for prob in (theirs, mine):
-        for q in prob.parameters():
-            q.value = values[q.name()]
-    data = [prob.get_problem_data("CLARABEL")[0] for prob in (theirs, mine)]
-    for key in ("A", "b", "c"):
-        a, b = (d[key].toarray() if hasattr(d[key], "toarray") else d[key] for d in data)
-        assert np.array_equal(a, b), key
+def test_the_run_has_the_committed_count_of_solves_and_uncertified_steps(example) -> None:
+    c5 = json.loads((FIGS / "claims.json").read_text())["C5"]["measured"]
+    nn, conv = example["nn"], example["conv"]
+    assert len(nn.failures) + len(conv.failures) == c5["uncertified_steps"]
+    assert len(nn.reports) + len(conv.reports) + c5["uncertified_steps"] == c5["solves"]
+    assert nn.solved.sum() + sum("OP1" not in m for m in nn.failures) == 40
+
+
+def test_the_record_has_the_documented_shapes_and_identities(example) -> None:
+    nn, kw = example["nn"], example["kw"]
+    n = 40
+    assert nn.xh.shape == (n + 1, 3, 2) and nn.P.shape == (n + 1, 2, 2) and nn.S.shape == (n, 2, 2)
+    assert nn.z.shape == nn.z_recv.shape == (n, 3, 2) and nn.lam.shape == (n, 4, 2)
+    assert len(nn.W_hat) == len(nn.Q) == n + 1 and len(nn.H) == len(nn.rows) == n
+    assert nn.links == my.links(THETA) == [(0, 1), (1, 0), (1, 2), (2, 1)]
+    assert np.array_equal(nn.Bell[0], np.asarray(kw["P0"]) / (1 - kw["p"]))  # Lemma 4, corrected
+    assert np.allclose(nn.Bell[1:], nn.P[1:] / (1 - kw["p"]), rtol=1e-15, atol=0)
+    assert np.allclose(np.einsum("kab,kcb->kac", nn.S, nn.S), nn.P[:-1], rtol=1e-12, atol=1e-14)
+    assert np.all(np.isnan(nn.rho))  # OP2: no rho
+    for k in range(n):  # the update (8) of every node, written out, with the gains of the record
+        z, recv, ph, W = nn.z[k], nn.z_recv[k], nn.phi[k], nn.W_hat[k]
+        want = [nn.F[k][i] @ nn.xh[k, i] + nn.G[k][i] @ z[i]
+                + sum(nn.H[k][(i, j)] @ (recv[j] - kw["alpha_bar"] * W[(i, j)] @ ph[i])
+                      for j in range(3) if THETA[i, j]) for i in range(3)]
+        assert np.allclose(nn.xh[k + 1], want, rtol=1e-13, atol=1e-15)
+        assert np.allclose(ph, np.tanh(z), rtol=0, atol=0)
+
+
+def test_the_weights_follow_the_tuning_law_17(example) -> None:
+    nn, model, kw = example["nn"], example["model"], example["kw"]
+    for k in range(40):
+        xh1 = nn.xh[k + 1]
+        z1 = np.array([example["y"][k + 1, i] - model.g(i, xh1[i]) for i in range(3)])
+        vp = my.varpi(nn.H[k], [model.jac_g(i, xh1[i]) for i in range(3)], z1, THETA,
+                      kw["alpha_bar"])
+        for a, lk in enumerate(nn.links):
+            l1, l2 = nn.lam[k, a]
+            want = l1 * nn.W_hat[k][lk] + l2 * np.outer(vp[lk], nn.phi[k][lk[0]])
+            assert np.array_equal(nn.W_hat[k + 1][lk], want)
+
+
+def test_the_row_blocks_of_54_give_the_next_error_at_the_actual_zeta(example) -> None:
+    """(54): x~_(i,k+1) = (Xi_i + alpha~_k Xi~_i) zeta_k with zeta built from the run's own
+    remainders, delta_j = chi(z_j) (the ideal weight taken as W = 0) and r = -Mbar^-1 rho(W^)."""
+    nn, model, x, kw = example["nn"], example["model"], example["x"], example["kw"]
+    s, abar = kw["L"][0, 0], kw["alpha_bar"]
+    worst = 0.0
+    for k in range(40):
+        xt = x[k] - nn.xh[k]
+        rem_f = [model.f(x[k]) - model.f(nn.xh[k, i]) - model.jac_f(nn.xh[k, i]) @ xt[i]
+                 for i in range(3)]
+        rem_g = [model.g(i, x[k]) - model.g(i, nn.xh[k, i]) - model.jac_g(i, nn.xh[k, i]) @ xt[i]
+                 for i in range(3)]
+        zeta = np.concatenate(
+            [[1.0]] + [np.linalg.solve(nn.S[k], xt[i]) for i in range(3)]
+            + [r / s for r in rem_f] + [r / s for r in rem_g]
+            + [np.array([0.3 * np.cos(2 * k)]), np.array([0.4 * np.sin(k)])]
+            + [_chi(zj) for zj in nn.z[k]]
+            + [np.linalg.solve(nn.Mbar[k][lk], -nn.W_hat[k][lk].flatten()) for lk in nn.links])
+        for i in range(3):
+            Xi, Xit = nn.rows[k][i]
+            pred = (Xi + (example["alpha"][k] - abar) * Xit) @ zeta
+            worst = max(worst, float(np.max(np.abs(pred - (x[k + 1] - nn.xh[k + 1, i])))))
+    assert worst <= 1e-10
+
+
+def test_the_problem_cache_returns_the_same_problems_and_fresh_ones_without_it(example) -> None:
+    kw = example["kw"]
+    const = dict(nn=True, alpha_bar=kw["alpha_bar"], e1=kw["e1"], e3=kw["e3"], eps=kw["eps"],
+                 lam2_box=kw["lam2_box"])
+    a = my.step_problems(THETA, DIMS, cache=example["cache"], **const)
+    b = my.step_problems(THETA, DIMS, cache=example["cache"], **const)
+    c = my.step_problems(THETA, DIMS, **const)
+    assert a[0] is b[0] and a[1] is b[1] and c[0] is not a[0]
+    assert len(example["cache"]) == 3  # NN OP2, conventional OP2, OP1
+
+
+def test_op3_keeps_the_fixed_ellipsoid_and_scales_it_by_rho() -> None:
+    model, x, y, received, kw, alpha = _example()
+    run = my.run_algorithm1(model, y[:4], received, nn=True, design="op3", B_fixed=2 * np.eye(2),
+                            **kw)
+    assert not run.failures and np.isnan(run.rho[0]) and np.all(run.rho[1:] > 0)
+    assert np.allclose(run.P[1:], run.rho[1:, None, None] * 2 * np.eye(2), rtol=1e-12, atol=1e-14)
+    assert np.array_equal(run.Bell[1:], np.broadcast_to(2 * np.eye(2), (3, 2, 2)))
+
+
+def test_a_step_no_solver_certifies_keeps_the_gains_and_doubles_p(monkeypatch) -> None:
+    from secest.core.lmi import InfeasibleLMIError
+
+    model, x, y, received, kw, alpha = _example()
+    real = my.solve
+
+    def failing(sp, step, label, **opts):
+        if step == 2 and "OP1" not in label:
+            raise InfeasibleLMIError(f"not certified at step {step}, {label}", step=step)
+        return real(sp, step, label, **opts)
+
+    monkeypatch.setattr(my, "solve", failing)
+    run = my.run_algorithm1(model, y[:5], received, nn=False, **kw)
+    assert not run.solved[2] and run.solved[[0, 1, 3]].all() and len(run.failures) == 1
+    assert np.array_equal(run.P[3], 2 * run.P[2])
+    for a, b in ((run.F[2], run.F[1]), (run.G[2], run.G[1])):
+        assert all(np.array_equal(u, v) for u, v in zip(a, b, strict=True))
+
+
+def test_algorithm1_refuses_bad_input_naming_the_argument() -> None:
+    model, x, y, received, kw, alpha = _example()
+    with pytest.raises(ValidationError, match="Incompatible dimensions of y"):
+        my.run_algorithm1(model, y[:, :2], received, **kw)
+    with pytest.raises(ValidationError, match="received"):
+        my.run_algorithm1(model, y, "not callable", **kw)
+    with pytest.raises(ValidationError, match="B_fixed"):
+        my.run_algorithm1(model, y, received, design="op3", **kw)
+    with pytest.raises(ValidationError, match="varpi_form"):
+        my.run_algorithm1(model, y, received, **(kw | {"varpi_form": "nope"}))
+    with pytest.raises(ValidationError, match="P0"):
+        my.run_algorithm1(model, y[:2], received, **(kw | {"P0": np.eye(3)}))
+    with pytest.raises(ValidationError, match="xhat0"):
+        my.run_algorithm1(model, y[:2], received, **(kw | {"xhat0": np.zeros((2, 2))}))
+    with pytest.raises(ValidationError, match="p must lie in"):
+        my.run_algorithm1(model, y[:2], received, **(kw | {"p": 1.0}))
+    with pytest.raises(ValidationError, match="Incompatible dimensions of V_inv"):
+        my.run_algorithm1(model, y[:2], received, **(kw | {"V_inv": np.eye(2)}))
+    with pytest.raises(ValidationError, match="model must be a Model"):
+        my.run_algorithm1({"f": None}, y[:2], received, **kw)
 
 
 # ------------------------------------------------------------------------------- the arena

@@ -8,10 +8,13 @@ with probability ``alpha_bar`` (5). The gains come from the recursive LMI (30) (
 come from LMI (18) (OP1 (31)); by Markov's inequality (Lemma 4, corrected: ``P_k = (1 - p) B_k``)
 the error stays in the ellipsoid ``B_k`` with probability at least ``p``.
 
-**The paper's Algorithm 1** (its nonlinear example, the ma2021 notebook): :func:`build_op2`,
-:func:`set_op2_parameters`, :func:`build_op1`, :func:`set_op1_parameters`, :func:`mbar`,
-:func:`solve`, :func:`estimator_update`, :func:`varpi` and :func:`weight_update` are the notebook's
-equations (its re-derived row blocks of (24)-(28), per-node multipliers E3, corrections E1-E2).
+**The paper's Algorithm 1** (its nonlinear example, the ma2021 notebook, which runs and shows
+these functions): :func:`run_algorithm1` is the recursion over ``k`` on a :class:`Model`, built
+from :func:`build_op2`, :func:`set_op2_parameters`, :func:`build_op1`, :func:`set_op1_parameters`,
+:func:`mbar`, :func:`solve`, :func:`estimator_update` (:func:`update_all`), :func:`varpi` and
+:func:`weight_update` (the re-derived row blocks of (24)-(28), per-node multipliers E3,
+corrections E1-E2), with the per-step problems built once per configuration
+(:func:`step_problems`); it returns an :class:`Algorithm1Run`.
 
 **The arena's reading** (:class:`Ma2021`; rules fixed before any arena run):
 
@@ -70,7 +73,7 @@ equations (its re-derived row blocks of (24)-(28), per-node multipliers E3, corr
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -81,6 +84,7 @@ from secest.core import covariance
 from secest.core.validation import (
     ValidationError,
     as_matrix,
+    check_callable,
     check_choice,
     check_positive_int,
     check_probability,
@@ -96,8 +100,10 @@ __all__ = [
     "R_BOUNDS",
     "SCS_OPTS",
     "VARPI_FORMS",
+    "Algorithm1Run",
     "Dims",
     "LinearDesign",
+    "Model",
     "StepProblem",
     "build_op1",
     "build_op2",
@@ -105,9 +111,12 @@ __all__ = [
     "linear_design",
     "links",
     "mbar",
+    "run_algorithm1",
     "set_op1_parameters",
     "set_op2_parameters",
     "solve",
+    "step_problems",
+    "update_all",
     "varpi",
     "weight_update",
 ]
@@ -750,6 +759,430 @@ def weight_update(W_hat: ArrayLike, lam1: float, lam2: float, varpi_ij: ArrayLik
     (n_y, n_phi) ndarray
     """
     return lam1 * np.asarray(W_hat, float) + lam2 * np.outer(varpi_ij, phi_own)
+
+
+# ------------------------------------------------------------------ Algorithm 1, the recursion
+
+
+@dataclass(frozen=True)
+class Model:
+    """The plant and sensors of (1) and the activation of (6), as Algorithm 1 uses them.
+
+    Attributes
+    ----------
+    f : callable ``x -> f(x)``
+        Plant map of (1).
+    jac_f : callable ``x -> Phi``
+        ``Phi = df/dx`` at ``x`` (12).
+    g : callable ``(i, x) -> g_i(x)``
+        Sensor map of node ``i`` (1).
+    jac_g : callable ``(i, x) -> Psi_i``
+        ``Psi_i = dg_i/dx`` at ``x`` (13).
+    B : callable ``k -> B_k``
+        Process-noise input of (1).
+    E : callable ``(i, k) -> E_{i,k}``
+        Measurement-noise input of node ``i`` (1).
+    phi : callable ``z -> phi(z)``, default tanh
+        Activation of the network (6).
+    """
+
+    f: Callable[[Array], Array]
+    jac_f: Callable[[Array], Array]
+    g: Callable[[int, Array], Array]
+    jac_g: Callable[[int, Array], Array]
+    B: Callable[[int], Array]
+    E: Callable[[int, int], Array]
+    phi: Callable[[Array], Array] = np.tanh
+
+
+@dataclass
+class Algorithm1Run:
+    """What Algorithm 1 computed, step by step (``n`` steps, ``k = 0..n-1``).
+
+    Attributes
+    ----------
+    links : list of (receiver, sender)
+        The links of the graph (:func:`links`), the keys of ``H``, ``W_hat``, ``Q``, ``Mbar``.
+    xh : (n + 1, N, n_x) ndarray
+        Estimates ``x^_{i,k}`` (8) (or (3) for the conventional design).
+    P : (n + 1, n_x, n_x) ndarray
+        ``P_k = (1 - p) B_k`` of OP2 (``rho_k B`` of OP3); at a step not certified ``2 P_k``.
+    Bell : (n + 1, n_x, n_x) ndarray
+        The ellipsoid ``B_k`` of (11): ``P_k / (1 - p)`` (OP2) or the fixed ``B`` (OP3);
+        ``B_0 = P_0 / (1 - p)`` (Lemma 4, corrected E1).
+    rho : (n + 1,) ndarray
+        OP3's ``rho_k = 1 - p_k`` (NaN for OP2 and at ``k = 0``).
+    S : (n, n_x, n_x) ndarray
+        ``S_k = chol(P_k)``.
+    z, z_recv : (n, N, n_y) ndarray
+        Own innovations ``z_{i,k}`` and what the neighbours of node ``j`` receive from it.
+    phi : (n, N, n_phi) ndarray
+        ``phi(z_{i,k})``.
+    F, G : list of n lists of N arrays
+        The gains used at step ``k`` (a step not certified keeps the previous ones).
+    H : list of n dicts link -> array
+        The neighbour gains used at step ``k``.
+    W_hat, Q : list of n + 1 dicts link -> array
+        NN weights ``W^_{ij,k}`` and their error shapes ``Q_{ij,k}`` (19).
+    Mbar : list of n dicts link -> array
+        ``Mbar_{ij,k}`` (:func:`mbar`).
+    lam : (n, n_links, 2) ndarray
+        ``(lambda1, lambda2)`` of OP1 per step and link (0 for the conventional design).
+    solved : (n,) ndarray of bool
+        Whether OP2/OP3 was certified at step ``k``.
+    rows : list of n (list of N (Xi_i, Xi~_i) pairs) or None
+        The solved row blocks of (54) per node, evaluated (``keep_rows=True``, certified steps).
+    reports : list
+        The :class:`secest.core.lmi.LMISolveReport` of every certified solve.
+    failures : list of str
+        The message of every solve no solver certified (OP2/OP3 and OP1).
+    """
+
+    links: list[tuple[int, int]]
+    xh: Array
+    P: Array
+    Bell: Array
+    rho: Array
+    S: Array
+    z: Array
+    z_recv: Array
+    phi: Array
+    F: list = field(default_factory=list)
+    G: list = field(default_factory=list)
+    H: list = field(default_factory=list)
+    W_hat: list = field(default_factory=list)
+    Q: list = field(default_factory=list)
+    Mbar: list = field(default_factory=list)
+    lam: Array | None = None
+    solved: Array | None = None
+    rows: list = field(default_factory=list)
+    reports: list = field(default_factory=list)
+    failures: list = field(default_factory=list)
+
+
+def step_problems(
+    theta: ArrayLike,
+    dims: Dims,
+    *,
+    nn: bool,
+    alpha_bar: float,
+    e1: float,
+    e3: float,
+    eps: float = EPS_LMI,
+    shared: bool = False,
+    r_bound: str = "lumped",
+    design: str = "op2",
+    lam2_box: float = 1e3,
+    cache: dict | None = None,
+) -> tuple[StepProblem, StepProblem]:
+    """OP2/OP3 (:func:`build_op2`) and OP1 (:func:`build_op1`), built once per configuration.
+
+    With a ``cache`` the same problem objects are returned for the same configuration, so that
+    every run re-solves them with new parameter values (DPP). A re-solved problem and a freshly
+    built one agree to the solver's tolerance only (~1e-7): which of the two a run uses decides
+    its last digits.
+
+    Parameters
+    ----------
+    theta, dims, nn, alpha_bar, e3, eps, shared, r_bound, design
+        As in :func:`build_op2`.
+    e1, lam2_box
+        As in :func:`build_op1`.
+    cache : dict, optional
+        Problems built so far, by configuration (filled here); None builds fresh ones.
+
+    Returns
+    -------
+    (StepProblem, StepProblem)
+        OP2/OP3 and OP1.
+    """
+    th = _theta(theta)
+    key2 = ("nn" if nn else "conv", th.tobytes(), dims, alpha_bar, e3, eps, shared, r_bound,
+            design)
+    key1 = ("op1", th.tobytes(), dims, e1, eps, lam2_box)
+    cache = {} if cache is None else cache
+    if key2 not in cache:
+        cache[key2] = build_op2(th, dims, nn=nn, alpha_bar=alpha_bar, e3=e3, eps=eps,
+                                shared=shared, r_bound=r_bound, design=design)
+    if key1 not in cache:
+        cache[key1] = build_op1(th, dims, e1=e1, eps=eps, lam2_box=lam2_box)
+    return cache[key2], cache[key1]
+
+
+def run_algorithm1(
+    model: Model,
+    y: ArrayLike,
+    received: Callable[[int, Array], Array],
+    *,
+    theta: ArrayLike,
+    dims: Dims,
+    xhat0: ArrayLike,
+    P0: ArrayLike,
+    W0: ArrayLike,
+    Q0: ArrayLike,
+    alpha_bar: float,
+    e1: float,
+    e3: float,
+    L: ArrayLike,
+    aleph: ArrayLike,
+    V_inv: ArrayLike,
+    U_inv: ArrayLike,
+    nn: bool = True,
+    p: float = P_LEVEL,
+    design: str = "op2",
+    B_fixed: ArrayLike | None = None,
+    shared: bool = False,
+    r_bound: str = "lumped",
+    varpi_form: str = "sum",
+    eps: float = EPS_LMI,
+    lam2_box: float = 1e3,
+    solver: str = "CLARABEL",
+    fallback: str | None = "SCS",
+    tol: float = CERT_TOL,
+    keep_rows: bool = False,
+    cache: dict | None = None,
+) -> Algorithm1Run:
+    """Algorithm 1: the NN-based estimator (8) with OP2 (32) / OP3 (33), OP1 (31) and (17).
+
+    For ``k = 0..n-1``: (1) every node forms ``z_{i,k} = y_{i,k} - g_i(x^_{i,k})`` and receives
+    ``received(k, z)``; (2) ``Phi_{i,k}``, ``Psi_{i,k}``, ``phi(z_{i,k})`` and ``Mbar_{ij,k}``
+    are formed; (3) OP2 (or OP3) is solved for ``F, G, H`` and ``P_{k+1} = (1 - p) B_{k+1}``
+    (:func:`solve`); (4) the estimates follow from (8) (``nn``) or (3); (5)-(6) ``varpi`` of (17)
+    from ``z_{i,k+1}``, ``Psi_{i,k+1}`` and OP1 gives ``lambda1, lambda2, Q_{ij,k+1}``; (7)
+    ``W^_{ij,k+1}`` from (17). A step no solver certifies keeps the previous gains and doubles
+    ``P`` (OP2/OP3), or keeps ``W^`` and ``Q`` (OP1), and is named in ``failures``.
+
+    Parameters
+    ----------
+    model : Model
+        ``f``, ``g_i``, their Jacobians, ``B_k``, ``E_{i,k}`` and ``phi``.
+    y : (n + 1, N, n_y) array_like
+        Measurements ``y_{i,k}``, ``k = 0..n`` (``y_{i,n}`` is read by OP1 at the last step).
+    received : callable ``(k, z) -> z_recv``
+        The innovations as they arrive, ``(N, n_y)`` from ``(N, n_y)`` (the attack (5)).
+    theta : (N, N) array_like
+        Graph weights.
+    dims : Dims
+        Model dimensions.
+    xhat0 : (N, n_x) array_like
+        Initial estimates.
+    P0 : (n_x, n_x) array_like
+        ``P_0`` of Assumption 3 (``B_0 = P_0 / (1 - p)``).
+    W0 : (n_y, n_phi) array_like
+        Initial weights of every link.
+    Q0 : (n_y, n_y) array_like
+        Initial weight-error shape of every link, positive definite.
+    alpha_bar, e1, e3 : float
+        ``Prob{alpha_k = 1}`` and the bounds of Assumption 2.
+    L, aleph : (n_x, n_x), (n_y, n_x) array_like
+        Taylor scales ``L_i``, ``aleph_i`` of (12)-(13), the same for every node.
+    V_inv, U_inv : array_like
+        ``V_k^-1`` and ``U_k^-1`` of Assumption 1.
+    nn : bool, default True
+        NN-based design (8) or the attack-unaware conventional design (3) (no OP1).
+    p : float, default P_LEVEL
+        Probability level of (10)-(11).
+    design : {"op2", "op3"}
+        OP2 (32), or the corrected OP3 (33) with the fixed ellipsoid ``B_fixed``.
+    B_fixed : (n_x, n_x) array_like, optional
+        The ellipsoid of OP3 (required with ``design="op3"``).
+    shared, r_bound, eps
+        As in :func:`build_op2`.
+    varpi_form : {"sum", "per_link"}
+        Reading of ``varpi`` in (17) (:func:`varpi`).
+    lam2_box : float
+        As in :func:`build_op1`.
+    solver, fallback, tol
+        As in :func:`solve` (``fallback=None``: none).
+    keep_rows : bool, default False
+        Keep the solved row blocks ``Xi_i``, ``Xi~_i`` of (54) of every certified step.
+    cache : dict, optional
+        Problems shared between runs (:func:`step_problems`).
+
+    Returns
+    -------
+    Algorithm1Run
+
+    Raises
+    ------
+    ValidationError
+        An argument of the wrong shape or value (named).
+    """
+    from secest.core import lmi as slmi
+
+    if not isinstance(model, Model):
+        raise ValidationError(f"model must be a Model, found {type(model).__name__}")
+    th = _theta(theta)
+    n_nodes, nx, ny = th.shape[0], dims.nx, dims.ny
+    Y = np.asarray(y, float)
+    if Y.ndim != 3 or Y.shape[0] < 2 or Y.shape[1:] != (n_nodes, ny):
+        raise ValidationError(f"Incompatible dimensions of y: expected (n + 1, {n_nodes}, {ny}) "
+                              f"with n >= 1, found {Y.shape}")
+    check_callable("received", received)
+    check_probability("p", p, open_interval=True)
+    check_choice("varpi_form", varpi_form, VARPI_FORMS)
+    check_choice("design", design, DESIGNS)
+    if design == "op3" and B_fixed is None:
+        raise ValidationError("B_fixed is required with design='op3'")
+    n = Y.shape[0] - 1
+    sp, op1 = step_problems(th, dims, nn=nn, alpha_bar=alpha_bar, e1=e1, e3=e3, eps=eps,
+                            shared=shared, r_bound=r_bound, design=design, lam2_box=lam2_box,
+                            cache=cache)
+    Ls, As = as_matrix("L", L, (nx, nx)), as_matrix("aleph", aleph, (ny, nx))
+    for i in range(n_nodes):
+        sp.params["L"][i].value, sp.params["aleph"][i].value = Ls, As
+    sp.params["Vinv"].value = as_matrix("V_inv", V_inv, (dims.nv, dims.nv))
+    sp.params["Uinv"].value = as_matrix("U_inv", U_inv, (dims.nu, dims.nu))
+    if design == "op3":
+        sp.params["Bell"].value = as_matrix("B_fixed", B_fixed, (nx, nx))
+    lk_all = links(th)
+    run = Algorithm1Run(
+        lk_all, np.zeros((n + 1, n_nodes, nx)), np.zeros((n + 1, nx, nx)), np.zeros(0),
+        np.full(n + 1, np.nan), np.zeros((n, nx, nx)), np.zeros((n, n_nodes, ny)),
+        np.zeros((n, n_nodes, ny)), np.zeros((n, n_nodes, dims.nphi)),
+        lam=np.zeros((n, len(lk_all), 2)), solved=np.zeros(n, dtype=bool))
+    run.xh[0] = _shaped("xhat0", xhat0, (n_nodes, nx))
+    run.P[0] = as_matrix("P0", P0, (nx, nx))
+    run.W_hat.append({lk: as_matrix("W0", W0, (ny, dims.nphi)).copy() for lk in lk_all})
+    run.Q.append({lk: as_matrix("Q0", Q0, (ny, ny)).copy() for lk in lk_all})
+    gains = ([np.zeros((nx, nx)) for _ in range(n_nodes)], [np.zeros((nx, ny)) for _ in range(n_nodes)],
+             {lk: np.zeros((nx, ny)) for lk in lk_all})
+    label = f"joint SDP over nodes 1-{n_nodes} ({design.upper()}, {'nn' if nn else 'conv'})"
+    for k in range(n):
+        gains = _design_step(run, k, model, Y, received, sp, gains, th, dims, nn, alpha_bar,
+                             label, solver, fallback, tol, eps, keep_rows, slmi)
+        if nn:
+            _weight_step(run, k, model, Y, op1, th, dims, alpha_bar, varpi_form, solver,
+                         fallback, tol, eps, slmi)
+        else:
+            run.W_hat.append(run.W_hat[-1])
+            run.Q.append(run.Q[-1])
+    run.Bell = (run.P / (1.0 - p) if design == "op2"
+                else np.broadcast_to(np.asarray(B_fixed, float), run.P.shape).copy())
+    run.Bell[0] = run.P[0] / (1.0 - p)  # B_0 = P_0 / (1 - p) (Lemma 4, corrected)
+    return run
+
+
+def _design_step(run: Algorithm1Run, k: int, model: Model, Y: Array, received: Callable,
+                 sp: StepProblem, gains: tuple, th: Array, dims: Dims, nn: bool, alpha_bar: float,
+                 label: str, solver: str, fallback: str | None, tol: float, eps: float,
+                 keep_rows: bool, slmi: Any) -> tuple:
+    """Steps 1-4 of Algorithm 1 at step ``k``: innovations, OP2/OP3 (30), the update (8)/(3)."""
+    n_nodes = th.shape[0]
+    xh_k, P = run.xh[k], run.P[k]
+    W_hat, Q = run.W_hat[k], run.Q[k]
+    S = np.linalg.cholesky(covariance.symmetrize(P))  # P_k = S_k S_k^T
+    z = np.array([Y[k, i] - model.g(i, xh_k[i]) for i in range(n_nodes)])  # z_{i,k}
+    z_recv = np.asarray(received(k, z), float)  # (5)
+    ph = model.phi(z)
+    Mbar = {lk: mbar(Q[lk], dims.nphi) for lk in run.links}
+    set_op2_parameters(sp, S=S, xhat=xh_k, fhat=[model.f(xh_k[i]) for i in range(n_nodes)],
+                       Phi=[model.jac_f(xh_k[i]) for i in range(n_nodes)],
+                       Psi=[model.jac_g(i, xh_k[i]) for i in range(n_nodes)],
+                       E=[model.E(i, k) for i in range(n_nodes)], B=model.B(k),
+                       W_hat=W_hat if nn else None, phi=ph if nn else None,
+                       Mbar=Mbar if nn else None)
+    try:  # one SDP over all nodes, coupled through P_{k+1}: a failure names no single node
+        run.reports.append(solve(sp, k, label, eps=eps, tol=tol, solver=solver, fallback=fallback))
+        gains = ([v.value.copy() for v in sp.vars["F"]], [v.value.copy() for v in sp.vars["G"]],
+                 {lk: sp.vars["H"][lk].value.copy() for lk in run.links})
+        P_next = covariance.symmetrize(np.asarray(sp.vars["P"].value))
+        if "rho" in sp.vars:
+            run.rho[k + 1] = float(sp.vars["rho"].value)
+        run.solved[k] = True
+        if keep_rows:
+            run.rows.append([(Xi.value, None if Xit is None else Xit.value)
+                             for Xi, Xit in (sp.rows[i] for i in range(n_nodes))])
+    except slmi.InfeasibleLMIError as err:  # keep the previous gains, double P (brief §7)
+        run.failures.append(str(err))
+        P_next = 2.0 * P
+        if keep_rows:
+            run.rows.append(None)
+    F, G, H = gains
+    run.xh[k + 1] = update_all(F, G, H, xh_k, z, z_recv, th, W_hat=W_hat if nn else None,
+                               phi_own=ph, alpha_bar=alpha_bar)  # (8) / (3)
+    run.P[k + 1] = P_next
+    run.S[k], run.z[k], run.z_recv[k], run.phi[k] = S, z, z_recv, ph
+    run.F.append(F)
+    run.G.append(G)
+    run.H.append(H)
+    run.Mbar.append(Mbar)
+    return gains
+
+
+def _weight_step(run: Algorithm1Run, k: int, model: Model, Y: Array, op1: StepProblem,
+                 th: Array, dims: Dims, alpha_bar: float, varpi_form: str, solver: str,
+                 fallback: str | None, tol: float, eps: float, slmi: Any) -> None:
+    """Steps 5-7 of Algorithm 1 at step ``k``: varpi of (17), OP1 (31), the tuning law (17)."""
+    n_nodes = th.shape[0]
+    xh1 = run.xh[k + 1]
+    z1 = np.array([Y[k + 1, i] - model.g(i, xh1[i]) for i in range(n_nodes)])  # z_{i,k+1}
+    vp = varpi(run.H[k], [model.jac_g(i, xh1[i]) for i in range(n_nodes)], z1, th, alpha_bar,
+               varpi_form)
+    set_op1_parameters(op1, vp, run.phi[k], run.Mbar[k])
+    W_hat, Q = run.W_hat[k], run.Q[k]
+    try:
+        run.reports.append(solve(op1, k, "all links (OP1)", chordal=False, eps=eps, tol=tol,
+                                 solver=solver, fallback=fallback))
+        W_new, Q_new = {}, {}
+        for a, lk in enumerate(run.links):
+            l1, l2 = float(op1.vars[lk]["l1"].value), float(op1.vars[lk]["l2"].value)
+            W_new[lk] = weight_update(W_hat[lk], l1, l2, vp[lk], run.phi[k][lk[0]])  # (17)
+            Q_new[lk] = covariance.symmetrize(op1.vars[lk]["Q"].value)
+            run.lam[k, a] = (l1, l2)
+        W_hat, Q = W_new, Q_new
+    except slmi.InfeasibleLMIError as err:  # keep W^ and Q
+        run.failures.append(str(err))
+    run.W_hat.append(W_hat)
+    run.Q.append(Q)
+
+
+def update_all(F: list, G: list, H: Mapping[tuple[int, int], ArrayLike], xhat: ArrayLike,
+               z: ArrayLike, z_recv: ArrayLike, theta: ArrayLike, *,
+               W_hat: Mapping[tuple[int, int], ArrayLike] | None = None,
+               phi_own: ArrayLike | None = None, alpha_bar: float = 0.0) -> Array:
+    """(8) or (3) for every node from per-node gains and per-link dicts (:func:`estimator_update`).
+
+    Parameters
+    ----------
+    F, G : sequences of N arrays
+        ``F_{i,k}``, ``G_{i,k}``.
+    H : mapping link -> (n, n_y) array
+        ``H_{ij,k}``.
+    xhat : (N, n) array_like
+        ``x^_{i,k}``.
+    z : (N, n_y) array_like
+        Own innovations.
+    z_recv : (N, n_y) array_like
+        The innovation every node ``j`` sent, as it arrives (the same at every receiver).
+    theta : (N, N) array_like
+        Graph weights.
+    W_hat : mapping link -> (n_y, n_phi) array, optional
+        ``W^_{ij,k}`` of (8); None gives (3).
+    phi_own : (N, n_phi) array_like, optional
+        ``phi(z_{i,k})``.
+    alpha_bar : float, default 0
+        ``Prob{alpha_k = 1}``.
+
+    Returns
+    -------
+    (N, n) ndarray
+    """
+    th = np.asarray(theta, float)
+    N = th.shape[0]
+    F_a, G_a = np.stack(F), np.stack(G)
+    n, ny = G_a.shape[1:]
+    H_a = np.zeros((N, N, n, ny))
+    for lk, Hij in H.items():
+        H_a[lk] = Hij
+    W_a = None
+    if W_hat is not None:
+        W_a = np.zeros((N, N, *np.shape(next(iter(W_hat.values())))))
+        for lk, Wij in W_hat.items():
+            W_a[lk] = Wij
+    recv = np.broadcast_to(np.asarray(z_recv, float)[None], (N, N, ny))
+    return estimator_update(F_a, G_a, H_a, xhat, z, recv, th, W_hat=W_a, phi_own=phi_own,
+                            alpha_bar=alpha_bar)
 
 
 # ------------------------------------------------------------------ the linear reading (arena)
