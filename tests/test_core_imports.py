@@ -24,3 +24,12 @@ def test_core_modules_import_without_heavy_dependencies() -> None:
 
 def test_lmi_imports_cvxpy_but_not_the_notebook_stack() -> None:
     assert _loaded_after("import secest.core.lmi") == ["cvxpy"]
+
+
+def test_the_arena_registers_every_method_on_first_use() -> None:
+    code = ("import json; from secest.arena.estimators import METHODS; print(json.dumps(list(METHODS)))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    names = json.loads(out.stdout)
+    assert {"oracle", "kf", "chi2-kf", "consensus-kf"} <= set(names)
+    assert {"ding2020", "guo2023", "lee2020", "li2025", "ma2021"} <= set(names)
+    assert _loaded_after("import secest.arena.matrix") == []  # ma2021 imports cvxpy only when it runs

@@ -7,6 +7,11 @@
 ``matrix``
    the matrix of scenarios x methods and its tables
 
+Importing any module of the arena registers the baselines and the five papers' methods.
 The arena uses the estimation library (:mod:`secest.core`) and the papers' methods
 (:mod:`secest.methods`); neither of those imports it.
 """
+
+# The five papers' methods are registered whenever the arena is used (not only after an explicit
+# import of secest.arena.papers): a matrix never silently scores the baselines alone.
+from secest.arena import papers  # noqa: E402, F401
