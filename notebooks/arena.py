@@ -335,7 +335,8 @@ for i, sc in enumerate(SCENARIOS):
             colour = "0.85" if c.status == "n/a" else "black"
             ax.add_patch(plt.Rectangle((j - 0.5, i - 0.5), 1, 1, facecolor=colour, hatch="////",
                                        edgecolor="0.55", lw=0))
-            ax.text(j, i, "N/A" if c.status == "n/a" else "div.", ha="center", va="center",
+            label = {"n/a": "N/A", "diverged": "div.", "error": "err."}[c.status]
+            ax.text(j, i, label, ha="center", va="center",
                     fontsize=6.5, color="black" if c.status == "n/a" else "white")
 starts = [i for i, sc in enumerate(SCENARIOS) if i == 0 or sc.plant.name != SCENARIOS[i - 1].plant.name]
 for i in starts[1:]:

@@ -224,3 +224,33 @@ def test_score_and_evaluate_check_shapes_trials_and_burn_in() -> None:
     with pytest.raises(ValidationError, match="trial: drawn for scenario"):
         estimators.evaluate(sc, ["oracle"], trial=other)
     assert estimators.score(t, oracle, oracle, burn_in=K - 1).status == "ok"
+
+
+def test_a_failing_method_is_one_error_cell() -> None:
+    from secest.arena import matrix
+
+    class Broken(Method):
+        name, title = "toy-broken", "raises"
+
+        def run(self, trial):
+            raise RuntimeError("singular matrix at step 3\nmore detail")
+
+    class NoLMI(Method):
+        name, title = "toy-no-lmi", "needs cvxpy"
+
+        def run(self, trial):
+            raise ModuleNotFoundError("No module named 'cvxpy'", name="cvxpy")
+
+    register(Broken)
+    register(NoLMI)
+    try:
+        out = estimators.evaluate(_scenario(), ["oracle", "toy-broken", "toy-no-lmi", "kf"])
+        assert out["toy-broken"].status == "error"
+        assert out["toy-broken"].reason == "RuntimeError: singular matrix at step 3"
+        assert out["toy-no-lmi"].reason == "needs extra: lmi (pip install 'secest[lmi]')"
+        assert out["kf"].status == "ok" and out["oracle"].status == "ok"
+        assert matrix.cell_text(out["toy-broken"])["mean"] == "error: RuntimeError: singular matrix at step 3"
+        assert matrix.cell_text(out["toy-no-lmi"])["mean"].startswith("needs extra: lmi")
+    finally:
+        METHODS.pop("toy-broken")
+        METHODS.pop("toy-no-lmi")

@@ -41,6 +41,7 @@ from secest.core.validation import ValidationError
 __all__ = [
     "CHI2_ALPHA",
     "CONSENSUS_ROUNDS",
+    "EXTRAS",
     "METHODS",
     "RESERVED",
     "Estimate",
@@ -372,10 +373,12 @@ class Score:
 
     Attributes
     ----------
-    status : {"ok", "n/a", "diverged"}
+    status : {"ok", "n/a", "diverged", "error"}
         ``"ok"``: the method ran and was scored; ``"n/a"``: a condition of its theory fails on
         the scenario (:meth:`Method.not_applicable`), it did not run; ``"diverged"``: its
-        estimate is not finite in some run, so it is not scored.
+        estimate is not finite in some run, so it is not scored; ``"error"``: it raised (the
+        reason is its message, or ``needs extra: lmi`` where an optional package is missing);
+        the other cells are not affected.
     reason : str
         Why the status is not ``"ok"`` (the failed condition, or the divergence); empty otherwise.
     rmse_mean : (value, low, high) floats, optional
@@ -598,8 +601,27 @@ def evaluate(
         if reason is not None:
             out[name] = Score("n/a", reason)
             continue
-        est = oracle if name == "oracle" else (runner or (lambda m, t: m.run(t)))(method, trial)
-        if observe is not None and name != "oracle":
-            observe(name, trial, est)
-        out[name] = score(trial, est, oracle, burn_in=burn_in)
+        if name == "oracle":
+            out[name] = score(trial, oracle, oracle, burn_in=burn_in)
+            continue
+        try:
+            est = (runner or (lambda m, t: m.run(t)))(method, trial)
+            if observe is not None:
+                observe(name, trial, est)
+            out[name] = score(trial, est, oracle, burn_in=burn_in)
+        except Exception as exc:  # one failing method is one cell, never an aborted matrix
+            out[name] = Score("error", _error_reason(exc))
     return out
+
+
+EXTRAS = {"cvxpy": "lmi", "clarabel": "lmi", "scs": "lmi"}
+"""Optional packages a method may need, and the extra of ``pyproject.toml`` that brings them."""
+
+
+def _error_reason(exc: Exception) -> str:
+    """One line for an ``"error"`` cell: the missing extra, or the exception's type and message."""
+    if isinstance(exc, ModuleNotFoundError) and (exc.name or "").split(".")[0] in EXTRAS:
+        extra = EXTRAS[exc.name.split(".")[0]]
+        return f"needs extra: {extra} (pip install 'secest[{extra}]')"
+    first = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
+    return f"{type(exc).__name__}: {first}" if first else type(exc).__name__

@@ -42,7 +42,7 @@ __all__ = [
     "table_rows",
 ]
 
-STATUSES = ("ok", "n/a", "diverged")
+STATUSES = ("ok", "n/a", "diverged", "error")
 """What a cell of the matrix can be: scored, not applicable (condition named), diverged."""
 
 
@@ -257,7 +257,8 @@ def cell_text(s: Score) -> dict[str, str]:
 
     A scored cell gives every number with its interval ("–" where the method has no
     detector, or the scenario no attacked sample); an N/A cell names the failed condition
-    (``"N/A: <condition>"``); a diverged one says so.
+    (``"N/A: <condition>"``); a diverged one says so; an error cell gives the error
+    (``"error: <message>"``, or ``"needs extra: lmi ..."``).
 
     Parameters
     ----------
@@ -274,6 +275,9 @@ def cell_text(s: Score) -> dict[str, str]:
     if s.status == "diverged":
         text = f"diverged: {s.reason}" if s.reason else "diverged"
         return {"status": "diverged", "mean": text, "worst": "", "detection": "", "false_alarm": ""}
+    if s.status == "error":
+        text = s.reason if s.reason.startswith("needs extra") else f"error: {s.reason}"
+        return {"status": "error", "mean": text, "worst": "", "detection": "", "false_alarm": ""}
     if s.rmse_mean is None or s.rmse_worst is None:
         raise ValidationError("a scored cell must carry its mean and worst RMSE ratios")
     return {
