@@ -1,14 +1,16 @@
-"""guo2023 in the arena: distributed state and input estimation under deception attacks.
+"""guo2023: distributed state and input estimation under deception attacks (the one implementation).
 
 Guo & Xia (2023): node ``i`` splits its attacked measurement with an SVD of its
 feed-through ``H_bar^i = [0 H^i]`` into ``z_1`` (sees the input part ``u_1``, estimated at
 once) and ``z_2`` (input-free; estimates the part ``u_2`` that drives the state, one step
 late), makes a local update with a gain constrained by ``K U_1 = 0`` (28), and fuses its
 estimate with its neighbours' by consensus on information (19)-(21). The functions below are
-the corrected Algorithm 1 of the guo2023 notebook (steps A1-A14, stages B-D; corrections
-E1-E7 of ERRATA.md), vectorised over Monte Carlo runs and over the nodes that share the
-same decomposition shapes, and over runs of the covariance bounds when those depend on the
-run (links that fail).
+the corrected Algorithm 1 (steps A1-A14, stages B-D; corrections E1-E7 of ERRATA.md) that the
+guo2023 notebook derives, shows and verifies and that the arena races
+(:mod:`secest.arena.papers.guo2023`), vectorised over Monte Carlo runs and over the nodes that
+share the same decomposition shapes, and over runs of the covariance bounds when those depend on
+the run (links that fail). :func:`error_covariance` (ours) propagates the exact error
+covariances that Theorem 1 bounds.
 
 Reading on a shared scenario (:class:`Guo2023`, rules fixed before any arena run):
 
