@@ -192,36 +192,41 @@ def bench_ding2020(repeats: int) -> list[Row]:
 
 # ---------------------------------------------------------------------------- guo2023
 def bench_guo2023(repeats: int) -> list[Row]:
-    """Per-step time of the 4-node estimator; exact joint covariance vs Monte Carlo."""
-    nb = load_notebook("guo2023", stop_before="z_scores = ")
-    mdl, d, a, n_mc, seed = nb["model"], nb["d_true"], nb["a_true"], nb["n_mc"], nb["seed"]
-    simulate, run_estimator = nb["simulate"], nb["run_estimator"]
-    x1, ya1 = simulate(mdl, d, a, 1, seed)
+    """Per-step time of the distributed estimator of secest.methods.guo2023 on an arena scenario
+    (inertia5, a sensor bias: the attacked path runs); exact joint covariance vs Monte Carlo."""
+    from secest.arena import scenarios
+    from secest.arena.papers.guo2023 import arena_model
+    from secest.methods import guo2023
+
+    n_mc, horizon = 500, 200
+    sc = scenarios.scenario("inertia5", "bias", runs=2, horizon=horizon)  # a scenario has >= 2 runs
+    mdl = arena_model(sc)
+    ya1 = scenarios.simulate(sc).y[:1]  # one run
     K1 = ya1.shape[1]
-    ref = run_estimator(mdl, ya1)
+    ref = guo2023.run_estimator(mdl, ya1)
 
     def steps() -> np.ndarray:
-        state = nb["init_state"](mdl, ya1[:, 0])
+        state = guo2023.initial_state(mdl, ya1[:, 0])
         for k in range(1, K1):
-            state, _ = nb["estimator_step"](mdl, state, ya1[:, k])
+            state, _ = guo2023.estimator_step(mdl, state, ya1[:, k])
         return state.x
 
     rows = [measure(
-        f"guo2023: full 4-node estimator (stages A-D), one run, {K1 - 1} steps",
+        f"guo2023: full {mdl.N}-node estimator (stages A-D), one run, {K1 - 1} steps",
         ("estimator_step", steps),
         lambda x: _agree_within("final estimates vs run_estimator, max |diff|",
-                                float(np.abs(x - ref.x[-1]).max()), 0.0),
+                                float(np.abs(x - ref.x[:, -1]).max()), 0.0),
         repeats=repeats, per=K1 - 1, unit="step")]
 
     def exact() -> tuple:
-        est = run_estimator(mdl, ya1)  # the gains are data-independent: one run gives them
-        return nb["exact_joint_covariance"](mdl, est.steps)[0], est.P
+        run = guo2023.run_estimator(mdl, ya1)  # the gains are data-independent: one run gives them
+        return guo2023.error_covariance(mdl, run)[0], run.P
 
     def monte_carlo() -> tuple:
-        x, ya = simulate(mdl, d, a, n_mc, seed)
-        est = run_estimator(mdl, ya)
-        err = x.transpose(1, 0, 2)[:, None] - est.x
-        return nb["monte_carlo_covariance"](err), est.P
+        trial = scenarios.simulate(scenarios.scenario("inertia5", "bias", runs=n_mc, horizon=horizon))
+        run = guo2023.run_estimator(mdl, trial.y, keep_steps=False)
+        err = trial.x[:, :, None] - run.x  # (runs, K + 1, N, n)
+        return np.einsum("rkni,rknj->knij", err, err) / n_mc, run.P
 
     z_max = 5.0
 
@@ -240,7 +245,7 @@ def bench_guo2023(repeats: int) -> list[Row]:
                 f"MC rel. error up to {rel.max():.0%}")
 
     rows.append(compare(
-        f"guo2023: true error covariances P^i_k, k = 0..{K1 - 1}, 4 nodes",
+        f"guo2023: true error covariances P^i_k, k = 0..{K1 - 1}, {mdl.N} nodes",
         ("exact joint propagation (1 estimator run)", exact),
         (f"Monte Carlo, {n_mc} runs (simulate + estimate)", monte_carlo),
         agree, repeats=repeats))

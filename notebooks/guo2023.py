@@ -78,12 +78,13 @@ from secest.core import covariance, montecarlo, systems
 from secest.core.estimation import (
     constrained_gain,
     feedthrough_decomposition,
-    fusion_weights,
     ltv_observability_matrix,
     relative_rank,
 )
 from secest.core.validation import ValidationError
+from secest.methods import guo2023 as M
 from secest.repro import plotting, results, spaces
+from secest.repro.literate import show_source
 
 print(results.environment_summary())
 
@@ -314,10 +315,13 @@ print("Pi row sums:", model.Pi.sum(axis=1), f"| min_k |det A_k| = {min_det_A:.3f
 # uncorrelated noises ($T_1RU_2=0$). The row space of $\bar H=[0\;H]$ lies in the $a$-coordinates
 # of $u$, so $V_1=[0;\bullet]$ and $\bar G_1=\bar GV_1=0$ identically: $u_1$ never enters the state
 # equation. This is what the paper's display after (16) says ($\bar G_1M_1T_1=0$, so
-# $\hat A=A$, $\hat Q=Q$). `secest.core.estimation.feedthrough_decomposition` implements the SVD and $T$.
+# $\hat A=A$, $\hat Q=Q$). `secest.core.estimation.feedthrough_decomposition` implements the SVD and $T$
+# (its core, after the argument checks, below); `secest.methods.guo2023.decompositions(model, k)` applies
+# it to every node at step $k$.
 
 # %%
-decs0 = [feedthrough_decomposition(model.Hbar(0)[i], model.R(0)[i]) for i in range(model.N)]
+show_source(feedthrough_decomposition, after="    U, s, Vt = np.linalg.svd(H)")
+decs0 = M.decompositions(model, 0)
 structure = {
     "max |G1|": max(np.abs(model.Gbar(0) @ d.V1).max() for d in decs0),
     "max |T1 R U2|": max(np.abs(d.T1 @ model.R(0)[i] @ d.U2).max() for i, d in enumerate(decs0)),
@@ -375,39 +379,17 @@ for name, val in structure.items():
 # this with $K=\tilde K\Gamma$, and (28) is the closed form (checked below).
 
 
-# %%
-def local_update(A, Q, Gbar, P_prev, x_prev, u1_prev, dec_prev, dec, C, R, ya):
-    """Stage A (steps A1-A14) of node i at step k for a batch of runs.
+# %% [markdown]
+# In `secest.methods.guo2023` the data-independent part of the table (A2-A4, A8-A12, A14) is
+# `local_gains`, and the estimates (A1, A5-A7, A13) are `local_estimate`; both act on stacks of
+# nodes and Monte Carlo runs at once (leading axes), so `_t` is the transpose of the last two
+# axes and `_apply(M, v)` is $Mv$ over them. The gain (28) is `constrained_gain`, the stacked
+# form of `secest.core.estimation.constrained_gain`:
 
-    x_prev, u1_prev, ya hold one row per Monte Carlo run; the returned namespace also holds the
-    matrices of the step (gains, covariances, Xi_breve of (26)) that the checks below reuse.
-    """
-    nx, ny = A.shape[0], C.shape[0]
-    G1, G2 = Gbar @ dec_prev.V1, Gbar @ dec_prev.V2          # (4) at k-1
-    z1, z2 = ya @ dec.T1.T, ya @ dec.U2                       # A1: (5)-(6)
-    C2, R2 = dec.U2.T @ C, dec.U2.T @ R @ dec.U2
-    P_pred = A @ P_prev @ A.T + Q                             # A2: (23)
-    Xi2 = C2 @ P_pred @ C2.T + R2                             # A3: (13)
-    B2 = C2 @ G2
-    Xi2_inv_B2 = np.linalg.solve(Xi2, B2)
-    M2 = np.linalg.solve(B2.T @ Xi2_inv_B2, Xi2_inv_B2.T)     # A4: (13)
-    x_pred = x_prev @ A.T + u1_prev @ G1.T                    # A5: (14) row 3
-    u2 = (z2 - x_pred @ C2.T) @ M2.T                          # A6: (14) row 2
-    x_star = x_pred + u2 @ G2.T                               # A7: (14) row 4
-    J = G2 @ M2 @ dec.U2.T
-    I_JC = np.eye(nx) - J @ C
-    P_star = I_JC @ P_pred @ I_JC.T + G2 @ M2 @ R2 @ M2.T @ G2.T   # A8: (24)
-    S = P_star @ C.T - J @ R                                  # A9: (26)
-    Xi = C @ P_pred @ C.T + R                                 # A10: (13)
-    Theta = np.linalg.solve(Xi, np.eye(ny) - C @ J)           # A11: (30), line 13
-    K = constrained_gain(S, Theta, dec.U1)                    # A12: (28)
-    x_loc = x_star + (ya - x_star @ C.T) @ K.T                # A13: (14) row 5
-    P_loc = covariance.symmetrize(P_star - K @ S.T)           # A14: (29)
-    I_CJ = np.eye(ny) - C @ J
-    return SimpleNamespace(P_pred=P_pred, P_star=P_star, S=S, Xi=Xi, Theta=Theta, K=K, J=J,
-                           M2=M2, B2=B2, G1=G1, G2=G2, u2=u2, x_star=x_star, x_loc=x_loc,
-                           P_loc=P_loc, z1=z1, C=C, R=R, C2=C2, R2=R2, U1=dec.U1, U2=dec.U2,
-                           Xi_breve=I_CJ @ Xi @ I_CJ.T)
+# %%
+show_source(M.local_gains, after="    G1, G2 = Gbar")
+show_source(M.constrained_gain, after="    if U1.shape[-1] == 0:")
+show_source(M.local_estimate, after="    z1, z2 = ")
 
 
 # %% [markdown]
@@ -421,9 +403,10 @@ def local_update(A, Q, Gbar, P_prev, x_prev, u1_prev, dec_prev, dec, C, R, ya):
 # \hat x^i_k=\sum_jW^{i,j}_k\hat x^{j,j}_k\;(21).$$
 #
 # This is covariance intersection with the fixed weights $\pi_{ij}$
-# (`secest.core.covariance.information_fusion`); `secest.core.estimation.fusion_weights` returns the
-# matrix weights $W^{i,j}$ so that (21) applies to all Monte Carlo runs at once and the exact
-# joint error covariance can be propagated. Rows of $\Pi$ sum to one, so $\sum_jW^{i,j}=I$ and
+# (`secest.core.covariance.information_fusion`); `fuse` does it for every node and Monte Carlo run
+# at once, evaluating (21) as $\bar P^i_k\sum_j\pi_{ij}(\bar P^{j,j}_k)^{-1}\hat x^{j,j}_k$, and also
+# returns the matrix weights $W^{i,j}$ (20), with which the exact joint error covariance is
+# propagated below. Rows of $\Pi$ sum to one, so $\sum_jW^{i,j}=I$ and
 # the fused estimate stays unbiased. Then (Algorithm 1 lines 20-21)
 # $\hat u^i_{1,k}=\Sigma_k^{-1}(z_{1,k}-C_{1,k}\hat x^i_k)$ with the **fused** $\hat x^i_k$, and the
 # input estimate of step $k-1$ is assembled as
@@ -431,82 +414,17 @@ def local_update(A, Q, Gbar, P_prev, x_prev, u1_prev, dec_prev, dec, C, R, ya):
 # $[\hat d^i_{k-1};\hat a^i_{k-1}]$. Initialisation (line 1): $\hat x^i_0=\hat x_0$,
 # $\bar P^i_0=P_0$, $\hat u^i_{1,0}=\Sigma_0^{-1}(z_{1,0}-C_{1,0}\hat x_0)$.
 #
-# `estimator_step` below is the full 4-node step (stages A-D) and `run_estimator` the whole
-# run; both are plain functions that the benchmark suite times.
+# `estimator_step` is the full step at every node (stages A-D: the nodes whose matrices have
+# equal shapes are processed as one stack), `initial_state` line 1, and `run_estimator` the
+# whole run; the benchmark suite times them.
 
 
 # %%
-def decompositions(mdl, k):
-    """SVD / output transform of every node at step k."""
-    Hb, Rk = mdl.Hbar(k), mdl.R(k)
-    return [feedthrough_decomposition(Hb[i], Rk[i]) for i in range(mdl.N)]
-
-
-def init_state(mdl, ya0):
-    """Algorithm 1 line 1 for a batch of runs; ya0 has shape (runs, N, ny)."""
-    decs = decompositions(mdl, 0)
-    C0 = mdl.C(0)
-    x = np.tile(mdl.x0_hat, (mdl.N, ya0.shape[0], 1))
-    u1 = [np.linalg.solve(d.Sigma, (ya0[:, i] @ d.T1.T - x[i] @ (d.T1 @ C0[i]).T).T).T
-          for i, d in enumerate(decs)]
-    return SimpleNamespace(k=0, x=x, P=np.tile(mdl.P0, (mdl.N, 1, 1)), u1=u1, decs=decs)
-
-
-def estimator_step(mdl, state, ya):
-    """One step k-1 -> k of the distributed estimator at all N nodes (stages A-D).
-
-    ya: (runs, N, ny) attacked measurements at step k. Returns the new state and the
-    data-independent matrices of the step (gains, fusion weights, the local-update namespaces)
-    for the exact covariances and the checks.
-    """
-    k = state.k + 1
-    N, nx = mdl.N, mdl.nx
-    A, Q, Gbar = mdl.A(k - 1), mdl.Q(k - 1), mdl.Gbar(k - 1)
-    Ck, Rk = mdl.C(k), mdl.R(k)
-    decs = decompositions(mdl, k)
-    loc = [local_update(A, Q, Gbar, state.P[i], state.x[i], state.u1[i], state.decs[i], decs[i],
-                        Ck[i], Rk[i], ya[:, i]) for i in range(N)]          # stage A
-    P_loc = np.array([lc.P_loc for lc in loc])
-    x_loc = np.array([lc.x_loc for lc in loc])                             # stage B: exchange
-    P = np.empty_like(P_loc)
-    W = np.zeros((N, N, nx, nx))
-    for i in range(N):                                                     # stage C
-        nb = np.flatnonzero(mdl.Pi[i])
-        P[i], W[i, nb] = fusion_weights(P_loc[nb], mdl.Pi[i, nb])          # (19)-(20)
-    x = np.einsum("ijab,jrb->ira", W, x_loc)                               # (21)
-    u1, u_hat = [], []
-    for i, d in enumerate(decs):                                           # stage D
-        u1.append(np.linalg.solve(d.Sigma, (loc[i].z1 - x[i] @ (d.T1 @ Ck[i]).T).T).T)
-        dp = state.decs[i]
-        u_hat.append(state.u1[i] @ dp.V1.T + loc[i].u2 @ dp.V2.T)          # u_hat_{k-1}
-    new = SimpleNamespace(k=k, x=x, P=P, u1=u1, decs=decs)
-    info = SimpleNamespace(
-        K=np.array([lc.K for lc in loc]), J=np.array([lc.J for lc in loc]), W=W, P_loc=P_loc,
-        u_hat=np.array(u_hat),
-        KU1=max(float(np.linalg.norm(lc.K @ decs[i].U1)) for i, lc in enumerate(loc)),
-        M2B2=max(float(np.abs(lc.M2 @ lc.B2 - np.eye(lc.B2.shape[1])).max()) for lc in loc),
-        G1=max(float(np.abs(lc.G1).max()) for lc in loc),
-        Wsum=float(np.abs(W.sum(axis=1) - np.eye(nx)).max()),
-        K_max=float(np.abs([lc.K for lc in loc]).max()),
-        x_loc=x_loc, loc=loc, decs=decs,
-    )
-    return new, info
-
-
-def run_estimator(mdl, ya):
-    """Algorithm 1 over ya of shape (runs, K+1, N, ny); returns fused estimates, bounds, inputs."""
-    runs, K1 = ya.shape[0], ya.shape[1]
-    state = init_state(mdl, ya[:, 0])
-    x = np.empty((K1, mdl.N, runs, mdl.nx))
-    P = np.empty((K1, mdl.N, mdl.nx, mdl.nx))
-    x[0], P[0] = state.x, state.P
-    steps = []
-    for k in range(1, K1):
-        state, info = estimator_step(mdl, state, ya[:, k])
-        x[k], P[k] = state.x, state.P
-        steps.append(info)
-    return SimpleNamespace(x=x, P=P, steps=steps, u_hat=np.array([s.u_hat for s in steps]),
-                           decs0=decompositions(mdl, 0))
+show_source(M.fuse, after="    N, n = P_loc.shape[-3]")
+show_source(M.input_one, after="    return np.linalg.solve")
+show_source(M.initial_state, after="    struct = _structure")
+show_source(M.estimator_step, after="    k = state.k + 1")
+show_source(M.run_estimator, after="    per_run = link is not None")
 
 
 # %% [markdown]
@@ -592,56 +510,37 @@ def simulate(mdl, d, a, n_runs, root_seed, spread=1.0):
 # paper's Fig. 1 is fixed by the example, whatever signals the paper used.
 
 
+# %% [markdown]
+# The joint propagation is `secest.methods.guo2023.error_covariance` (ours, not the paper's: it
+# reads the gains $K$, $J$ and weights $W$ that `run_estimator` keeps); the input covariances
+# follow in the notebook.
+
 # %%
-def exact_joint_covariance(mdl, steps, spread=1.0):
-    """True covariances of the fused errors P^i_k (K+1, N, nx, nx), of the local ones (K, ...),
-    and the noise gains Psi^i_k (K, N, nx, ny)."""
-    N, nx = mdl.N, mdl.nx
-    Sig = spread ** 2 * np.kron(np.ones((N, N)), mdl.P0)
-    P = np.empty((len(steps) + 1, N, nx, nx))
-    P_loc = np.empty((len(steps), N, nx, nx))
-    Psi_all = np.empty((len(steps), N, nx, mdl.ny))
-
-    def blocks(S):
-        return np.array([S[i * nx:(i + 1) * nx, i * nx:(i + 1) * nx] for i in range(N)])
-
-    P[0] = blocks(Sig)
-    eye = np.eye(nx)
-    for k, st in enumerate(steps, start=1):
-        A, Q, Ck, Rk = mdl.A(k - 1), mdl.Q(k - 1), mdl.C(k), mdl.R(k)
-        IKC = [eye - st.K[i] @ Ck[i] for i in range(N)]
-        Phi = [IKC[i] @ (eye - st.J[i] @ Ck[i]) for i in range(N)]
-        Psi = [IKC[i] @ st.J[i] + st.K[i] for i in range(N)]
-        F = sla.block_diag(*[Ph @ A for Ph in Phi])
-        Phi_col = np.vstack(Phi)
-        S_loc = (F @ Sig @ F.T + Phi_col @ Q @ Phi_col.T
-                 + sla.block_diag(*[Psi[i] @ Rk[i] @ Psi[i].T for i in range(N)]))
-        W = st.W.transpose(0, 2, 1, 3).reshape(N * nx, N * nx)
-        Sig = covariance.symmetrize(W @ S_loc @ W.T)
-        P[k], P_loc[k - 1], Psi_all[k - 1] = blocks(Sig), blocks(S_loc), np.array(Psi)
-    return P, P_loc, Psi_all
+show_source(M.error_covariance, after="    N, nx = int(mdl.N)")
 
 
-def exact_input_covariance(mdl, est, P, Psi):
+def input_covariance_step(g, dp, Pp, X, A, Q, C_prev, R_prev):
+    """cov of u_hat_{k-1} - u_{k-1} of one node: LocalGains g of step k, SVD dp at k-1."""
+    C1, T1, S_inv = dp.T1 @ C_prev, dp.T1, np.linalg.inv(dp.Sigma)
+    B = g.C2 @ A
+    c11 = S_inv @ (C1 @ Pp @ C1.T + T1 @ R_prev @ T1.T + C1 @ X @ T1.T + T1 @ X.T @ C1.T) @ S_inv.T
+    c22 = g.M2 @ (B @ Pp @ B.T + g.C2 @ Q @ g.C2.T + g.R2) @ g.M2.T
+    c12 = S_inv @ (C1 @ Pp + T1 @ X.T) @ B.T @ g.M2.T
+    V = np.hstack([dp.V1, dp.V2])
+    return V @ np.block([[c11, c12], [c12.T, c22]]) @ V.T
+
+
+def exact_input_covariance(mdl, run, P, Psi):
     """Covariance of the input-estimate errors u_hat^i_{k-1} - u_{k-1}, k = 1..K: (K, N, nu, nu)."""
-    K = len(est.steps)
+    K = len(run.gains)
     out = np.empty((K, mdl.N, mdl.nu, mdl.nu))
     for k in range(1, K + 1):
-        st, A, Q = est.steps[k - 1], mdl.A(k - 1), mdl.Q(k - 1)
-        decs_prev = est.decs0 if k == 1 else est.steps[k - 2].decs
-        C_prev, R_prev = mdl.C(k - 1), mdl.R(k - 1)
+        decs_prev, C_prev, R_prev = M.decompositions(mdl, k - 1), mdl.C(k - 1), mdl.R(k - 1)
         for i in range(mdl.N):
-            lc, dp, Pp = st.loc[i], decs_prev[i], P[k - 1, i]
             X = (np.zeros((mdl.nx, mdl.ny)) if k == 1
-                 else -est.steps[k - 2].W[i, i] @ Psi[k - 2, i] @ R_prev[i])
-            C1, T1, S_inv = dp.T1 @ C_prev[i], dp.T1, np.linalg.inv(dp.Sigma)
-            B = lc.C2 @ A
-            c11 = S_inv @ (C1 @ Pp @ C1.T + T1 @ R_prev[i] @ T1.T + C1 @ X @ T1.T
-                           + T1 @ X.T @ C1.T) @ S_inv.T
-            c22 = lc.M2 @ (B @ Pp @ B.T + lc.C2 @ Q @ lc.C2.T + lc.R2) @ lc.M2.T
-            c12 = S_inv @ (C1 @ Pp + T1 @ X.T) @ B.T @ lc.M2.T
-            V = np.hstack([dp.V1, dp.V2])
-            out[k - 1, i] = V @ np.block([[c11, c12], [c12.T, c22]]) @ V.T
+                 else -run.W[k - 2, i, i] @ Psi[k - 2, i] @ R_prev[i])
+            out[k - 1, i] = input_covariance_step(run.gains[k - 1][i], decs_prev[i], P[k - 1, i], X,
+                                                  mdl.A(k - 1), mdl.Q(k - 1), C_prev[i], R_prev[i])
     return out
 
 
@@ -666,6 +565,26 @@ def bound_ratio(P_bar, P):
 
 
 # %%
+def node_major(run):
+    """The run record's estimates as (K+1, N, runs, nx) and input estimates as (K, N, runs, nu)."""
+    return (np.ascontiguousarray(run.x.transpose(1, 2, 0, 3)),
+            np.ascontiguousarray(np.stack(run.u_hat).transpose(2, 0, 1, 3)))
+
+
+def signal_gaps(case, sims, u_s, x_all, u_all, n_runs, n_sub):
+    """Change of the state and input-estimate errors with each other signal set, same noise."""
+    u = np.column_stack(case.sets["chosen"])
+    for j, (name, (x_s, _)) in enumerate(sims.items()):
+        runs = slice(n_runs + j * n_sub, n_runs + (j + 1) * n_sub)
+        err_s = x_s.transpose(1, 0, 2)[:, None] - x_all[:, :, runs]
+        u_err_s = u_s[name][:-1, None, None, :] - u_all[:, :, runs]
+        case.gaps[name] = {
+            "state": float(np.abs(err_s - case.err[:, :, :n_sub]).max()),
+            "input": float(np.abs(u_err_s - case.u_err[:, :, :n_sub]).max()),
+            "scale": float(max(1.0, np.abs(x_s).max(), np.abs(case.x[:n_sub]).max(),
+                               np.abs(u_s[name]).max(), np.abs(u).max()))}
+
+
 def run_case(mdl, sets, noise, spread, n_sub):
     """Estimator on the chosen signals (all runs) and on every other set (first n_sub runs).
 
@@ -678,35 +597,33 @@ def run_case(mdl, sets, noise, spread, n_sub):
     sub, others = first_runs(noise, n_sub), [name for name in sets if name != "chosen"]
     u_s = {name: np.column_stack(sets[name]) for name in others}
     sims = {name: propagate(mdl, u_s[name], sub, spread) for name in others}
-    est_all = run_estimator(mdl, np.concatenate([ya] + [sims[name][1] for name in others]))
-    est = SimpleNamespace(**{**vars(est_all), "x": est_all.x[:, :, :n_runs],
-                             "u_hat": est_all.u_hat[:, :, :n_runs]})
+    run = M.run_estimator(mdl, np.concatenate([ya] + [sims[name][1] for name in others]))
+    x_all, u_all = node_major(run)
+    est = SimpleNamespace(x=x_all[:, :, :n_runs], u_hat=u_all[:, :, :n_runs], P=run.P)
     err = x.transpose(1, 0, 2)[:, None] - est.x                 # (K+1, N, runs, nx)
     u_err = u[:-1, None, None, :] - est.u_hat                    # (K, N, runs, nu)
-    P, P_loc, Psi = exact_joint_covariance(mdl, est.steps, spread)
-    case = SimpleNamespace(mdl=mdl, x=x, est=est, err=err, u_err=u_err, P_exact=P, P_loc_exact=P_loc,
-                           U_exact=exact_input_covariance(mdl, est, P, Psi), gaps={})
-    for j, name in enumerate(others):
-        runs = slice(n_runs + j * n_sub, n_runs + (j + 1) * n_sub)
-        x_s = sims[name][0]
-        err_s = x_s.transpose(1, 0, 2)[:, None] - est_all.x[:, :, runs]
-        u_err_s = u_s[name][:-1, None, None, :] - est_all.u_hat[:, :, runs]
-        case.gaps[name] = {
-            "state": float(np.abs(err_s - err[:, :, :n_sub]).max()),
-            "input": float(np.abs(u_err_s - u_err[:, :, :n_sub]).max()),
-            "scale": float(max(1.0, np.abs(x_s).max(), np.abs(x[:n_sub]).max(),
-                               np.abs(u_s[name]).max(), np.abs(u).max()))}
+    P, P_loc, Psi = M.error_covariance(mdl, run, spread=spread)
+    case = SimpleNamespace(mdl=mdl, sets=sets, x=x, run=run, est=est, err=err, u_err=u_err, P_exact=P,
+                           P_loc_exact=P_loc, U_exact=exact_input_covariance(mdl, run, P, Psi), gaps={})
+    signal_gaps(case, sims, u_s, x_all, u_all, n_runs, n_sub)
     return case
+
+
+def step_checks(run):
+    """Round-off checks of a run: max ||K U1||, max |K|, max |sum_j W^ij - I|, |M2 B2 - I|, |G1|."""
+    return {"KU1": float(run.checks["KU1"].max()), "K_max": float(np.abs(run.K).max()),
+            "Wsum": float(np.abs(run.W.sum(axis=2) - np.eye(run.W.shape[-1])).max()),
+            "M2B2": float(run.checks["M2B2"].max()), "G1": float(run.checks["G1"].max())}
 
 
 noise = draw_noise(model, n_steps, n_mc, seed)
 ex = run_case(model, signal_sets, noise, x0_spread, n_invariance)
 x_true, est, err, u_err = ex.x, ex.est, ex.err, ex.u_err
 u_true = np.stack([d_true, a_true], axis=-1)[:-1]        # u_0..u_{K-1}
-print("max |K U1| =", f"{max(s.KU1 for s in est.steps):.1e}", "| max |K| =",
-      f"{max(s.K_max for s in est.steps):.1e}", "| max |sum_j W^ij - I| =",
-      f"{max(s.Wsum for s in est.steps):.1e}", "| max |M2 B2 - I| =",
-      f"{max(s.M2B2 for s in est.steps):.1e}", "| max |G1| =", f"{max(s.G1 for s in est.steps):.1e}")
+checks_ex = step_checks(ex.run)
+print("max |K U1| =", f"{checks_ex['KU1']:.1e}", "| max |K| =", f"{checks_ex['K_max']:.1e}",
+      "| max |sum_j W^ij - I| =", f"{checks_ex['Wsum']:.1e}", "| max |M2 B2 - I| =",
+      f"{checks_ex['M2B2']:.1e}", "| max |G1| =", f"{checks_ex['G1']:.1e}")
 
 # %% [markdown]
 # **The example makes the local update void (E6).** Here $n_y-p=1=n_u-p$: $z_2$ is a scalar
@@ -719,15 +636,14 @@ print("max |K U1| =", f"{max(s.KU1 for s in est.steps):.1e}", "| max |K| =",
 # `secest.core.covariance.information_fusion` on run 0 of the last step:
 
 # %%
-last = est.steps[-1]
 fusion_gap = 0.0
 for i in range(model.N):
     nb = np.flatnonzero(model.Pi[i])
     x_ci, P_ci = covariance.information_fusion(
-        [last.x_loc[j, 0] for j in nb], [last.P_loc[j] for j in nb], model.Pi[i, nb])
+        [ex.run.x_loc[0, -1, j] for j in nb], [ex.run.P_loc[-1, j] for j in nb], model.Pi[i, nb])
     fusion_gap = max(fusion_gap, np.abs(x_ci - est.x[-1, i, 0]).max(),
                      np.abs(P_ci - est.P[-1, i]).max())
-print(f"(19)-(21) via fusion_weights vs secest.core.covariance.information_fusion: {fusion_gap:.1e}")
+print(f"(19)-(21) via fuse vs secest.core.covariance.information_fusion: {fusion_gap:.1e}")
 # %% [markdown]
 # ## Consistency (Theorem 1)
 #
@@ -749,7 +665,7 @@ print(f"(19)-(21) via fusion_weights vs secest.core.covariance.information_fusio
 def consistency(case):
     """Exact and Monte Carlo consistency measures of one case (k >= 1)."""
     est, err, n_runs = case.est, case.err, case.err.shape[2]
-    P_loc_bar = np.array([s.P_loc for s in est.steps])
+    P_loc_bar = case.run.P_loc
     nees = montecarlo.nees(err, est.P[:, :, None])[1:]          # (K, N, runs)
     per_run = nees.mean(axis=(0, 1)) / case.mdl.nx
     lo, hi = montecarlo.mean_interval(per_run, level=0.95)
@@ -808,8 +724,8 @@ def unbiasedness(case):
         "n_z_tests": int(z_scores.size),
         "decoupling_gap_zero_signals": max(case.gaps["zero"]["state"], case.gaps["zero"]["input"]),
         "relative_gap_zero_signals": rel["zero"],
-        "max_KU1": max(s.KU1 for s in case.est.steps),
-        "max_abs_K": max(s.K_max for s in case.est.steps),
+        "max_KU1": step_checks(case.run)["KU1"],
+        "max_abs_K": step_checks(case.run)["K_max"],
         "relative_gap": rel,
     }
 
@@ -900,8 +816,8 @@ display(Markdown(
 # %%
 def bounded_run(mdl, n_steps, spread):
     """P_bar and the exact P over a long horizon (gains and bounds do not depend on the data)."""
-    est_b = run_estimator(mdl, np.zeros((1, n_steps + 1, mdl.N, mdl.ny)))
-    return est_b.P, exact_joint_covariance(mdl, est_b.steps, spread)[0]
+    run_b = M.run_estimator(mdl, np.zeros((1, n_steps + 1, mdl.N, mdl.ny)))
+    return run_b.P, M.error_covariance(mdl, run_b, spread=spread)[0]
 
 
 P_bar_b, P_exact_b = bounded_run(model, n_steps_bound, x0_spread)
@@ -922,7 +838,7 @@ for name, val in c3.items():
 #
 # In the example $K\equiv0$, so the example cannot test the gain. We draw random general instances
 # (all dimensions as in the paper's setting, $n_y\ge n_u$, with generic $R$ so that
-# $T_1\ne U_1^T$), run the local update above on them, and compare the closed form (28) with
+# $T_1\ne U_1^T$), run `local_gains` (above) on them, and compare the closed form (28) with
 #
 # * an independent **KKT linear solve**: stationarity of the Lagrangian of
 #   $\min_K \operatorname{tr}(K\breve\Xi K^T-KS^T-SK^T)$ s.t. $KU_1=0$ gives, row by row,
@@ -964,8 +880,14 @@ def random_instance(rng, nx, ny, nd, na):
     Lp = rng.standard_normal((nx, nx))
     P = Lp @ Lp.T / nx + 0.1 * np.eye(nx)
     dec = feedthrough_decomposition(Hbar, R)
-    return local_update(A, Q, Gbar, P, np.zeros((1, nx)), np.zeros((1, dec.rank)), dec, dec, C, R,
-                        np.zeros((1, ny)))
+    return lemma_case(M.local_gains(A, Q, Gbar, P, dec, dec, C, R), C, R, dec.U1)
+
+
+def lemma_case(g, C, R, U1):
+    """One local step for the Lemma checks: the library's LocalGains g with C, R, U_1 and
+    Xi_breve = (I - C J) Xi_bar (I - C J)^T of (26)."""
+    I_CJ = np.eye(C.shape[0]) - C @ g.J
+    return SimpleNamespace(**g._asdict(), C=C, R=R, U1=U1, Xi_breve=I_CJ @ g.Xi @ I_CJ.T)
 
 
 def P_full(lc, K):
@@ -1149,7 +1071,7 @@ display(Markdown(
 # %%
 window = 6
 starts = range(0, n_steps - window + 2)
-decs_k = [decompositions(model, k) for k in range(n_steps + 1)]
+decs_k = [M.decompositions(model, k) for k in range(n_steps + 1)]
 
 
 def C2_of(k, i):
@@ -1223,7 +1145,7 @@ def nondegenerate_model(variant_seed: int) -> SimpleNamespace:
 
 def min_C2G2(mdl, n_steps):
     """min over k and nodes of the smallest singular value of C_{2,k} G_{2,k-1} ((13) solvable)."""
-    decs = [decompositions(mdl, k) for k in range(n_steps + 1)]
+    decs = [M.decompositions(mdl, k) for k in range(n_steps + 1)]
     return min(np.linalg.svd(decs[k][i].U2.T @ mdl.C(k)[i] @ mdl.Gbar(k - 1) @ decs[k - 1][i].V2,
                              compute_uv=False).min()
                for k in range(1, n_steps + 1) for i in range(mdl.N))
@@ -1236,21 +1158,22 @@ if variant_cg < 1e-6:
                           f"value {variant_cg:.1e}), so (13) has no solution; choose another seed")
 nd = run_case(variant, signal_sets, draw_noise(variant, n_steps, n_mc, seed), x0_spread, n_invariance)
 c1_nd, c2_nd = consistency(nd), unbiasedness(nd)
-K_last = len(nd.est.steps)
+K_last = len(nd.run.gains)
 lemma_steps = np.unique(np.linspace(1, K_last, min(K_last, 50)).round().astype(int))
 cvx_steps = {int(lemma_steps[0]), int(lemma_steps[len(lemma_steps) // 2]), int(lemma_steps[-1])}
 var_rng = np.random.default_rng(np.random.SeedSequence(variant_seed).spawn(1)[0])
-rows_nd = [lemma_row(nd.est.steps[k - 1].loc[i], var_rng, k in cvx_steps)
+rows_nd = [lemma_row(lemma_case(nd.run.gains[k - 1][i], variant.C(k)[i], variant.R(k)[i],
+                                M.decompositions(variant, k)[i].U1), var_rng, k in cvx_steps)
            for k in lemma_steps for i in range(variant.N)]
-c2_nd["max_KHbar"] = max(float(np.abs(st.K[i] @ variant.Hbar(k)[i]).max())
-                         for k, st in enumerate(nd.est.steps, start=1) for i in range(variant.N))
+c2_nd["max_KHbar"] = max(float(np.abs(K[i] @ variant.Hbar(k)[i]).max())
+                         for k, K in enumerate(nd.run.K, start=1) for i in range(variant.N))
 c2_nd["min_KU1_unconstrained"] = float(column(rows_nd, "KU1_unc").min())
 c5_nd = {**lemma_measures(rows_nd), "max_abs_K": float(column(rows_nd, "K_max").max()),
          "n_cvxpy": len(cvx_steps) * variant.N}
 T1RU2_nd = max(float(np.abs(d.T1 @ variant.R(0)[i] @ d.U2).max())
-               for i, d in enumerate(decompositions(variant, 0)))
+               for i, d in enumerate(M.decompositions(variant, 0)))
 rho_nd = bound_ratio(nd.est.P[1:], nd.P_exact[1:])
-K_norm_nd = np.array([[np.linalg.norm(st.K[i]) for i in range(variant.N)] for st in nd.est.steps])
+K_norm_nd = np.array([[np.linalg.norm(K[i]) for i in range(variant.N)] for K in nd.run.K])
 
 
 def pair_row(label, a, b, fmt=".2e"):
@@ -1612,9 +1535,10 @@ claims["C5_nd"] = results.claim(
     measured=c5_nd, threshold={"KU1": 1e-10, "rel_gap": 1e-9, "eq29": 1e-10}, holds=c5_holds(c5_nd),
     source="Sec. III-D, Lemmas 1-2, (26)-(30)", key="max_rel_gap_kkt", tolerance=CVX_TOL,
     section="A non-degenerate variant: the design at work ($K\\ne0$)")
-c6 = {"max_abs_G1": max(s.G1 for s in est.steps + nd.est.steps),
-      "max_M2B2_minus_I": max(s.M2B2 for s in est.steps + nd.est.steps),
-      "max_sumW_minus_I": max(s.Wsum for s in est.steps + nd.est.steps),
+checks_nd = step_checks(nd.run)
+c6 = {"max_abs_G1": max(checks_ex["G1"], checks_nd["G1"]),
+      "max_M2B2_minus_I": max(checks_ex["M2B2"], checks_nd["M2B2"]),
+      "max_sumW_minus_I": max(checks_ex["Wsum"], checks_nd["Wsum"]),
       **structure, "max |T1 R U2| variant": T1RU2_nd, "A_expm": A_expm_err,
       "fusion_vs_information_fusion": fusion_gap}
 c6["max_deviation"] = max(c6["max_abs_G1"], c6["max_M2B2_minus_I"], c6["max_sumW_minus_I"],

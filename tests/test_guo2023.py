@@ -1,10 +1,11 @@
 """guo2023: papermill fast-mode executions; measured values, identities and verdict consistency.
 
-Three executions: the default point (figures off), the same seeds with the other two declared signal
-shapes (every error must be identical; a perturbation point, so the execution is shared with
-tests/test_notebooks.py, and where the figure data are checked), and a malformed signal (rejected
-before any estimate). The list form of a signal parameter is checked on the notebook's own
-``signal`` function. The committed robustness table is checked against the committed claims.
+Three executions: the default point with ``d_signal`` given as its list of samples (the list form of
+a signal parameter: its figure data must be the committed ones), the same seeds with the other two
+declared signal shapes (every error must be identical; a perturbation point, so the execution is
+shared with tests/test_notebooks.py, and where the figure data are checked), and a malformed signal
+(rejected before any estimate). The committed robustness table is checked against the committed
+claims.
 """
 
 from __future__ import annotations
@@ -15,9 +16,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import bench_harness, perturbation_point
+from conftest import perturbation_point
 
-from secest.core.validation import ValidationError
 from secest.repro import spaces
 from secest.repro.results import declared_parameters, headline_value, point_verdict, repo_root
 from secest.repro.run import execute_notebook
@@ -25,11 +25,14 @@ from secest.repro.run import execute_notebook
 ROOT = repo_root()
 FIG = ROOT / "figures" / "guo2023"
 OTHER = {"d_signal": "sign(sin(0.04*k))", "a_signal": "1 - exp(-0.03*k)"}  # the other declared shapes
+# the default d_signal, sin(0.05*k), as the list of its samples k = 0..n_steps
+D_SAMPLES = np.sin(0.05 * np.arange(int(declared_parameters("guo2023")["n_steps"]) + 1)).tolist()
 
 
 @pytest.fixture(scope="module")
 def claims(run_notebook):
-    return run_notebook("guo2023", figures=False)
+    """The default point (fast mode: fewer random Lemma instances), d_signal given as samples."""
+    return run_notebook("guo2023", d_signal=D_SAMPLES)
 
 
 @pytest.fixture(scope="module")
@@ -201,15 +204,21 @@ def test_figures_and_data_written(claims_other_signals) -> None:
     assert np.abs((d_hat - d[:, None]).mean(axis=0)).max() < 0.05  # run 0 tracks d without bias
 
 
-def test_a_signal_given_as_samples_is_taken_as_it_is() -> None:
-    """The list form of a signal parameter (the executions above use expressions), on the
-    notebook's own ``signal`` function; a random expression is reproducible by its seed."""
-    signal = bench_harness().notebook_definitions("guo2023", "signal", n_steps=4)["signal"]
-    samples = [1.0, -1.0, 0.5, 0.0, 2.0]
-    np.testing.assert_array_equal(signal("d_signal", samples, 4), samples)
-    np.testing.assert_array_equal(signal("a_signal", "5*randn(9)", 4), signal("a_signal", "5*randn(9)", 4))
-    with pytest.raises(ValidationError, match="parameter d_signal: a list of samples needs n_steps"):
-        signal("d_signal", samples[:-1], 4)
+def _csv(path: Path) -> list[dict[str, str]]:
+    with path.open() as fh:
+        return list(csv.DictReader(fh))
+
+
+def test_a_signal_given_as_samples_is_taken_as_it_is(claims) -> None:
+    """The list form of d_signal: Fig. 1's data are the committed ones (made from the expression
+    sin(0.05*k)), d exactly and the estimates within the declared tolerance."""
+    stem = "fig1_input_attack_estimates.csv"
+    mine, committed = _csv(Path(claims["_fig_dir"]) / stem), _csv(FIG / stem)
+    assert [r["d"] for r in mine] == [r["d"] for r in committed]
+    np.testing.assert_allclose([float(r["d"]) for r in mine], D_SAMPLES[:-1], rtol=1e-10, atol=1e-12)
+    for name in mine[0]:
+        np.testing.assert_allclose([float(r[name]) for r in mine], [float(r[name]) for r in committed],
+                                   rtol=1e-9, atol=1e-12, err_msg=name)
 
 
 def test_malformed_signal_is_rejected_naming_the_parameter(tmp_path: Path) -> None:

@@ -1,56 +1,189 @@
-"""guo2023 in the arena (secest.methods.guo2023): equivalence with the notebook, the arena method."""
+"""guo2023's algorithm (secest.methods.guo2023): unit tests on the paper's Section V example, the
+arena method (secest.arena.papers.guo2023)."""
 
 from __future__ import annotations
 
+import csv
+import json
 from dataclasses import replace
 
 import numpy as np
 import pytest
-from conftest import bench_harness
+from conftest import repo_root
 
 import secest.arena.papers  # noqa: F401  (registers the methods)
 from secest.arena import scenarios
 from secest.arena.estimators import METHODS
 from secest.arena.papers import guo2023 as arena_guo2023
+from secest.core import covariance
+from secest.core.estimation import constrained_gain as constrained_gain_2d
+from secest.core.estimation import feedthrough_decomposition
 from secest.core.validation import ValidationError
 from secest.methods import guo2023
+
+FIG = repo_root() / "figures" / "guo2023"
 
 
 def _rel(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.abs(a - b).max() / np.abs(b).max())
 
 
+def _columns(stem: str) -> dict[str, np.ndarray]:
+    """The committed figure data figures/guo2023/<stem>.csv, column by column."""
+    with (FIG / f"{stem}.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    return {name: np.array([float(r[name]) for r in rows]) for name in rows[0]}
+
+
+def section_v_model(h: float = 0.1) -> guo2023.GuoModel:
+    """The example of Sec. V as printed (the notebook's ``example_model``): 3 states, d and a
+    scalar, 4 nodes with 2 outputs, ring 1-2-3-4-1 with weights 1/3."""
+    G = np.array([[0.1], [0.2], [0.1]])
+    H = np.array([[[0.1], [0.1]], [[0.1], [0.2]], [[0.2], [0.1]], [[0.2], [0.2]]])
+    Gbar = np.hstack([G, np.zeros((3, 1))])
+    Hbar = np.concatenate([np.zeros((4, 2, 1)), H], axis=2)
+
+    def A(k: int) -> np.ndarray:
+        e = np.sin(k * h) - np.sin(k * h - h)
+        Ak = np.zeros((3, 3))
+        Ak[0, 0] = Ak[2, 2] = np.exp(-h + e)
+        Ak[1, 0] = 2.0 * np.sinh(0.5 * h) * np.exp(-1.5 * h + e)
+        Ak[1, 1] = np.exp(-2.0 * h + e)
+        return Ak
+
+    def C(k: int) -> np.ndarray:
+        s, c = np.sin(k * h), np.cos(k * h)
+        return np.array([[[1.0, 0, 2], [0, s, 0]], [[0.0, 0, 0], [0, 1, 0]],
+                         [[0.0, 0, 1], [0, 0, 0]], [[c, 1.5, 0], [0, 0, 0]]])
+
+    return guo2023.GuoModel(
+        nx=3, N=4, A=A, Q=lambda k: 1e-4 * np.eye(3), C=C, R=lambda k: np.stack([1e-4 * np.eye(2)] * 4),
+        Gbar=lambda k: Gbar, Hbar=lambda k: Hbar,
+        Pi=np.array([[1, 1, 0, 1], [1, 1, 1, 0], [0, 1, 1, 1], [1, 0, 1, 1]]) / 3.0,
+        x0_hat=np.zeros(3), P0=0.01 * np.eye(3))
+
+
 @pytest.fixture(scope="module")
-def notebook_run():
-    """The notebook's own functions on its Section V example (20 runs, 200 steps) and ours.
-
-    The notebook's ``example_model``, ``signal``, ``simulate`` and ``run_estimator`` are taken by
-    name (``notebook_definitions``: only those definitions and what they read are executed).
-    """
-    ns = bench_harness().notebook_definitions("guo2023", "example_model", "signal", "simulate",
-                                         "run_estimator", mode="fast")
-    model, n = ns["example_model"](), ns["n_steps"]
-    d = ns["signal"]("d_signal", ns["d_signal"], n)
-    a = ns["signal"]("a_signal", ns["a_signal"], n)
-    assert np.abs(a).max() > 0  # the attack is on: the comparison covers the attacked path
-    _, ya = ns["simulate"](model, d, a, 20, ns["seed"])
-    return ns["run_estimator"](model, ya), guo2023.run_estimator(model, ya)
+def example_run():
+    """The estimator on the example, 200 steps, 3 runs of random measurements (the bounds, gains
+    and weights do not depend on the data)."""
+    mdl = section_v_model()
+    ya = np.random.default_rng(5).standard_normal((3, 201, 4, 2))
+    return mdl, ya, guo2023.run_estimator(mdl, ya)
 
 
-def test_estimator_equals_the_notebook_on_the_paper_example(notebook_run) -> None:
-    est, mine = notebook_run
-    steps = est.steps
-    assert _rel(mine.x.transpose(1, 2, 0, 3), est.x) <= 1e-10  # notebook: (K+1, N, runs, n)
-    assert _rel(mine.P, est.P) <= 1e-10
-    assert _rel(np.stack(mine.u_hat).transpose(2, 0, 1, 3), est.u_hat) <= 1e-10
-    assert _rel(mine.W, np.array([s.W for s in steps])) <= 1e-10
-    assert _rel(mine.J, np.array([s.J for s in steps])) <= 1e-10
-    assert _rel(mine.P_loc, np.array([s.P_loc for s in steps])) <= 1e-10
-    assert _rel(mine.x_loc.transpose(1, 2, 0, 3), np.array([s.x_loc for s in steps])) <= 1e-10
-    # the example's gain is zero to round-off (E6): compare absolutely
-    assert np.abs(mine.K - np.array([s.K for s in steps])).max() <= 1e-12
-    assert mine.checks["KU1"].max() <= 1e-12 and mine.checks["M2B2"].max() <= 1e-12
-    assert mine.checks["G1"].max() == 0.0
+def test_bounds_and_exact_covariances_are_the_committed_ones(example_run) -> None:
+    """P_bar (Fig. 2's bands, extra_consistency's tr P_bar) and the exact tr P of error_covariance
+    (x0_spread = 1) against figures/guo2023, written with 11 significant digits."""
+    mdl, _, run = example_run
+    assert run.P.shape == (201, 4, 3, 3)
+    fig2 = _columns("fig2_states_estimates")
+    for i in range(4):
+        for c in range(3):
+            np.testing.assert_allclose(np.sqrt(run.P[:, i, c, c]), fig2[f"sd_bound_node{i + 1}[{c}]"],
+                                       rtol=1e-9, atol=1e-12)
+    P, P_loc, Psi = guo2023.error_covariance(mdl, run, spread=1.0)
+    assert P.shape == (201, 4, 3, 3) and P_loc.shape == (200, 4, 3, 3) and Psi.shape == (200, 4, 3, 2)
+    cons = _columns("extra_consistency")
+    for i in range(4):
+        np.testing.assert_allclose(np.trace(run.P[1:, i], axis1=-2, axis2=-1), cons[f"tr_P_bar[{i}]"],
+                                   rtol=1e-9, atol=1e-12)
+        np.testing.assert_allclose(np.trace(P[1:, i], axis1=-2, axis2=-1), cons[f"tr_P_exact[{i}]"],
+                                   rtol=1e-9, atol=1e-12)
+    # Theorem 1 as measured (C1): P_bar - P >= 0 with the committed smallest eigenvalue
+    c1 = json.loads((FIG / "claims.json").read_text())["C1"]["measured"]
+    assert covariance.min_eig(run.P[1:] - P[1:]).min() == pytest.approx(
+        c1["min_eig_Pbar_minus_P_k_ge_1"], rel=1e-6)
+
+
+def test_structure_of_the_example(example_run) -> None:
+    """E6: K == 0 in the example; (10) M_bar_2 B_2 = I; G_bar_1 = 0; sum_j W^ij = I (20)."""
+    _, _, run = example_run
+    assert run.K.shape == run.J.shape == (200, 4, 3, 2) and run.W.shape == (200, 4, 4, 3, 3)
+    assert np.abs(run.K).max() < 1e-12
+    assert run.checks["KU1"].shape == (200, 4) and run.checks["KU1"].max() < 1e-12
+    assert run.checks["M2B2"].max() < 1e-12 and run.checks["G1"].max() == 0.0
+    assert np.abs(run.W.sum(axis=2) - np.eye(3)).max() < 1e-12
+    assert np.all(run.W[:, 0, 2] == 0)  # nodes 1 and 3 are not neighbours
+    assert len(run.gains) == 200 and len(run.gains[0]) == 4
+    g = run.gains[-1][2]
+    np.testing.assert_array_equal(g.K, run.K[-1, 2])
+    np.testing.assert_array_equal(g.P_loc, run.P_loc[-1, 2])
+    # (29) and (26): P_loc = P* - K S^T, S = P* C^T - J R
+    C, R = section_v_model().C(200)[2], 1e-4 * np.eye(2)
+    np.testing.assert_allclose(g.S, g.P_star @ C.T - g.J @ R, rtol=1e-12, atol=1e-18)
+    np.testing.assert_allclose(g.P_loc, covariance.symmetrize(g.P_star - g.K @ g.S.T), atol=1e-18)
+
+
+def test_fusion_is_information_fusion(example_run) -> None:
+    """(19)-(21) of every node against secest.core.covariance.information_fusion."""
+    mdl, _, run = example_run
+    for i in range(4):
+        nb = np.flatnonzero(mdl.Pi[i])
+        for r in range(3):
+            x_ci, P_ci = covariance.information_fusion(
+                [run.x_loc[r, -1, j] for j in nb], [run.P_loc[-1, j] for j in nb], mdl.Pi[i, nb])
+            np.testing.assert_allclose(run.x[r, -1, i], x_ci, rtol=1e-10, atol=1e-14)
+            np.testing.assert_allclose(run.P[-1, i], P_ci, rtol=1e-10, atol=1e-16)
+    P, W, x = guo2023.fuse(run.P_loc[-1], mdl.Pi, np.broadcast_to(run.x_loc[:, -1, None], (3, 4, 4, 3)))
+    np.testing.assert_allclose(x, np.einsum("ijab,rjb->ria", W, run.x_loc[:, -1]), rtol=1e-10, atol=1e-14)
+    np.testing.assert_array_equal(P, run.P[-1])
+
+
+def test_input_estimates_and_their_layout(example_run) -> None:
+    """u_hat_1 = Sigma^-1 (z_1 - C_1 x_hat) (lines 20-21) with the fused estimate; u_hat in the run."""
+    mdl, ya, run = example_run
+    assert len(run.u1) == len(run.u_hat) == 4
+    assert run.u1[0].shape == (3, 201, 1) and run.u_hat[0].shape == (3, 200, 2)
+    decs = guo2023.decompositions(mdl, 7)
+    assert [d.rank for d in decs] == [1, 1, 1, 1]
+    for i, d in enumerate(decs):
+        z1 = ya[:, 7, i] @ d.T1.T
+        expected = (z1 - run.x[:, 7, i] @ (d.T1 @ mdl.C(7)[i]).T) / d.Sigma[0, 0]
+        np.testing.assert_allclose(run.u1[i][:, 7], expected, rtol=1e-10, atol=1e-12)
+        # u_hat_{k-1} = V_1 u_hat_1 + V_2 u_hat_2: its V_1 part is u_hat_1 of step k-1
+        np.testing.assert_allclose(run.u_hat[i][:, 6] @ d.V1, run.u1[i][:, 6], rtol=1e-10, atol=1e-12)
+
+
+def test_step_by_step_equals_the_run(example_run) -> None:
+    mdl, ya, run = example_run
+    state = guo2023.initial_state(mdl, ya[:, 0])
+    assert state.k == 0 and state.P.shape == (4, 3, 3) and state.x.shape == (3, 4, 3)
+    for k in range(1, 11):
+        state, step = guo2023.estimator_step(mdl, state, ya[:, k])
+        assert step.gains is None
+    np.testing.assert_array_equal(state.x, run.x[:, 10])
+    np.testing.assert_array_equal(state.P, run.P[10])
+
+
+def test_constrained_gain_on_a_random_instance() -> None:
+    """(28): K U_1 = 0 for any Theta; the stacked form equals the 2-D one of secest.core."""
+    rng = np.random.default_rng(3)
+    S, Theta = rng.standard_normal((2, 4, 3, 5)), rng.standard_normal((2, 4, 5, 5))
+    U1 = np.linalg.qr(rng.standard_normal((5, 2)))[0]
+    K = guo2023.constrained_gain(S, Theta, U1)
+    assert K.shape == (2, 4, 3, 5)
+    assert np.abs(K @ U1).max() < 1e-12 * np.abs(K).max()
+    np.testing.assert_allclose(K[1, 2], constrained_gain_2d(S[1, 2], Theta[1, 2], U1), rtol=1e-12, atol=1e-14)
+    np.testing.assert_array_equal(guo2023.constrained_gain(S, Theta, U1[:, :0]), S @ Theta)
+
+
+def test_local_gains_satisfy_the_unbiasedness_condition() -> None:
+    """(10): M_bar_2 B_2 = I on a generic local step (n_y - p > n_u - p: K != 0), and K U_1 = 0."""
+    rng = np.random.default_rng(11)
+    nx, ny = 4, 5
+    Gbar = np.hstack([rng.standard_normal((nx, 2)), np.zeros((nx, 1))])
+    Hbar = np.hstack([np.zeros((ny, 2)), rng.standard_normal((ny, 1))])
+    L = rng.standard_normal((ny, ny))
+    R = L @ L.T / ny + 0.2 * np.eye(ny)
+    dec = feedthrough_decomposition(Hbar, R)
+    C = rng.standard_normal((ny, nx))
+    g = guo2023.local_gains(rng.standard_normal((nx, nx)), 0.1 * np.eye(nx), Gbar, np.eye(nx), dec, dec,
+                            C, R)
+    np.testing.assert_allclose(g.M2 @ g.B2, np.eye(2), atol=1e-12)
+    assert np.abs(g.K).max() > 0.01 and np.abs(g.K @ dec.U1).max() < 1e-12
+    np.testing.assert_allclose(g.Xi @ g.Theta, np.eye(ny) - C @ g.J, atol=1e-12)  # (30), line 13
+    np.testing.assert_allclose(g.R2, dec.U2.T @ R @ dec.U2, atol=1e-15)
 
 
 def test_failing_links_per_run_match_the_shared_path_where_no_link_fails() -> None:
@@ -130,3 +263,19 @@ def test_bad_input_is_refused_with_the_argument_named() -> None:
         guo2023.run_estimator(mdl, np.zeros((2, 6, 4, 1)))
     with pytest.raises(ValidationError, match="Incompatible dimensions of link"):
         guo2023.run_estimator(mdl, np.zeros((2, 6, 5, 1)), link=np.ones((2, 5)))
+    with pytest.raises(ValidationError, match="Pi must be row-stochastic, row 0"):
+        guo2023.run_estimator(replace(mdl, Pi=2 * mdl.Pi), np.zeros((2, 6, 5, 1)))
+
+
+def test_bad_input_to_the_library_functions_names_the_argument() -> None:
+    mdl = section_v_model()
+    ya = np.zeros((1, 4, 4, 2))
+    with pytest.raises(ValidationError, match="run must keep its steps"):
+        guo2023.error_covariance(mdl, guo2023.run_estimator(mdl, ya, keep_steps=False))
+    link = np.ones((1, 4), np.int8)
+    link[0, 2] = 0
+    with pytest.raises(ValidationError, match="run must have gains shared by its runs"):
+        guo2023.error_covariance(mdl, guo2023.run_estimator(mdl, ya, link=link))
+    U1 = np.array([[1.0], [0.0]])
+    with pytest.raises(ValidationError, match="U1\\^T Theta U1 must be invertible"):
+        guo2023.constrained_gain(np.ones((3, 2)), np.diag([0.0, 1.0]), U1)

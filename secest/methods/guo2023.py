@@ -1,14 +1,16 @@
-"""guo2023 in the arena: distributed state and input estimation under deception attacks.
+"""guo2023: distributed state and input estimation under deception attacks (the one implementation).
 
 Guo & Xia (2023): node ``i`` splits its attacked measurement with an SVD of its
 feed-through ``H_bar^i = [0 H^i]`` into ``z_1`` (sees the input part ``u_1``, estimated at
 once) and ``z_2`` (input-free; estimates the part ``u_2`` that drives the state, one step
 late), makes a local update with a gain constrained by ``K U_1 = 0`` (28), and fuses its
 estimate with its neighbours' by consensus on information (19)-(21). The functions below are
-the corrected Algorithm 1 of the guo2023 notebook (steps A1-A14, stages B-D; corrections
-E1-E7 of ERRATA.md), vectorised over Monte Carlo runs and over the nodes that share the
-same decomposition shapes, and over runs of the covariance bounds when those depend on the
-run (links that fail).
+the corrected Algorithm 1 (steps A1-A14, stages B-D; corrections E1-E7 of ERRATA.md) that the
+guo2023 notebook derives, shows and verifies and that the arena races
+(:mod:`secest.arena.papers.guo2023`), vectorised over Monte Carlo runs and over the nodes that
+share the same decomposition shapes, and over runs of the covariance bounds when those depend on
+the run (links that fail). :func:`error_covariance` (ours) propagates the exact error
+covariances that Theorem 1 bounds.
 
 Reading on a shared scenario (:class:`Guo2023`, rules fixed before any arena run):
 
@@ -40,12 +42,12 @@ from dataclasses import dataclass
 from typing import Any, NamedTuple
 
 import numpy as np
+import scipy.linalg as sla
 from numpy.typing import NDArray
 
-from secest.core import graphs
 from secest.core.covariance import symmetrize
 from secest.core.estimation import FeedthroughSVD, feedthrough_decomposition
-from secest.core.validation import ValidationError
+from secest.core.validation import ValidationError, check_row_stochastic
 
 __all__ = [
     "GuoModel",
@@ -54,6 +56,8 @@ __all__ = [
     "GuoStep",
     "LocalGains",
     "constrained_gain",
+    "decompositions",
+    "error_covariance",
     "estimator_step",
     "fuse",
     "initial_state",
@@ -138,6 +142,17 @@ class LocalGains(NamedTuple):
         ``P_bar_{k|k-1} = A P_bar_{k-1} A^T + Q`` (23) (A2).
     P_loc : (..., n_x, n_x) array
         ``P_bar^{i,i}_k = P* - K S^T`` (29) (A14), symmetrised: the local bound.
+    P_star : (..., n_x, n_x) array
+        ``P_bar* = (I - J C) P_bar_{k|k-1} (I - J C)^T + G_bar_2 M_bar_2 R_2 M_bar_2^T G_bar_2^T``
+        (24), corrected (A8).
+    S : (..., n_x, n_y) array
+        ``S = P_bar* C^T - J R`` (26) (A9).
+    Xi : (..., n_y, n_y) array
+        ``Xi_bar = C P_bar_{k|k-1} C^T + R`` (13) (A10).
+    Theta : (..., n_y, n_y) array
+        ``Theta = Xi_bar^-1 (I - C J)`` (30), Algorithm 1 line 13 (A11).
+    R2 : (..., n_y - p, n_y - p) array
+        ``R_2 = U_2^T R U_2``, the noise covariance of ``z_2`` (6).
     """
 
     G1: Array
@@ -149,6 +164,11 @@ class LocalGains(NamedTuple):
     K: Array
     P_pred: Array
     P_loc: Array
+    P_star: Array
+    S: Array
+    Xi: Array
+    Theta: Array
+    R2: Array
 
 
 def local_gains(
@@ -200,7 +220,7 @@ def local_gains(
     Theta = np.linalg.solve(Xi, np.eye(C.shape[-2]) - C @ J)  # A11: (30), line 13
     K = constrained_gain(S, Theta, dec.U1)  # A12: (28)
     P_loc = symmetrize(P_star - K @ _t(S))  # A14: (29)
-    return LocalGains(G1, G2, C2, M2, B2, J, K, P_pred, P_loc)
+    return LocalGains(G1, G2, C2, M2, B2, J, K, P_pred, P_loc, P_star, S, Xi, Theta, R2)
 
 
 def local_estimate(
@@ -359,6 +379,8 @@ class GuoRun:
     checks : dict of (K, N) arrays
         Per step and node: ``KU1`` = ``||K U_1||``, ``M2B2`` = ``max|M_bar_2 B_2 - I|`` (10),
         ``G1`` = ``max|G_bar_1|``.
+    gains : list of K lists of N LocalGains, optional
+        ``gains[k - 1][i]``: node ``i``'s matrices of stage A at step ``k`` (``keep_steps``).
     """
 
     x: Array
@@ -371,6 +393,7 @@ class GuoRun:
     P_loc: Array | None
     x_loc: Array | None
     checks: dict[str, Array]
+    gains: list[list[LocalGains]] | None = None
 
 
 class _Structure(NamedTuple):
@@ -389,8 +412,35 @@ def _structure(mdl: Any, k: int, rtol: float, prev: _Structure | None = None) ->
         return prev
     common = isinstance(G, np.ndarray) and G.ndim == 2
     Gs = [G.astype(float)] * mdl.N if common else [np.asarray(g, float) for g in G]
-    decs = [feedthrough_decomposition(H[i], R[i], rtol=rtol) for i in range(mdl.N)]
-    return _Structure((G, H, R), Gs, decs)
+    return _Structure((G, H, R), Gs, _decompose(H, R, mdl.N, rtol))
+
+
+def _decompose(H: Sequence[Array], R: Array, N: int, rtol: float) -> list[FeedthroughSVD]:
+    """SVD and output transform of every ``H_bar^i`` with its ``R^i``."""
+    return [feedthrough_decomposition(H[i], R[i], rtol=rtol) for i in range(N)]
+
+
+def decompositions(mdl: Any, k: int, *, rtol: float = 1e-10) -> list[FeedthroughSVD]:
+    """Every node's SVD of ``H_bar^i_k`` and output transform ``T`` (display after (3), before (5)).
+
+    The decomposition the estimator uses at step ``k``
+    (:func:`secest.core.estimation.feedthrough_decomposition` of ``mdl.Hbar(k)[i]`` with
+    ``mdl.R(k)[i]``): ``U_1, U_2, Sigma, V_1, V_2`` of ``H_bar^i_k`` and ``T_1`` of (5).
+
+    Parameters
+    ----------
+    mdl : GuoModel or any object with its attributes
+        The model (1)-(3).
+    k : int
+        Step.
+    rtol : float, default 1e-10
+        Relative rank tolerance of the SVD.
+
+    Returns
+    -------
+    list of N FeedthroughSVD
+    """
+    return _decompose(mdl.Hbar(k), mdl.R(k), int(mdl.N), rtol)
 
 
 def _stack(decs: Sequence[FeedthroughSVD]) -> FeedthroughSVD:
@@ -509,6 +559,10 @@ class GuoStep(NamedTuple):
     checks : dict of (N,) arrays
         Per node: ``KU1`` = ``||K U_1||`` (28), ``M2B2`` = ``max|M_bar_2 B_2 - I|`` (10),
         ``G1`` = ``max|G_bar_1|``; all zero up to round-off.
+    gains : list of N LocalGains or None, default None
+        Node ``i``'s matrices of stage A (:func:`local_gains`: ``M_bar_2``, ``P_bar*``, ``S``,
+        ``Xi_bar``, ``Theta``, ...), the leading axes those of the bounds; None unless
+        ``keep_gains``.
     """
 
     K: Array | None
@@ -518,6 +572,7 @@ class GuoStep(NamedTuple):
     x_loc: Array
     u_hat: list[Array]
     checks: dict[str, Array]
+    gains: list[LocalGains] | None = None
 
 
 def initial_state(mdl: Any, ya0: Array, *, per_run: bool = False, rtol: float = 1e-10) -> GuoState:
@@ -571,6 +626,7 @@ def estimator_step(
     received: Array | Callable[[Array], Array] | None = None,
     weights: Array | None = None,
     matrix_weights: bool = True,
+    keep_gains: bool = False,
     rtol: float = 1e-10,
 ) -> tuple[GuoState, GuoStep]:
     """One step ``k - 1 -> k`` of Algorithm 1 at every node (stages A-D).
@@ -592,6 +648,8 @@ def estimator_step(
         Fusion weights of this step; default ``mdl.Pi``.
     matrix_weights : bool, default True
         Return the fusion weights (20) in the step record.
+    keep_gains : bool, default False
+        Return every node's :class:`LocalGains` in the step record (``GuoStep.gains``).
     rtol : float
         SVD rank tolerance.
 
@@ -609,6 +667,7 @@ def estimator_step(
     x_loc, P_loc = np.empty((runs, N, nx)), np.empty_like(state.P)
     K, J = np.empty((*lead, N, nx, Ck.shape[1])), np.empty((*lead, N, nx, Ck.shape[1]))
     u2, z1 = [], []
+    gains: list[LocalGains | None] = [None] * N
     checks = {name: np.zeros(N) for name in ("KU1", "M2B2", "G1")}
     for grp in plan.groups:  # stage A
         idx = grp.idx
@@ -620,6 +679,9 @@ def estimator_step(
         K[..., idx, :, :], J[..., idx, :, :] = g.K, g.J
         u2.append(u2g)
         z1.append(z1g)
+        if keep_gains:
+            for n_, i in enumerate(idx):  # every field is a matrix: the node axis is -3
+                gains[i] = LocalGains(*(f[..., n_, :, :] for f in g))
         for name, val in _checks(g, grp.dec.U1, len(idx)).items():
             checks[name][idx] = val
     if received is None:  # stage B: exchange
@@ -636,7 +698,8 @@ def estimator_step(
         u1g = input_one(grp.dec, Ck[idx], z1g, x[:, idx])  # lines 20-21, fused x
         for n_, i in enumerate(idx):
             u1[i], u_hat[i] = u1g[:, n_], uh[:, n_]
-    return GuoState(k, x, P, u1, struct, plan), GuoStep(K, J, W, P_loc, x_loc, u_hat, checks)
+    step = GuoStep(K, J, W, P_loc, x_loc, u_hat, checks, gains if keep_gains else None)
+    return GuoState(k, x, P, u1, struct, plan), step
 
 
 def link_weights(Pi: Array, up: Array) -> Array:
@@ -687,7 +750,8 @@ def run_estimator(
         of (19)-(21) and the weights renormalised (:func:`link_weights`). Default: always up.
         With failing links the bounds depend on the run.
     keep_steps : bool, default True
-        Also return the gains, fusion weights and local pairs of every step.
+        Also return the gains, fusion weights, local pairs and every node's
+        :class:`LocalGains` of every step.
     rtol : float, default 1e-10
         Relative rank tolerance of the SVD of ``H_bar^i``.
 
@@ -707,7 +771,7 @@ def run_estimator(
             f"Incompatible dimensions of ya: expected (runs, K + 1, {N}, n_y), found {ya.shape}"
         )
     runs, K1 = ya.shape[:2]
-    Pi = graphs.check_row_stochastic(mdl.Pi)
+    Pi = check_row_stochastic("Pi", mdl.Pi)
     if link is not None and np.shape(link) != (runs, K1):
         raise ValidationError(
             f"Incompatible dimensions of link: expected {(runs, K1)}, found {np.shape(link)}"
@@ -719,7 +783,7 @@ def run_estimator(
         recv = None if received is None else (lambda m, k=k: received(k, m))
         weights = link_weights(Pi, link[:, k]) if per_run else None
         state, step = estimator_step(mdl, state, ya[:, k], received=recv, weights=weights,
-                                     matrix_weights=keep_steps, rtol=rtol)
+                                     matrix_weights=keep_steps, keep_gains=keep_steps, rtol=rtol)
         xs.append(state.x)
         Ps.append(state.P)
         u1s.append(state.u1)
@@ -738,4 +802,81 @@ def run_estimator(
         K=stacked("K", axis), J=stacked("J", axis), W=stacked("W", axis), P_loc=stacked("P_loc", axis),
         x_loc=stacked("x_loc", 1),
         checks={name: np.array([s.checks[name] for s in steps]) for name in ("KU1", "M2B2", "G1")},
+        gains=[s.gains for s in steps] if keep_steps else None,
     )
+
+
+# ---------------------------------------------------------------------------------- analysis
+
+
+def error_covariance(mdl: Any, run: GuoRun, *, spread: float = 1.0) -> tuple[Array, Array, Array]:
+    """Exact covariances of the fused and local errors, propagated with the run's gains (ours).
+
+    The gains do not depend on the data, so with ``Phi^i = (I - K^i C^i)(I - J^i C^i)`` and
+    ``Psi^i = (I - K^i C^i) J^i + K^i`` the local errors are
+    ``x_tilde^{i,i}_k = Phi^i (A_{k-1} x_tilde^i_{k-1} + w_{k-1}) - Psi^i v^i_k`` ((14)-(16) with
+    ``G_bar_1 = 0`` and ``K U_1 = 0``; ``w`` common to every node), and the stacked fused errors
+    ``e_k = [x_tilde^1_k; ...; x_tilde^N_k]`` have the covariance
+
+    .. math::  \\Sigma^{loc}_k = F \\Sigma_{k-1} F^T + \\Phi_{col} Q \\Phi_{col}^T
+               + \\mathrm{blkdiag}(\\Psi^i R^i \\Psi^{iT}), \\qquad \\Sigma_k = W \\Sigma^{loc}_k W^T
+
+    with ``F = blkdiag(Phi^i A_{k-1})``, ``Phi_col = [Phi^1; ...; Phi^N]``, ``W = [W^{i,j}_k]`` (20)
+    and ``Sigma_0 = spread^2 1 1^T (x) P_0``. Its diagonal blocks are the true error covariances
+    ``P^i_k`` that Theorem 1 bounds by ``P_bar^i_k``.
+
+    Parameters
+    ----------
+    mdl : GuoModel or any object with its attributes
+        The model (1)-(3) the run was made on.
+    run : GuoRun
+        From :func:`run_estimator` with ``keep_steps`` and every link up (``K``, ``J``, ``W``
+        shared by the runs).
+    spread : float, default 1.0
+        ``cov(x_0 - x_hat_0) = spread^2 P_0``.
+
+    Returns
+    -------
+    P : (K + 1, N, n_x, n_x) array
+        Covariances of the fused errors ``x_k - x_hat^i_k``.
+    P_loc : (K, N, n_x, n_x) array
+        Covariances of the local errors ``x_k - x_hat^{i,i}_k``, ``k = 1..K``.
+    Psi : (K, N, n_x, n_y) array
+        Noise gains ``Psi^i_k``.
+
+    Raises
+    ------
+    ValidationError
+        ``run`` without its steps (``keep_steps=False``) or with per-run gains (failing links).
+    """
+    if run.K is None or run.J is None or run.W is None:
+        raise ValidationError("run must keep its steps (run_estimator(..., keep_steps=True))")
+    if run.W.ndim != 5:
+        raise ValidationError(f"run must have gains shared by its runs (no failing link), found W of "
+                              f"shape {run.W.shape}")
+    N, nx = int(mdl.N), int(mdl.nx)
+    n_steps, ny = run.K.shape[0], run.K.shape[-1]
+    Sig = spread**2 * np.kron(np.ones((N, N)), np.asarray(mdl.P0, float))
+    P = np.empty((n_steps + 1, N, nx, nx))
+    P_loc = np.empty((n_steps, N, nx, nx))
+    Psi_all = np.empty((n_steps, N, nx, ny))
+
+    def blocks(S: Array) -> Array:
+        return np.array([S[i * nx:(i + 1) * nx, i * nx:(i + 1) * nx] for i in range(N)])
+
+    P[0] = blocks(Sig)
+    eye = np.eye(nx)
+    for k in range(1, n_steps + 1):
+        A, Q, Ck, Rk = mdl.A(k - 1), mdl.Q(k - 1), mdl.C(k), mdl.R(k)
+        K, J = run.K[k - 1], run.J[k - 1]
+        IKC = [eye - K[i] @ Ck[i] for i in range(N)]
+        Phi = [IKC[i] @ (eye - J[i] @ Ck[i]) for i in range(N)]
+        Psi = [IKC[i] @ J[i] + K[i] for i in range(N)]
+        F = sla.block_diag(*[Ph @ A for Ph in Phi])
+        Phi_col = np.vstack(Phi)
+        S_loc = (F @ Sig @ F.T + Phi_col @ Q @ Phi_col.T
+                 + sla.block_diag(*[Psi[i] @ Rk[i] @ Psi[i].T for i in range(N)]))
+        W = run.W[k - 1].transpose(0, 2, 1, 3).reshape(N * nx, N * nx)
+        Sig = symmetrize(W @ S_loc @ W.T)
+        P[k], P_loc[k - 1], Psi_all[k - 1] = blocks(Sig), blocks(S_loc), np.array(Psi)
+    return P, P_loc, Psi_all
