@@ -254,3 +254,15 @@ def test_a_failing_method_is_one_error_cell() -> None:
     finally:
         METHODS.pop("toy-broken")
         METHODS.pop("toy-no-lmi")
+
+
+def test_sizes_are_checked_before_allocation() -> None:
+    from secest.core.validation import SizeLimitError
+
+    net = {"title": "t", "plant": "target", "N": 10**5, "graph": "ring", "measures": [[0]]}
+    with pytest.raises(SizeLimitError, match=r"network huge: N asks for 1e\+05 nodes of a dense network"):
+        scenarios.cards(extra={"network": {"huge": net}})
+    with pytest.raises(SizeLimitError, match="horizon asks for 1e\\+09 steps"):
+        _scenario(horizon=10**9)
+    with pytest.raises(SizeLimitError, match="runs x \\(horizon \\+ 1\\) x nodes"):
+        _scenario(horizon=10**6, runs=1000)

@@ -255,3 +255,15 @@ def test_robustness_markdown_lists_every_claim_of_the_summary() -> None:
     assert [row.split(" | ")[0].lstrip("| ") for row in table[2:]] == list(summary)
     assert all(row.count(" | ") == 3 for row in table[2:])  # '|' in a region is escaped
     assert results.robustness_markdown("no-such-notebook") is None
+
+
+@pytest.mark.parametrize("kw, match", [
+    ({"workers": 0}, "workers"),
+    ({"workers": -2}, "workers"),
+    ({"scheduler": "localhost"}, "scheduler must be an address"),
+])
+def test_run_sweep_refuses_a_bad_cluster_before_starting_one(kw: dict, match: str) -> None:
+    from secest.core.validation import ValidationError
+
+    with pytest.raises(ValidationError, match=match):
+        sweep.run_sweep(["guo2023"], progress=False, **kw)

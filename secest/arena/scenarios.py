@@ -40,6 +40,7 @@ import numpy as np
 import scipy.linalg as sla
 from numpy.typing import NDArray
 
+from secest.core import validation
 from secest.core.validation import ValidationError, as_matrix, check_positive_int, check_probability
 
 __all__ = [
@@ -452,6 +453,8 @@ def _graph(name: str, card: dict[str, Any]) -> NDArray[np.float64]:
     from secest.core import graphs
 
     N = check_positive_int(f"network {name}: N", card["N"], minimum=2)
+    validation.check_size(f"network {name}: N", N, validation.MAX_DENSE_NODES,
+                          "nodes of a dense network")
     kind = card["graph"]
     if kind == "complete":
         adj = graphs.complete_graph(N)
@@ -614,13 +617,22 @@ def scenario(
     att = c["attack"][attack]
     if any(i >= net.N for i in att.nodes):
         raise ValidationError(f"attack {attack}: nodes {att.nodes} do not all exist in {network}")
+    K = check_positive_int("horizon", horizon if horizon is not None else m["horizon"])
+    R = check_positive_int("runs", runs if runs is not None else m["runs"], minimum=2)
+    plant = c["plant"][net.plant]
+    validation.check_size("horizon", K, validation.MAX_STEPS, "steps")
+    widest = max(plant.n, net.measures.shape[1])  # a trial holds every node's output per step
+    validation.check_size("runs x (horizon + 1) x nodes", R * (K + 1) * net.N * widest,
+                          validation.MAX_ELEMENTS, "array entries of a trial")
+    validation.check_size("runs x nodes^2", R * net.N**2 * plant.n, validation.MAX_ELEMENTS,
+                          "entries of one step's messages (dense N x N)")
     return Scenario(
         name=name or f"{network}/{attack}",
-        plant=c["plant"][net.plant],
+        plant=plant,
         network=net,
         attack=att,
-        horizon=check_positive_int("horizon", horizon if horizon is not None else m["horizon"]),
-        runs=check_positive_int("runs", runs if runs is not None else m["runs"], minimum=2),
+        horizon=K,
+        runs=R,
         seed=int(seed if seed is not None else m["seed"]),
     )
 

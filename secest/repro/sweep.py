@@ -42,7 +42,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from secest.core.validation import ValidationError
+from secest.core.validation import ValidationError, check_positive_int
 from secest.repro import spaces
 from secest.repro.results import headline_value, point_verdict, repo_root
 
@@ -226,6 +226,11 @@ def run_sweep(
     """
     from dask.distributed import as_completed
 
+    if workers is not None:
+        check_positive_int("workers", workers)
+    if scheduler is not None and (not isinstance(scheduler, str) or "://" not in scheduler):
+        raise ValidationError(f"scheduler must be an address like 'tcp://host:8786', "
+                              f"found {scheduler!r}")
     build_dir, out_dir = Path(build), Path(out) if out is not None else repo_root() / "figures"
     build_dir = build_dir if build_dir.is_absolute() else repo_root() / build_dir
     top = Path(root) if root is not None else None
