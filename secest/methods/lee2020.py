@@ -1,18 +1,18 @@
-"""lee2020 in the arena: the distributed median solver and the median-embedded observer.
+"""lee2020: the distributed median solver and the median-embedded observer.
 
 Lee, Kim, Shim (2020), "Fully distributed resilient state estimation based on distributed
 median solver", IEEE TAC, doi:10.1109/TAC.2020.2989275. Equation numbers are the paper's.
 
 Two layers, both plain functions on arrays:
 
-* **The paper's continuous-time design** (what the notebook ``notebooks/lee2020.py`` derives):
-  the median set and the scalar median solver (4); the real invariant subspaces of ``A``, the
-  observation pattern of every bank and the common basis of Assumption 4 (the notebook's
-  grouped projected-orthonormal construction; for repeated eigenvalues the brief's
-  subset-intersection fallback, ours); the partial-observer gains of (5); the stacked matrices of
-  (1), (5), (6) [or (11)] integrated by :func:`secest.core.systems.integrate_switched_linear`
-  (exponential Euler). Called on the paper's example these give the notebook's numbers to
-  round-off (``tests/test_methods_lee2020.py``).
+* **The paper's continuous-time design**, which the notebook ``notebooks/lee2020.py`` derives and
+  runs (it imports these functions and shows their source): the median set and the median solver
+  (4), for one gain or a batch of gains; the real invariant subspaces of ``A``, the observation
+  pattern of every bank and the common basis of Assumption 4 (a grouped projected-orthonormal
+  construction, ours; for repeated eigenvalues the brief's subset-intersection fallback, ours) and
+  its scaling; the partial-observer gains of (5); the stacked matrices of (1), (5), (6) [or (11),
+  with the ``P`` of :func:`lyapunov_correction`] integrated by
+  :func:`secest.core.systems.integrate_switched_linear` (exponential Euler).
 * **The sampled-data reading on a shared scenario** (ours): the same (5) and (6), integrated by
   the same exponential-Euler scheme with sub-steps of the sampling period, fed the sampled
   measurements, and coupled through messages exchanged once per sampling period.
@@ -143,7 +143,7 @@ def median_set(values: Array, indicators: Array) -> tuple[float, float]:
     zs = np.sort(values[indicators == 1])
     if zs.size == 0:
         raise ValidationError("indicators must mark at least one value (s_i = 1)")
-    return float(zs[(zs.size - 1) // 2]), float(zs[zs.size // 2])
+    return float(zs[(zs.size - 1) // 2]), float(zs[zs.size // 2])  # M_Z^S (Section II)
 
 
 def euler_limit(adj: Array, gains: float | Array) -> float:
@@ -350,7 +350,7 @@ def mode_pattern(
 
 
 def common_basis(modes: list[tuple[complex, Array]], pattern: Array) -> tuple[Array, Array, Array]:
-    """Grouped projected-orthonormal basis of Assumption 4 (the notebook's construction).
+    """Grouped projected-orthonormal basis of Assumption 4 (our construction; Section III-A).
 
     Modes with equal observation patterns are grouped; in each group, Gram-Schmidt on the
     orthogonal projections of ``e_1, e_2, ...`` onto the group's span (dependent projections,
@@ -648,7 +648,7 @@ def observer_gains(
             raise ValidationError(f"poles must be 'near' or 'shifted', found {poles!r}")
         gain = control.place(f_i.T, h_i.T, placed).T
         gains.append(gain)
-        closed.append(f_i - gain @ h_i)
+        closed.append(f_i - gain @ h_i)  # F_i of (5), Hurwitz
     return gains, closed
 
 
@@ -757,16 +757,16 @@ def network_system(
     m_mat[:n, :n], e_w[:n, 0] = A, B
     for i in range(N):
         zi = slice(z_start[i], z_start[i + 1])
-        m_mat[zi, zi] = W_i[i] @ A @ V_i[i] - gains[i] @ banks[i] @ V_i[i]
-        m_mat[zi, :n] = gains[i] @ banks[i]
+        m_mat[zi, zi] = W_i[i] @ A @ V_i[i] - gains[i] @ banks[i] @ V_i[i]  # (5)
+        m_mat[zi, :n] = gains[i] @ banks[i]  # (5): L_i y_i, y_i = C_i x (+ a_i through e_w)
         e_w[zi, 0], e_w[zi, 1 + i] = W_i[i] @ B, gains[i][:, 0]
         rows = slice(i * n, (i + 1) * n)
-        r_mat[rows, zi] = w_corr @ V_i[i]
-        r_mat[rows, xh0 + i * n : xh0 + (i + 1) * n] = -w_corr
-    m_mat[xh0:, xh0:] = np.kron(np.eye(N), A) - kappa * gamma * np.kron(laplacian, np.eye(n))
+        r_mat[rows, zi] = w_corr @ V_i[i]  # (6): w_l^T V_i z_i
+        r_mat[rows, xh0 + i * n : xh0 + (i + 1) * n] = -w_corr  # (6): - w_l^T x_hat_i
+    m_mat[xh0:, xh0:] = np.kron(np.eye(N), A) - kappa * gamma * np.kron(laplacian, np.eye(n))  # (6)
     e_w[xh0:, 0] = np.tile(B, N)
     e_s = np.zeros((n_state, N * n))
-    e_s[xh0:] = kappa * np.kron(np.eye(N), v_corr)
+    e_s[xh0:] = kappa * np.kron(np.eye(N), v_corr)  # (6) [(11): v_corr = V Pbar^-1/2]
     return NetworkSystem(m_mat, e_w, e_s, r_mat, z_start, xh0)
 
 
