@@ -566,8 +566,9 @@ for qq, r in red.items():
 #    $<10^{-7}$), and $\#\{l: s_i^l=0\}=\dim\mathcal U_i$.
 #
 # The procedure covers matrices with distinct eigenvalues (as here); for repeated eigenvalues the
-# function refuses, and the brief's fallback (intersecting the $\mathcal U_i$ of bank subsets) would
-# be needed — Appendix B items 4 and 8 show that Assumption 4 can then genuinely fail.
+# function refuses, and the brief's fallback (intersecting the $\mathcal U_i$ of bank subsets,
+# `intersection_basis` in `secest.methods.lee2020`, which the arena uses) would be needed —
+# Appendix B items 4 and 8 show that Assumption 4 can then genuinely fail.
 # Any basis satisfying Assumption 4 is admissible, but the sign corrections of (6) move
 # $\hat x_i$ along $\kappa v_l$, so the scaling of the $v_l$ changes speed and steady-state offsets.
 # The paper does not fix it; Section IV writes the rigid-body span unnormalised,
@@ -579,6 +580,7 @@ for qq, r in red.items():
 # %%
 show_source(M.common_basis, after="    dim = modes[0][1].shape[0]")
 show_source(M.check_assumption4, after="    n = V.shape[0]")
+show_source(M.normalise_basis, after='    if how == "unit":')
 normalise_basis = M.normalise_basis
 V_unit, S_ind, T_modal = M.common_basis(modes, pattern)
 # verification of Assumption 4 (membership does not depend on the scaling of the v_l)
