@@ -95,7 +95,6 @@ results_path = "figures/lee2020/claims.json"
 import json
 from dataclasses import dataclass
 
-import control
 import cvxpy as cp
 import matplotlib.pyplot as plt
 import matplotlib.ticker as mticker
@@ -107,7 +106,9 @@ from scipy.integrate import solve_ivp
 
 from secest.core import graphs, systems
 from secest.core.validation import ValidationError
+from secest.methods import lee2020 as M
 from secest.repro import plotting, results, spaces
+from secest.repro.literate import show_source
 
 print(results.environment_summary())
 
@@ -201,10 +202,8 @@ display(Markdown(spaces.provenance_markdown("lee2020")))
 
 
 # %%
-def median_set(values: np.ndarray, indicators: np.ndarray) -> tuple[float, float]:
-    """Median set [lo, hi] of the indicated values (a single point when S is odd)."""
-    zs = np.sort(values[indicators == 1])
-    return float(zs[(zs.size - 1) // 2]), float(zs[zs.size // 2])
+show_source(M.median_set, after="    values = as_matrix")
+median_set = M.median_set
 
 
 def distance_to_set(x: np.ndarray, lo: float, hi: float) -> np.ndarray:
@@ -232,26 +231,15 @@ print(f"S = {int(s_vals.sum())}, median set = [{lo}, {hi}]")
 
 
 # %%
-def euler_limit(adj: np.ndarray, gains: np.ndarray) -> float:
-    """Largest stable explicit-Euler step 2 / (gamma_max lambda_max(L)) of (4)."""
-    return float(2.0 / (np.max(gains) * np.linalg.eigvalsh(graphs.laplacian(adj))[-1]))
+show_source(M.median_solver, after="    lap = graphs.laplacian")
+euler_limit = M.euler_limit
 
 
-def median_solver(
-    adj: np.ndarray, values: np.ndarray, indicators: np.ndarray, x_start: np.ndarray,
-    gain: float, horizon_s: float, step: float,
-) -> tuple[np.ndarray, np.ndarray]:
-    """Explicit-Euler solution of (4); returns times (K,) and states (K, N)."""
-    lap = graphs.laplacian(graphs.check_connected(adj))
-    require(step < euler_limit(adj, np.array([gain])), "dt",
-            f"{step:g} s is above the Euler stability limit 2/(gamma lambda_max(L)) = "
-            f"{euler_limit(adj, np.array([gain])):.3g} s")
-    steps = int(round(horizon_s / step))
-    xs = np.empty((steps + 1, values.size))
-    xs[0] = x_start
-    for k in range(steps):
-        xs[k + 1] = xs[k] + step * (indicators * np.sign(values - xs[k]) - gain * lap @ xs[k])
-    return step * np.arange(steps + 1), xs
+def run_solver(adj: np.ndarray, gain: float) -> tuple[np.ndarray, np.ndarray]:
+    """(4) on this notebook's data (z, s, x0, horizon T, step dt); ``dt`` checked by name first."""
+    require(dt < euler_limit(adj, gain), "dt", f"{dt:g} s is above the Euler stability limit "
+            f"2/(gamma lambda_max(L)) = {euler_limit(adj, gain):.3g} s")
+    return M.median_solver(adj, z_vals, s_vals, x_init, gain, T, dt)
 
 
 # %% [markdown]
@@ -266,7 +254,7 @@ def median_solver(
 graph_set = {"ring": graphs.ring_graph(N), "all-to-all": graphs.complete_graph(N)}
 runs = {}
 for name, adj in graph_set.items():
-    t, xs = median_solver(adj, z_vals, s_vals, x_init, gamma, T, dt)
+    t, xs = run_solver(adj, gamma)
     lam2 = graphs.algebraic_connectivity(adj)
     tail = t >= (1.0 - settle_fraction) * T
     runs[name] = {
@@ -399,21 +387,14 @@ sweep_cases = {
 gam_sweep = np.asarray(sweep_gammas, dtype=float)
 sweep = {}
 for name, (adj, zc, sc, xc) in sweep_cases.items():
-    lap = graphs.laplacian(graphs.check_connected(adj))
     require(dt < euler_limit(adj, gam_sweep), "dt",
             f"{dt:g} s is above the Euler stability limit of the sweep on {name}, "
             f"{euler_limit(adj, gam_sweep):.3g} s (largest gain {gam_sweep.max():g})")
     lo_c, hi_c = median_set(zc, sc)
-    xs = np.repeat(xc[:, None], gam_sweep.size, axis=1)
-    steps = int(round(sweep_T / dt))
-    tail_from = int(round((1.0 - settle_fraction) * steps))
-    dist, x_sum = np.zeros(gam_sweep.size), np.zeros_like(xs)
-    for k in range(steps):
-        xs = xs + dt * (sc[:, None] * np.sign(zc[:, None] - xs) - gam_sweep[None, :] * (lap @ xs))
-        if k + 1 >= tail_from:
-            dist = np.maximum(dist, distance_to_set(xs, lo_c, hi_c).max(axis=0))
-            x_sum += xs
-    x_bar = x_sum / (steps + 1 - tail_from)
+    _, xs_all = M.median_solver(adj, zc, sc, xc, gam_sweep, sweep_T, dt)  # (K + 1, N, gains)
+    tail = xs_all[int(round((1.0 - settle_fraction) * (xs_all.shape[0] - 1))):]
+    dist = distance_to_set(tail, lo_c, hi_c).max(axis=(0, 1))
+    x_bar = tail.sum(axis=0) / tail.shape[0]  # summed in time order, one state after another
     project = minimiser_projection(adj, zc, sc)
     x_star = np.column_stack([project(g, x_bar[:, j]) for j, g in enumerate(gam_sweep)])
     lam2 = graphs.algebraic_connectivity(adj)
@@ -539,51 +520,14 @@ sv = np.linalg.svd(systems.observability_matrix(A, banks[0]), compute_uv=False)
 print(f"singular values of the observability matrix of bank 1: {sv.max():.3g} ... {sv.min():.3g}")
 
 
-def real_invariant_subspaces(a: np.ndarray) -> list[tuple[complex, np.ndarray]]:
-    """Real invariant subspaces of a matrix with distinct eigenvalues.
-
-    One column (unit real eigenvector) per real eigenvalue, two columns [Re v, Im v] per
-    conjugate pair, with v rotated so that Re v is orthogonal to Im v and scaled so that
-    ||Re v|| = 1. Then a X_k = X_k Lambda_k with Lambda_k = [[alpha, beta], [-beta, alpha]].
-    """
-    lam, vec = np.linalg.eig(a)
-    if np.min(np.abs(lam[:, None] - lam[None, :]) + np.eye(lam.size) * 1e9) < 1e-9 * max(
-        1.0, np.abs(lam).max()
-    ):
-        raise ValidationError("parameters J_inertia, b_damping, k_spring: A has repeated eigenvalues; "
-                              "our basis construction needs distinct ones")
-    out = []
-    for idx in np.argsort(-lam.real + 1e-9 * np.abs(lam.imag)):
-        mu = lam[idx]
-        if abs(mu.imag) <= 1e-12 * max(1.0, abs(mu)):
-            v = vec[:, idx].real
-            out.append((complex(mu.real), (v / np.linalg.norm(v))[:, None]))
-        elif mu.imag > 0:
-            v = vec[:, idx]
-            th = 0.5 * np.arctan2(2 * v.real @ v.imag, v.real @ v.real - v.imag @ v.imag)
-            v = v * np.exp(-1j * th)
-            v = v / np.linalg.norm(v.real)
-            out.append((complex(mu), np.column_stack([v.real, v.imag])))
-    return out
-
-
-def in_span(vec: np.ndarray, basis: np.ndarray, tol: float = 1e-7) -> bool:
-    """True iff vec lies in range(basis) (orthonormal columns), relative residual <= tol."""
-    resid = vec - basis @ (basis.T @ vec) if basis.shape[1] else vec
-    return bool(np.linalg.norm(resid) <= tol * np.linalg.norm(vec))
-
-
-modes = real_invariant_subspaces(A)
-pattern = np.array(
-    [[0 if all(in_span(X[:, c], U) for c in range(X.shape[1])) else 1 for U in U_sub]
-     for _, X in modes]
-)
-pbh = np.array(
-    [[int(np.linalg.norm(Ci @ X) > 1e-9 * np.linalg.norm(Ci) * np.linalg.norm(X)) for Ci in banks]
-     for _, X in modes]
-)
-if not np.array_equal(pattern, pbh):
-    raise RuntimeError("the staircase and the PBH test disagree on the observation pattern")
+show_source(M.real_invariant_subspaces, after="    lam, vec = np.linalg.eig")
+try:
+    modes = M.real_invariant_subspaces(A)
+except ValidationError as exc:
+    raise ValidationError(f"parameters J_inertia, b_damping, k_spring: {exc}; our basis "
+                          "construction needs distinct eigenvalues") from None
+show_source(M.mode_pattern, after="    pattern = np.array(")
+pattern = M.mode_pattern(modes, U_sub, banks)  # staircase, cross-checked with PBH
 print("banks observing each real mode (rows: modes, columns: banks 1..5)")
 for (mu, _), row in zip(modes, pattern, strict=True):
     print(f"  lambda = {mu.real:+.3f}{mu.imag:+.3f}j : {row}")
@@ -622,8 +566,9 @@ for qq, r in red.items():
 #    $<10^{-7}$), and $\#\{l: s_i^l=0\}=\dim\mathcal U_i$.
 #
 # The procedure covers matrices with distinct eigenvalues (as here); for repeated eigenvalues the
-# function refuses, and the brief's fallback (intersecting the $\mathcal U_i$ of bank subsets) would
-# be needed — Appendix B items 4 and 8 show that Assumption 4 can then genuinely fail.
+# function refuses, and the brief's fallback (intersecting the $\mathcal U_i$ of bank subsets,
+# `intersection_basis` in `secest.methods.lee2020`, which the arena uses) would be needed —
+# Appendix B items 4 and 8 show that Assumption 4 can then genuinely fail.
 # Any basis satisfying Assumption 4 is admissible, but the sign corrections of (6) move
 # $\hat x_i$ along $\kappa v_l$, so the scaling of the $v_l$ changes speed and steady-state offsets.
 # The paper does not fix it; Section IV writes the rigid-body span unnormalised,
@@ -633,53 +578,13 @@ for qq, r in red.items():
 
 
 # %%
-def common_basis(
-    modes: list[tuple[complex, np.ndarray]], pattern: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Grouped projected-orthonormal basis V (n x n), indicators S (N x n), modal matrix T."""
-    dim = modes[0][1].shape[0]
-    groups: dict[tuple[int, ...], list[int]] = {}
-    for kk, row in enumerate(pattern):
-        groups.setdefault(tuple(int(v) for v in row), []).append(kk)
-    cols, ind, modal = [], [], []
-    for pat, ks in sorted(groups.items(), key=lambda g: (sum(g[0]), min(g[1]))):
-        span = np.hstack([modes[kk][1] for kk in ks])
-        q_span = sla.orth(span)
-        proj = q_span @ q_span.T
-        basis: list[np.ndarray] = []
-        for e in np.eye(dim):
-            v = proj @ e
-            for bv in basis:
-                v = v - (bv @ v) * bv
-            if np.linalg.norm(v) > 1e-6:
-                basis.append(v / np.linalg.norm(v))
-            if len(basis) == q_span.shape[1]:
-                break
-        cols += basis
-        ind += [pat] * len(basis)
-        modal += list(span.T)
-    return np.column_stack(cols), np.array(ind).T, np.column_stack(modal)
-
-
-def normalise_basis(v_unit: np.ndarray, how: str) -> np.ndarray:
-    """Scale the columns of a unit-norm basis: "unit" (as is) or "integer" (smallest |entry| = 1)."""
-    if how == "unit":
-        return v_unit
-    scale = [np.abs(col[np.abs(col) > 1e-9 * np.abs(col).max()]).min() for col in v_unit.T]
-    return v_unit / np.array(scale)
-
-
-V_unit, S_ind, T_modal = common_basis(modes, pattern)
+show_source(M.common_basis, after="    dim = modes[0][1].shape[0]")
+show_source(M.check_assumption4, after="    n = V.shape[0]")
+show_source(M.normalise_basis, after='    if how == "unit":')
+normalise_basis = M.normalise_basis
+V_unit, S_ind, T_modal = M.common_basis(modes, pattern)
 # verification of Assumption 4 (membership does not depend on the scaling of the v_l)
-a4_resid = 0.0
-a4_ok = True
-for i, U in enumerate(U_sub):
-    a4_ok &= int((S_ind[i] == 0).sum()) == U.shape[1]
-    for ll in range(n):
-        member = in_span(V_unit[:, ll], U)
-        a4_ok &= member == (S_ind[i, ll] == 0)
-        if member and U.shape[1]:
-            a4_resid = max(a4_resid, float(np.linalg.norm(V_unit[:, ll] - U @ (U.T @ V_unit[:, ll]))))
+a4_ok, a4_resid = M.check_assumption4(V_unit, S_ind, U_sub)
 banks_per_coord = S_ind.sum(axis=0)
 print("basis, 'unit' (columns v_l):")
 print(np.round(V_unit, 6))
@@ -727,6 +632,7 @@ print(np.round(A_bar_unit, 6))
 
 
 # %%
+show_source(M.observer_gains, after="    W = np.linalg.inv(V)")
 masks = [S_ind[i] == 1 for i in range(N_banks)]
 o_i = np.array([int(m.sum()) for m in masks])
 
@@ -743,26 +649,12 @@ class Observers:
     F: list[np.ndarray]
 
 
-def placed_poles(f_i: np.ndarray, which: str) -> np.ndarray:
-    """Poles of F_i: "near" (-1, -1.1, ...) or "shifted" (real parts of eig(f_i) moved to -1)."""
-    if which == "near":
-        return -1.0 - 0.1 * np.arange(f_i.shape[0])
-    ev = np.linalg.eigvals(f_i)
-    real, cplx = ev[np.abs(ev.imag) < 1e-9], ev[np.abs(ev.imag) >= 1e-9]
-    return np.concatenate([-1.0 - 0.1 * np.arange(real.size), -1.0 + 1j * cplx.imag])
-
-
 def make_observers(normalisation: str, poles: str) -> Observers:
     """Basis, partial-observer matrices and gains L_i of (5) by pole placement for one reading."""
     v_mat = normalise_basis(V_unit, normalisation)
     w_mat = np.linalg.inv(v_mat)  # rows w_l^T: [w_1 ... w_n]^T [v_1 ... v_n] = I
     v_i, w_i = [v_mat[:, m] for m in masks], [w_mat[m] for m in masks]
-    gains, closed = [], []
-    for i in range(N_banks):
-        f_i, h_i = w_i[i] @ A @ v_i[i], banks[i] @ v_i[i]
-        gain = control.place(f_i.T, h_i.T, placed_poles(f_i, poles)).T
-        gains.append(gain)
-        closed.append(f_i - gain @ h_i)
+    gains, closed = M.observer_gains(A, v_mat, S_ind, banks, poles)
     return Observers(v_mat, w_mat, v_i, w_i, gains, closed)
 
 
@@ -867,34 +759,20 @@ lap_ex = graphs.laplacian(graphs.check_connected(adj_ex))
 lam2_ex = graphs.algebraic_connectivity(adj_ex)
 
 
+show_source(M.network_system, after="    n = A.shape[0]")
+
+
 def network_system(gains, gain_gamma, v_corr=None, w_corr=None, *, ob=None, gain_kappa=None):
     """Matrices M, E_w, E_s, R of the stacked system (1), (5), (6) [or (11) via v_corr, w_corr].
 
     ``ob`` is the reading (basis and partial observers; this run's by default), ``gains`` its L_i,
-    ``gain_kappa`` the kappa of (6) (``kappa`` by default).
+    ``gain_kappa`` the kappa of (6) (``kappa`` by default); the example's A, B, banks and ring.
     """
     ob = obs if ob is None else ob
     gain_kappa = kappa if gain_kappa is None else gain_kappa
-    v_corr = ob.V if v_corr is None else v_corr
-    w_corr = ob.W if w_corr is None else w_corr
-    m_mat = np.zeros((n_state, n_state))
-    e_w = np.zeros((n_state, 1 + N_banks))
-    r_mat = np.zeros((N_banks * n, n_state))
-    m_mat[:n, :n], e_w[:n, 0] = A, B
-    for i in range(N_banks):
-        zi = slice(z_start[i], z_start[i + 1])
-        m_mat[zi, zi] = ob.W_i[i] @ A @ ob.V_i[i] - gains[i] @ banks[i] @ ob.V_i[i]
-        m_mat[zi, :n] = gains[i] @ banks[i]
-        e_w[zi, 0], e_w[zi, 1 + i] = ob.W_i[i] @ B, gains[i][:, 0]
-        rows = slice(i * n, (i + 1) * n)
-        r_mat[rows, zi] = w_corr @ ob.V_i[i]
-        r_mat[rows, xh0 + i * n : xh0 + (i + 1) * n] = -w_corr
-    m_mat[xh0:, xh0:] = (np.kron(np.eye(N_banks), A)
-                         - gain_kappa * gain_gamma * np.kron(lap_ex, np.eye(n)))
-    e_w[xh0:, 0] = np.tile(B, N_banks)
-    e_s = np.zeros((n_state, N_banks * n))
-    e_s[xh0:] = gain_kappa * np.kron(np.eye(N_banks), v_corr)
-    return m_mat, e_w, e_s, r_mat
+    system = M.network_system(A, B, banks, ob.V, S_ind, gains, gain_kappa, gain_gamma, lap_ex,
+                              v_corr=v_corr, w_corr=w_corr)
+    return system.M, system.E_w, system.E_s, system.R
 
 
 def exogenous(amplitudes):
@@ -942,9 +820,8 @@ def initial_state(ob: Observers) -> np.ndarray:
 X_init = initial_state(obs)  # validated once, before any run
 
 
-def phi_sign(r: np.ndarray) -> np.ndarray:
-    """s (.) sgn(r): the median correction of (6) / (11) (sgn(0) = 0)."""
-    return s_flat[:, None] * np.sign(r)
+show_source(M.sign_correction, after="    s_flat = np.asarray")
+phi_sign = M.sign_correction(S_ind)  # s (.) sgn(r): the median correction of (6) / (11)
 
 
 def phi_linear(r: np.ndarray) -> np.ndarray:
@@ -1542,13 +1419,12 @@ print(f"max_i ||x_hat_i - x||_inf < 0.05 from t = {conv_time} s; final {final_no
 
 
 # %%
+show_source(M.lyapunov_correction, after="    W = np.linalg.inv(V)")
+
+
 def lyapunov_correction(ob: Observers) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """P_bar = (W T)^-T (W T)^-1, P = W' P_bar W, and V_bar = V P_bar^-1/2, W_bar = P_bar^1/2 W."""
-    wt_inv = np.linalg.inv(ob.W @ T_modal)
-    p_bar = wt_inv.T @ wt_inv
-    p_bar = 0.5 * (p_bar + p_bar.T)
-    p_half = np.real(sla.sqrtm(p_bar))
-    return p_bar, ob.W.T @ p_bar @ ob.W, np.linalg.solve(p_half.T, ob.V.T).T, p_half @ ob.W
+    """P_bar, P, V_bar, W_bar of (11) for one reading (its basis, the example's modal matrix)."""
+    return M.lyapunov_correction(ob.V, T_modal)
 
 
 P_bar, P_plant, V_bar, W_bar = lyapunov_correction(obs)

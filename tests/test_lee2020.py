@@ -15,11 +15,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import bench_harness, perturbation_point
+from conftest import perturbation_point
+from papermill.exceptions import PapermillExecutionError
 
 from secest.core.validation import ValidationError
 from secest.repro import spaces
 from secest.repro.results import VERDICTS, repo_root
+from secest.repro.run import execute_notebook
 
 SQRT3 = np.sqrt(3.0)
 A_PAPER = np.pi / 3
@@ -340,15 +342,19 @@ def test_initial_conditions_are_parameters(alt) -> None:
 
 
 # ----------------------------------------------------------------------------- bad input
-def test_bad_parameters_are_rejected_naming_them() -> None:
+def test_bad_parameters_are_rejected_naming_them(tmp_path) -> None:
     with pytest.raises(ValidationError, match="parameter ring_order must be a list of int of length 5"):
         spaces.validate("lee2020", {"ring_order": [1, 2, 3]})
     with pytest.raises(ValidationError, match="parameter basis_normalisation must be one of"):
         spaces.validate("lee2020", {"basis_normalisation": "paper"})
     with pytest.raises(ValidationError, match="parameter q must be an integer >= 1 and <= 2"):
         spaces.validate("lee2020", {"q": 3})
-    with pytest.raises(ValidationError, match="parameter ring_order: must list the agents 1..5"):
-        bench_harness().load_notebook("lee2020", stop_before="display(Markdown", ring_order=[1, 1, 2, 3, 4])
+    # a list of five agents that is no permutation passes the TOML check: the notebook's own check
+    # (its first code cell) refuses it, in a papermill execution that stops there
+    with pytest.raises(PapermillExecutionError, match="parameter ring_order: must list the agents 1..5"):
+        execute_notebook("lee2020", {"mode": "fast", "figures": False, "ring_order": [1, 1, 2, 3, 4],
+                                     "fig_dir": str(tmp_path), "results_path": str(tmp_path / "c.json")},
+                         tmp_path / "lee2020.ipynb")
 
 
 # ----------------------------------------------------------------------------- robustness sweep

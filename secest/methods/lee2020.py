@@ -1,18 +1,18 @@
-"""lee2020 in the arena: the distributed median solver and the median-embedded observer.
+"""lee2020: the distributed median solver and the median-embedded observer.
 
 Lee, Kim, Shim (2020), "Fully distributed resilient state estimation based on distributed
 median solver", IEEE TAC, doi:10.1109/TAC.2020.2989275. Equation numbers are the paper's.
 
 Two layers, both plain functions on arrays:
 
-* **The paper's continuous-time design** (what the notebook ``notebooks/lee2020.py`` derives):
-  the median set and the scalar median solver (4); the real invariant subspaces of ``A``, the
-  observation pattern of every bank and the common basis of Assumption 4 (the notebook's
-  grouped projected-orthonormal construction; for repeated eigenvalues the brief's
-  subset-intersection fallback, ours); the partial-observer gains of (5); the stacked matrices of
-  (1), (5), (6) [or (11)] integrated by :func:`secest.core.systems.integrate_switched_linear`
-  (exponential Euler). Called on the paper's example these give the notebook's numbers to
-  round-off (``tests/test_methods_lee2020.py``).
+* **The paper's continuous-time design**, which the notebook ``notebooks/lee2020.py`` derives and
+  runs (it imports these functions and shows their source): the median set and the median solver
+  (4), for one gain or a batch of gains; the real invariant subspaces of ``A``, the observation
+  pattern of every bank and the common basis of Assumption 4 (a grouped projected-orthonormal
+  construction, ours; for repeated eigenvalues the brief's subset-intersection fallback, ours) and
+  its scaling; the partial-observer gains of (5); the stacked matrices of (1), (5), (6) [or (11),
+  with the ``P`` of :func:`lyapunov_correction`] integrated by
+  :func:`secest.core.systems.integrate_switched_linear` (exponential Euler).
 * **The sampled-data reading on a shared scenario** (ours): the same (5) and (6), integrated by
   the same exponential-Euler scheme with sub-steps of the sampling period, fed the sampled
   measurements, and coupled through messages exchanged once per sampling period.
@@ -84,12 +84,15 @@ __all__ = [
     "assumption4_basis",
     "check_assumption4",
     "common_basis",
+    "euler_limit",
     "in_span",
     "intersection_basis",
+    "lyapunov_correction",
     "median_set",
     "median_solver",
     "mode_pattern",
     "network_system",
+    "normalise_basis",
     "observer_gains",
     "real_invariant_subspaces",
     "run_sampled",
@@ -140,7 +143,25 @@ def median_set(values: Array, indicators: Array) -> tuple[float, float]:
     zs = np.sort(values[indicators == 1])
     if zs.size == 0:
         raise ValidationError("indicators must mark at least one value (s_i = 1)")
-    return float(zs[(zs.size - 1) // 2]), float(zs[zs.size // 2])
+    return float(zs[(zs.size - 1) // 2]), float(zs[zs.size // 2])  # M_Z^S (Section II)
+
+
+def euler_limit(adj: Array, gains: float | Array) -> float:
+    """Largest stable explicit-Euler step ``2 / (gamma_max lambda_max(L))`` of (4).
+
+    Parameters
+    ----------
+    adj : (N, N) array
+        Adjacency of the graph of (4); ``L`` its Laplacian.
+    gains : float or (G,) array
+        The coupling gain(s) ``gamma`` of (4); the largest one sets the limit.
+
+    Returns
+    -------
+    float
+        The step [s] at and above which ``I - step gamma L`` has an eigenvalue at or below -1.
+    """
+    return float(2.0 / (np.max(gains) * np.linalg.eigvalsh(graphs.laplacian(adj))[-1]))
 
 
 def median_solver(
@@ -148,7 +169,7 @@ def median_solver(
     values: Array,
     indicators: Array,
     x_start: Array,
-    gain: float,
+    gain: float | Array,
     horizon_s: float,
     step: float,
 ) -> tuple[Array, Array]:
@@ -156,7 +177,7 @@ def median_solver(
 
     ``x_i' = s_i sgn(z_i - x_i) + gamma sum_{j in N_i} (x_j - x_i)``, i.e.
     ``x' = s (.) sgn(z - x) - gamma L x`` with ``sgn(0) = 0`` (Filippov solutions; on a sliding
-    surface the iterate chatters within ``step`` of it).
+    surface the iterate chatters within ``step`` of it).  # (4)
 
     Parameters
     ----------
@@ -167,37 +188,61 @@ def median_solver(
     indicators : (N,) array of 0 / 1
         ``s_i`` of (4).
     x_start : (N,) array
-        Initial solver states ``x_i(0)``.
-    gain : float
-        Coupling gain ``gamma > 0`` of (4).
+        Initial solver states ``x_i(0)`` (the same for every gain).
+    gain : float or (G,) array
+        Coupling gain ``gamma > 0`` of (4); an array runs one solver per gain, all gains as
+        columns of one recursion (Theorem 1 across gains).
     horizon_s : float
         Final time [s]; the number of steps is ``round(horizon_s / step)``.
     step : float
-        Euler step [s], below ``2 / (gamma lambda_max(L))``.
+        Euler step [s], below ``2 / (gamma lambda_max(L))`` (:func:`euler_limit`) for every gain.
 
     Returns
     -------
     t : (K + 1,) array
         Times ``0, step, ..., horizon_s``.
-    x : (K + 1, N) array
+    x : (K + 1, N) array, or (K + 1, N, G) for an array of gains
         The solver states.
 
     Raises
     ------
     ValidationError
-        ``step`` at or above the Euler stability limit ``2 / (gamma lambda_max(L))``.
+        Inputs of the wrong shape, a gain that is not positive, or ``step`` at or above the
+        Euler stability limit ``2 / (gamma lambda_max(L))``.
+
+    Notes
+    -----
+    A scalar gain evaluates ``(gamma L) x``, an array ``gamma (.) (L x)`` column by column: equal
+    in exact arithmetic, and each is the order of floating-point operations of the notebook's
+    run (scalar: Fig. S1; array: the Theorem 1 sweep), whose figure data are committed.
     """
     lap = graphs.laplacian(graphs.check_connected(adj))
-    values = as_matrix("values", values, (lap.shape[0],))
-    indicators = as_matrix("indicators", indicators, (lap.shape[0],))
-    x_start = as_matrix("x_start", x_start, (lap.shape[0],))
-    if step >= 2.0 / (gain * np.linalg.eigvalsh(lap)[-1]):
-        raise ValidationError(f"step={step} is above the Euler stability limit 2/(gamma*lambda_max(L))")
+    n_agents = lap.shape[0]
+    values = as_matrix("values", values, (n_agents,))
+    indicators = as_matrix("indicators", indicators, (n_agents,))
+    x_start = as_matrix("x_start", x_start, (n_agents,))
+    batch = np.ndim(gain) > 0
+    gains = as_matrix("gain", gain, (None,)) if batch else np.array([float(gain)])
+    if gains.size == 0 or np.any(gains <= 0):
+        raise ValidationError(f"gain must be positive (at least one), found {gain!r}")
+    limit = euler_limit(adj, gains)
+    if step >= limit:
+        raise ValidationError(
+            f"step={step} is above the Euler stability limit 2/(gamma*lambda_max(L)) = {limit:.3g}"
+        )
     steps = int(round(horizon_s / step))
-    xs = np.empty((steps + 1, values.size))
+    if batch:
+        xs = np.empty((steps + 1, n_agents, gains.size))
+        xs[0] = np.repeat(x_start[:, None], gains.size, axis=1)
+        s_col, z_col, g_row = indicators[:, None], values[:, None], gains[None, :]
+        for k in range(steps):
+            xs[k + 1] = xs[k] + step * (s_col * np.sign(z_col - xs[k]) - g_row * (lap @ xs[k]))  # (4)
+        return step * np.arange(steps + 1), xs
+    xs = np.empty((steps + 1, n_agents))
     xs[0] = x_start
+    g = gains[0]
     for k in range(steps):
-        xs[k + 1] = xs[k] + step * (indicators * np.sign(values - xs[k]) - gain * lap @ xs[k])
+        xs[k + 1] = xs[k] + step * (indicators * np.sign(values - xs[k]) - g * lap @ xs[k])  # (4)
     return step * np.arange(steps + 1), xs
 
 
@@ -305,7 +350,7 @@ def mode_pattern(
 
 
 def common_basis(modes: list[tuple[complex, Array]], pattern: Array) -> tuple[Array, Array, Array]:
-    """Grouped projected-orthonormal basis of Assumption 4 (the notebook's construction).
+    """Grouped projected-orthonormal basis of Assumption 4 (our construction; Section III-A).
 
     Modes with equal observation patterns are grouped; in each group, Gram-Schmidt on the
     orthogonal projections of ``e_1, e_2, ...`` onto the group's span (dependent projections,
@@ -495,6 +540,63 @@ def assumption4_basis(A: Array, banks: Sequence[Array]) -> Basis:
     return Basis(V, np.linalg.inv(V) if ok else None, S, U_sub, construction, ok)
 
 
+def normalise_basis(V: Array, how: str = "unit") -> Array:
+    """Scale the columns of a unit-norm basis of Assumption 4 (the paper fixes no scaling).
+
+    Any scaling keeps Assumption 4 (membership of ``v_l`` in ``U_i`` does not depend on it), but
+    the correction of (6) moves ``x_hat_i`` along ``kappa v_l``, so it changes offsets.
+
+    Parameters
+    ----------
+    V : (n, n) array
+        Unit-norm columns ``v_l`` (:func:`common_basis`).
+    how : {"unit", "integer"}, default "unit"
+        ``"unit"``: ``V`` as is; ``"integer"``: every column divided by its smallest nonzero
+        ``|entry|`` (Section IV's ``[1,0,1,0,1,0]^T``, ``[0,1,0,1,0,1]^T`` for the rigid body).
+
+    Returns
+    -------
+    (n, n) array
+        The scaled basis.
+    """
+    V = as_matrix("V", V, square=True)
+    if how == "unit":
+        return V
+    if how != "integer":
+        raise ValidationError(f"how must be 'unit' or 'integer', found {how!r}")
+    scale = [np.abs(col[np.abs(col) > 1e-9 * np.abs(col).max()]).min() for col in V.T]
+    return V / np.array(scale)
+
+
+def lyapunov_correction(V: Array, T: Array) -> tuple[Array, Array, Array, Array]:
+    """The ``P`` of (11) from the real modal matrix and the correction directions of (11).
+
+    ``P_bar = (W T)^{-T} (W T)^{-1}`` (``W = V^{-1}``), ``P = W^T P_bar W``, which satisfies
+    ``P A + A^T P <= 0`` when ``A`` is Lyapunov stable with distinct eigenvalues and ``T`` is its
+    real modal matrix (our choice: the paper does not give ``P``); (11) uses
+    ``V_bar = V P_bar^{-1/2}`` and ``W_bar = P_bar^{1/2} W`` in the correction.
+
+    Parameters
+    ----------
+    V : (n, n) array
+        Basis of Assumption 4.
+    T : (n, n) array
+        Real modal matrix grouped like ``V`` (:func:`common_basis`).
+
+    Returns
+    -------
+    P_bar, P, V_bar, W_bar : (n, n) arrays
+    """
+    V = as_matrix("V", V, square=True)
+    T = as_matrix("T", T, V.shape)
+    W = np.linalg.inv(V)
+    wt_inv = np.linalg.inv(W @ T)
+    p_bar = wt_inv.T @ wt_inv
+    p_bar = 0.5 * (p_bar + p_bar.T)
+    p_half = np.real(sla.sqrtm(p_bar))
+    return p_bar, W.T @ p_bar @ W, np.linalg.solve(p_half.T, V.T).T, p_half @ W  # (11)
+
+
 # ------------------------------------------------------------------ (5) and (6): the observers
 
 
@@ -546,7 +648,7 @@ def observer_gains(
             raise ValidationError(f"poles must be 'near' or 'shifted', found {poles!r}")
         gain = control.place(f_i.T, h_i.T, placed).T
         gains.append(gain)
-        closed.append(f_i - gain @ h_i)
+        closed.append(f_i - gain @ h_i)  # F_i of (5), Hurwitz
     return gains, closed
 
 
@@ -655,16 +757,16 @@ def network_system(
     m_mat[:n, :n], e_w[:n, 0] = A, B
     for i in range(N):
         zi = slice(z_start[i], z_start[i + 1])
-        m_mat[zi, zi] = W_i[i] @ A @ V_i[i] - gains[i] @ banks[i] @ V_i[i]
-        m_mat[zi, :n] = gains[i] @ banks[i]
+        m_mat[zi, zi] = W_i[i] @ A @ V_i[i] - gains[i] @ banks[i] @ V_i[i]  # (5)
+        m_mat[zi, :n] = gains[i] @ banks[i]  # (5): L_i y_i, y_i = C_i x (+ a_i through e_w)
         e_w[zi, 0], e_w[zi, 1 + i] = W_i[i] @ B, gains[i][:, 0]
         rows = slice(i * n, (i + 1) * n)
-        r_mat[rows, zi] = w_corr @ V_i[i]
-        r_mat[rows, xh0 + i * n : xh0 + (i + 1) * n] = -w_corr
-    m_mat[xh0:, xh0:] = np.kron(np.eye(N), A) - kappa * gamma * np.kron(laplacian, np.eye(n))
+        r_mat[rows, zi] = w_corr @ V_i[i]  # (6): w_l^T V_i z_i
+        r_mat[rows, xh0 + i * n : xh0 + (i + 1) * n] = -w_corr  # (6): - w_l^T x_hat_i
+    m_mat[xh0:, xh0:] = np.kron(np.eye(N), A) - kappa * gamma * np.kron(laplacian, np.eye(n))  # (6)
     e_w[xh0:, 0] = np.tile(B, N)
     e_s = np.zeros((n_state, N * n))
-    e_s[xh0:] = kappa * np.kron(np.eye(N), v_corr)
+    e_s[xh0:] = kappa * np.kron(np.eye(N), v_corr)  # (6) [(11): v_corr = V Pbar^-1/2]
     return NetworkSystem(m_mat, e_w, e_s, r_mat, z_start, xh0)
 
 
