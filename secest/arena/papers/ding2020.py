@@ -27,8 +27,9 @@ __all__ = ["Ding2020"]
 class Ding2020(Method):
     """Distributed secure filter over a Gilbert-Elliott channel with a chi-square detector.
 
-    Each step is :func:`secest.methods.ding2020.secure_filter_step`: consensus prediction (7), the
-    inspection (25) of the innovation against the lower bound ``Gamma``, the update (34) and
+    The run is :func:`secest.methods.ding2020.secure_filter`, the recursion the notebook verifies:
+    at every step :func:`secest.methods.ding2020.secure_filter_step`, i.e. consensus prediction (7),
+    the inspection (25) of the innovation against the lower bound ``Gamma``, the update (34) and
     the upper / lower covariance bounds (35) / (18). Its alarms are the inspected-out
     measurements (``theta = 0``), its ``bound`` the upper bound ``Pi_i^+``.
 
