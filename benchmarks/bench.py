@@ -67,10 +67,12 @@ def bench_ding2020(repeats: int) -> list[Row]:
 
     from secest.core import graphs
     from secest.methods import ding2020
+    from secest.repro import spaces
 
-    nb = load_notebook("ding2020", stop_before="adj = graphs.check_connected")
-    A, BBt, DDt, C_rows = nb["A"], nb["BBt"], nb["DDt"], nb["C_rows"]
-    kappa, threshold, n = nb["kappa"], nb["threshold"], nb["n_x"]
+    nb = {name: e.value for name, e in spaces.parameter_cell("ding2020").items()}  # notebook defaults
+    ex = ding2020.example(nb["m"], nb["T"], nb["gains_low"], nb["gains_high"])  # Sec. V's matrices
+    A, BBt, DDt, C_rows = ex.A, ex.B @ ex.B.T, ex.D @ ex.D.T, ex.C
+    kappa, threshold, n = nb["kappa"], nb["threshold"], ex.A.shape[0]
     common = dict(A=A, BBt=BBt, DDt=DDt, threshold=threshold, tol=nb["tol"], strict=nb["strict"])
     degree = 4  # bounded degree: random 4-regular graphs
 

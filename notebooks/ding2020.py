@@ -93,7 +93,6 @@ results_path = "figures/ding2020/claims.json"
 
 # %%
 import csv
-import inspect
 import json
 
 import matplotlib.pyplot as plt
@@ -105,6 +104,7 @@ from secest.core import channels, detectors, graphs, montecarlo
 from secest.core.validation import ValidationError
 from secest.methods import ding2020
 from secest.repro import plotting, results, spaces
+from secest.repro.literate import show_source
 
 print(results.environment_summary())
 
@@ -204,17 +204,19 @@ display(Markdown(spaces.provenance_markdown("ding2020")))
 # ### Plant (1) and sensors (2)
 #
 # $x_{k+1}=Ax_k+Bw_k$ and $y_{i,k}=C_ix_k+Dv_{i,k}+n_{i,k}$, where $n_{i,k}$ is the injected
-# data of the attack model below (5). Each node measures one scalar ($n_y=1$).
+# data of the attack model below (5). Each node measures one scalar ($n_y=1$). The example's
+# matrices (and the comparison filter's printed gains, split between nodes 1–7 and 8–20 like
+# $C_i$; "$i<8$" is 1-based, P1) come from `ding2020.example`:
 
 # %%
-A = np.array([[1.0, T, T**2 / 2], [0.0, 1.0, T], [0.0, 0.0, 1.0]])
-B = 0.2 * np.eye(3)
-D = np.array([[0.05]])
+show_source(ding2020.example, after="    A = np.array")
+
+# %%
+example = ding2020.example(m, T, gains_low, gains_high)
+A, B, D, C_rows, K_const = example.A, example.B, example.D, example.C, example.gains
 BBt, DDt = B @ B.T, D @ D.T
-C_rows = np.array([[4.5, -0.8, -0.5] if i < 7 else [4.0, -0.8, 1.0] for i in range(m)])  # P1
 C = C_rows[:, None, :]  # (m, ny=1, n)
 n_x = A.shape[0]
-K_const = np.array([gains_low if i < 7 else gains_high for i in range(m)])
 attack = np.zeros((N + 1, m))
 for node, k_first, k_last, value in attacks:
     attack[k_first : k_last + 1, node - 1] += value
@@ -362,19 +364,35 @@ save(fig, "fig2_channel_state", data={"k": np.arange(N + 1), "delta": delta})
 #
 # `secest/methods/ding2020.py` implements these steps twice. `secure_filter_step` is vectorised over
 # nodes and Monte Carlo runs. `secure_filter_node_step` is a plain per-node reference that loops over
-# the neighbours. Their agreement is claim C10. The vectorised step, with the equation numbers
-# next to each line:
+# the neighbours (shown with claim C10). Their agreement is claim C10. First the pieces the step
+# calls: the received estimates (3) and the indicator (4), the consensus prediction (7), and the
+# paper's $\min\{X,Y\}$ / $\max\{X,Y\}$ of Section III (`_min_max`, its branches numbered 0, 1, 2):
 
 # %%
-src = inspect.getsource(ding2020.secure_filter_step)
-print(src[src.index("    if validate:"):])
+show_source(ding2020._received)
+show_source(ding2020.consensus_prediction, after="    x = np.asarray(x_post")
+show_source(ding2020._min_max)
+
+# %% [markdown]
+# The vectorised step, with the equation numbers next to each line:
+
+# %%
+show_source(ding2020.secure_filter_step, after="    if validate:")
 
 # %% [markdown]
 # ## Simulation driver
 #
 # The world ($x_0$, $\hat x_{i,0}$, $w$, $v$) is drawn once per run. Cases A and B, the filter
 # without inspection, the κ = 0 control and the constant-gain filter all reuse it (common random
-# numbers). `simulate` runs the filter over all nodes and over a batch of runs at once.
+# numbers). `ding2020.secure_filter` runs the step over all steps, all nodes and a batch of runs at
+# once (the first measurement update at $k=1$):
+
+# %%
+show_source(ding2020.secure_filter, after="    d = np.asarray(delta")
+
+# %% [markdown]
+# `simulate` sets the example's model, topology and initial bounds, runs it (or the constant-gain
+# filter of Figs. 5–6) and checks that the literal indicator (4) equals $\delta_k$ at every step (P3).
 
 
 # %%
@@ -419,7 +437,7 @@ def initial_bound(value: np.ndarray | None, scale: float, runs: int) -> np.ndarr
 
 def simulate(xh0, y, delta_seq, *, kappa_=kappa, inspect_=inspection, inspection_cov="Gamma",
              const_gain=None, form=cmp_form, Pi0=None, Gam0=None, keep_bounds=False, net=None):
-    """Run the secure filter (7)/(34) (or a constant-gain filter) over all steps.
+    """Run the secure filter (7)/(34) (or the constant-gain filter) of the example over all steps.
 
     Parameters
     ----------
@@ -433,46 +451,30 @@ def simulate(xh0, y, delta_seq, *, kappa_=kappa, inspect_=inspection, inspection
     -------
     dict with estimates "x" (R, steps + 1, m, n), test outcomes "theta" (R, steps + 1, m)
     (theta[:, 0] = 1: no update at k = 0), the final bounds "Pi_end", "Gamma_end" and, with
-    keep_bounds, Pi, Gamma (R, steps + 1, m, n, n), gains and counters.
+    keep_bounds, Pi, Gamma (R, steps + 1, m, n, n), gains K (R, steps, m, n), the branches of
+    (17) and (18) and the test normalisers Gamma_eta, Pi_eta (R, steps, m).
     """
-    runs, steps = xh0.shape[0], y.shape[1] - 1
     adj_, H_ = (adj, H) if net is None else net
-    x_post = xh0.copy()
-    Pi, Gam = initial_bound(Pi0, pi0_scale, runs), initial_bound(Gam0, gamma0_scale, runs)
-    out = {"x": [x_post], "theta": [np.ones((runs, m))]}
+    if const_gain is not None:
+        x = ding2020.constant_gain_filter(xh0, delta_seq, y, A=A, C=C_rows, gains=const_gain, adj=adj_,
+                                          weights=H_, kappa=kappa_, form=form)
+        return {"x": x, "theta": np.ones(x.shape[:-1])}
+    Pi, Gam = initial_bound(Pi0, pi0_scale, xh0.shape[0]), initial_bound(Gam0, gamma0_scale, xh0.shape[0])
+    keep = ("Pi_post", "Gamma_post", "gain", "q1_psd", "min_branch", "Gamma_prior", "Pi_prior")
+    run_ = ding2020.secure_filter(
+        xh0, Pi, Gam, delta_seq, y[..., None], A=A, BBt=BBt, C=C, DDt=DDt, adj=adj_, weights=H_,
+        kappa=kappa_, threshold=threshold, inspect=inspect_, inspection_cov=inspection_cov, tol=tol,
+        strict=strict, keep=keep if keep_bounds else ())
+    if not np.all(run_.delta_r == delta_seq[: y.shape[1] - 1, None]):  # literal (4) equals delta_k (P3)
+        raise AssertionError("indicator (4) differs from delta_k")
+    res = {"x": run_.x, "theta": run_.theta, "Pi_end": run_.Pi_end, "Gamma_end": run_.Gamma_end}
     if keep_bounds:
-        out.update(Pi=[Pi], Gamma=[Gam], K=[], q1_psd=[], min_branch=[], Gamma_eta=[], Pi_eta=[])
-    for k in range(steps):
-        if const_gain is not None:
-            x_prior, d_r = ding2020.consensus_prediction(x_post, delta_seq[k], adj_, H_, A, kappa_,
-                                                         validate=(k == 0))
-            if form == "predictor":  # x_{k+1} = A x_k + kappa A xi_k + K_i (y_k - C_i x_k)
-                eta = y[:, k] - np.einsum("in,rin->ri", C_rows, x_post)
-            else:  # corrector: x+ = x- + K_i (y_{k+1} - C_i x-)
-                eta = y[:, k + 1] - np.einsum("in,rin->ri", C_rows, x_prior)
-            x_post = x_prior + const_gain[None] * eta[..., None]
-            theta = np.ones((runs, m))
-        else:
-            st = ding2020.secure_filter_step(
-                x_post, Pi, Gam, delta_seq[k], y[:, k + 1, :, None], A=A, BBt=BBt, C=C, DDt=DDt,
-                adj=adj_, weights=H_, kappa=kappa_, threshold=threshold, inspect=inspect_,
-                inspection_cov=inspection_cov, tol=tol, strict=strict, validate=(k == 0))
-            d_r = st.delta_r
-            x_post, Pi, Gam, theta = st.x_post, st.Pi_post, st.Gamma_post, st.theta
-            if keep_bounds:
-                for name, val in (("Pi", Pi), ("Gamma", Gam), ("K", st.gain[..., 0]),
-                                  ("q1_psd", st.q1_psd), ("min_branch", st.min_branch),
-                                  ("Gamma_eta", np.einsum("iyn,rinm,iym->ri", C, st.Gamma_prior, C)
-                                   + DDt[0, 0]),
-                                  ("Pi_eta", np.einsum("iyn,rinm,iym->ri", C, st.Pi_prior, C)
-                                   + DDt[0, 0])):
-                    out[name].append(val)
-        if not np.all(d_r == delta_seq[k]):  # literal (4) equals delta_k (P3)
-            raise AssertionError(f"indicator (4) differs from delta_k at k = {k}")
-        out["x"].append(x_post)
-        out["theta"].append(theta)
-    res = {key: np.stack(val, axis=1) for key, val in out.items()}
-    res["Pi_end"], res["Gamma_end"] = Pi, Gam
+        h = run_.history
+        res.update(Pi=np.concatenate([Pi[:, None], h["Pi_post"]], axis=1),
+                   Gamma=np.concatenate([Gam[:, None], h["Gamma_post"]], axis=1), K=h["gain"][..., 0],
+                   q1_psd=h["q1_psd"], min_branch=h["min_branch"],
+                   Gamma_eta=np.einsum("iyn,rkinm,iym->rki", C, h["Gamma_prior"], C) + DDt[0, 0],
+                   Pi_eta=np.einsum("iyn,rkinm,iym->rki", C, h["Pi_prior"], C) + DDt[0, 0])
     return res
 
 
@@ -710,7 +712,10 @@ save(fig, "extra_leak_by_hop", data={"topology_seed": leak_tab[:, 0].astype(int)
 # $\hat x_{k+1}=A\hat x_k+\kappa A\hat\xi_k+K_i(y_{i,k}-C_i\hat x_k)$. Both are stable: the spectral
 # radii of $(I-K_iC_i)A$ and $A-K_iC_i$ are printed below. Fig. 6 shows the reading `cmp_form`; C9 is
 # measured in both. The measurements are the same draws as in Fig. 3 (common random numbers), so Fig. 5
-# shows the plotted sensors.
+# shows the plotted sensors. The filter, which `simulate` runs when given `const_gain`:
+
+# %%
+show_source(ding2020.constant_gain_filter, after="    d = np.asarray(delta")
 
 # %%
 for label, kk, cc in (("nodes 1-7", K_const[0], C_rows[0]), (f"nodes 8-{m}", K_const[-1], C_rows[-1])):
@@ -765,39 +770,24 @@ print(f"for comparison, Pi_eta = C Pi^- C^T + DD^T of (32): median {np.median(ca
 # $\lambda_{\min}(\Pi^+_{i,k}-P^+_{ii,k})\ge-10^{-9}\,\mathrm{tr}P^+_{ii,k}$ and the same for
 # $P^+-\Gamma^+$ on Case A. Theorems 1–2 start their induction from $\Gamma_0\preceq P_0\preceq\Pi_0$
 # and Lemma 1 needs the test outcome not to condition the error (all updates accepted): both are the
-# premise of C5. A Monte Carlo run of Case A cross-checks the propagation.
+# premise of C5. A Monte Carlo run of Case A cross-checks the propagation, which is:
+
+# %%
+show_source(ding2020.exact_error_covariance, after="    n3 = m * n")
 
 
 # %%
-def exact_covariance(gains: np.ndarray, delta_seq: np.ndarray, kappa_: float = kappa) -> np.ndarray:
-    """Stacked (3m x 3m) posterior error covariance for recorded gains (steps, m, n), diagonal blocks.
-
-    Propagates cov(e_k^+) exactly through the error dynamics above (Joseph form of (12) with
-    every update accepted), from cov(e_0^+) = (1 1^T + I) kron sigma0 I. Returns (steps + 1, m, n, n).
-    """
-    n3 = m * n_x
-    P = np.kron(np.ones((m, m)) + np.eye(m), sigma0 * np.eye(n_x))
-    L_mat = np.eye(m) - H
-    bw = np.kron(np.ones((m, 1)), B)
-    blocks = [np.stack([P[n_x * i:n_x * (i + 1), n_x * i:n_x * (i + 1)] for i in range(m)])]
-    for k in range(gains.shape[0]):
-        F = np.kron(np.eye(m), A) - kappa_ * delta_seq[k] * np.kron(L_mat, A)
-        Pm = F @ P @ F.T + bw @ bw.T
-        KC = np.zeros((n3, n3))
-        KD = np.zeros((n3, m))
-        for i in range(m):
-            KC[n_x * i:n_x * (i + 1), n_x * i:n_x * (i + 1)] = np.outer(gains[k, i], C_rows[i])
-            KD[n_x * i:n_x * (i + 1), i] = gains[k, i] * D[0, 0]
-        G = np.eye(n3) - KC
-        P = G @ Pm @ G.T + KD @ KD.T
-        P = 0.5 * (P + P.T)
-        blocks.append(np.stack([P[n_x * i:n_x * (i + 1), n_x * i:n_x * (i + 1)] for i in range(m)]))
-    return np.stack(blocks)
+def exact_covariance(gains: np.ndarray, kappa_: float = kappa) -> np.ndarray:
+    """Diagonal blocks (steps + 1, m, n, n) of the exact covariance for recorded gains (steps, m, n),
+    from cov(e_0^+) = (1 1^T + I) kron sigma0 I on the run's channel delta."""
+    P0 = np.kron(np.ones((m, m)) + np.eye(m), sigma0 * np.eye(n_x))
+    return ding2020.exact_error_covariance(gains, delta, P0, A=A, B=B, C=C_rows, D=D[0, 0], weights=H,
+                                           kappa=kappa_)
 
 
 all_accepted_a = bool(np.all(case_a["theta"] == 1))
 initial_order = bool(gamma0_scale <= 2.0 <= pi0_scale)
-P_exact = exact_covariance(case_a["K"][0], delta)
+P_exact = exact_covariance(case_a["K"][0])
 tr_P = np.trace(P_exact, axis1=-2, axis2=-1)
 Pi_a, Gam_a = case_a["Pi"][0], case_a["Gamma"][0]
 gap_up = np.linalg.eigvalsh(Pi_a - P_exact)[..., 0] / tr_P
@@ -873,7 +863,7 @@ k0_free = simulate(world["xh0"], y_clean, delta, kappa_=0.0, inspect_=False, Pi0
                    keep_bounds=True)
 unattacked = np.setdiff1d(np.arange(m), ATT)
 leak0 = float(np.abs(k0_b["x"][0][:, unattacked] - k0_a["x"][0][:, unattacked]).max())
-P_exact0 = exact_covariance(k0_free["K"][0], delta, kappa_=0.0)
+P_exact0 = exact_covariance(k0_free["K"][0], kappa_=0.0)
 pi_vs_p0 = float((np.linalg.norm(k0_free["Pi"][0] - P_exact0, axis=(-2, -1))
                   / np.linalg.norm(P_exact0, axis=(-2, -1))).max())
 first_rej = np.array([np.flatnonzero(k0_b["theta"][0, :, i] == 0)[0] if (k0_b["theta"][0, :, i] == 0).any()
@@ -1133,15 +1123,15 @@ save(fig, "extra_lockout_map", data=map_data or None)
 # evaluate both; C8a decides on the printed form, the theorem as stated.
 
 # %%
-alpha_bar = np.linalg.norm(A, 2)
-c_norms = np.linalg.norm(C_rows, axis=1)
-c_lo, c_hi = c_norms.min(), c_norms.max()
-zeta = ((1 + nu) * c_lo**2 + c_hi**2 * (1 - sigma_fa)) / c_lo**2
+show_source(ding2020.theorem4_condition, after="    c_norms = ")
+
+# %%
 thm4 = {}
 for form, f in (("printed", 1.0), ("proof_factor2", 2.0)):
-    bracket = (1 + kappa) * (1 + f * kappa * N_bar)
-    thm4[form] = {"xi_q": zeta * alpha_bar**2 * (1 - q + q * bracket),
-                  "xi_p": zeta * alpha_bar**2 * (p + (1 - p) * bracket)}
+    t4 = ding2020.theorem4_condition(A, C_rows, p=p, q=q, kappa=kappa, n_bar=N_bar, nu=nu, sigma=sigma_fa,
+                                     factor=f)
+    thm4[form] = {"xi_q": t4.xi_q, "xi_p": t4.xi_p}
+alpha_bar, zeta, c_lo, c_hi = t4.alpha_bar, t4.zeta, t4.c_lo, t4.c_hi
 thm4_holds = bool(thm4["printed"]["xi_q"] < 1 and thm4["printed"]["xi_p"] < 1)
 print(f"alpha_bar^2 = {alpha_bar**2:.7f}, c_lo = {c_lo:.4f}, c_hi = {c_hi:.7f}, "
       f"zeta = {zeta:.6f}, zeta*alpha^2 = {zeta * alpha_bar**2:.5f}, N_bar = {N_bar}")
@@ -1214,8 +1204,12 @@ print(f"{chain_steps} steps: p_hat = {p_hat:.4f} (99.9 % Wilson {p_ci[0]:.4f}-{p
 #
 # Twenty steps of Case B, once with `secure_filter_step` for all nodes and once with
 # `secure_filter_node_step` node by node. The per-node step receives only the node's own data and its
-# neighbours' packets.
-#
+# neighbours' packets:
+
+# %%
+show_source(ding2020.secure_filter_node_step, after="    x_i, P_i, G_i, xs")
+
+# %% [markdown]
 # **Remark 4 (C7)** says that the cost per node, two inversions and $52+3\lvert\mathcal N_i\rvert$
 # matrix products, does not depend on the network size. That is a timing claim. Timings are
 # machine-dependent, so they belong to the benchmark suite, not to this notebook: `make bench` times

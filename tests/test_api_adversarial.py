@@ -44,7 +44,7 @@ TIME_LIMIT = 2.0
 # Public names that are records or exception / warning classes, not computations.
 NOT_CALLS = {
     "validation.ValidationError", "validation.SizeLimitError", "ding2020.FilterHealthWarning",
-    "ding2020.SecureStep", "systems.RedundancyResult", "estimation.FeedthroughSVD",
+    "ding2020.SecureStep", "ding2020.SecureRun", "ding2020.Theorem4", "ding2020.Example", "systems.RedundancyResult", "estimation.FeedthroughSVD",
     "lmi.LMISolveReport", "lmi.LMISolveError", "lmi.InfeasibleLMIError", "lmi.UnboundedLMIError",
 }
 
@@ -257,6 +257,18 @@ def _ding_node() -> dict[str, Any]:
                 joseph=False, validate=True)
 
 
+def _ding_run() -> dict[str, Any]:
+    return dict(x0=np.ones((6, 3)), Pi0=P6, Gamma0=0.5 * P6, delta=np.ones(4), y=np.zeros((5, 6, 1)),
+                A=A3, BBt=0.04 * np.eye(3), C=C6, DDt=np.array([[0.0025]]), adj=RING6, weights=H6,
+                kappa=0.004, threshold=25.0, inspect=True, inspection_cov="Gamma", tol=1e-10,
+                strict=False, joseph=False, received=None, keep=("Pi_post",), validate=True)
+
+
+def _run_delta(v: Any) -> Variants:
+    return _garbage() + [("0.5", np.full(4, 0.5)), ("2", np.full(4, 2.0)), ("nan", np.full(4, np.nan)),
+                         ("too short", np.ones(2)), ("wrong batch", np.ones((3, 4)))]
+
+
 FILTER_KINDS = dict(
     x_post=ARRAY, Pi_post=_psd(), Gamma_post=_join(_psd(), _custom(("above Pi", 2 * P6))),
     delta=_delta, y=ARRAY, A=ARRAY, BBt=_psd(), C=ARRAY, DDt=_psd(strict=True),
@@ -264,6 +276,14 @@ FILTER_KINDS = dict(
     inspection_cov=_choice, tol=NONNEG, strict=_bool, joseph=_bool,
     rejections=_join(_array(), _custom(("negative", -np.ones(6)), ("fraction", np.full(6, 0.5)))),
     lockout_steps=_int(1), validate=_bool,
+)
+RUN_KINDS = dict(
+    x0=ARRAY, Pi0=_psd(), Gamma0=_join(_psd(), _custom(("above Pi", 2 * P6))), delta=_run_delta, y=ARRAY,
+    A=ARRAY, BBt=_psd(), C=ARRAY, DDt=_psd(strict=True), adj=_adj(connected=True), weights=_stochastic,
+    kappa=NONNEG, threshold=POS, inspect=_bool, inspection_cov=_choice, tol=NONNEG, strict=_bool,
+    joseph=_bool, received=_callable,
+    keep=_custom(("unknown", ("nonexistent",)), ("str", "Pi_post"), ("None", None), ("int", 3)),
+    validate=_bool,
 )
 NODE_KINDS = dict(
     x_self=ARRAY, Pi_self=_psd(), Gamma_self=_join(_psd(), _custom(("above Pi", 2 * np.eye(3)))),
@@ -475,6 +495,25 @@ SPECS: dict[str, Spec] = {
              kappa=NONNEG, validate=_bool)),
     "ding2020.secure_filter_step": Spec(_ding_step, FILTER_KINDS),
     "ding2020.secure_filter_node_step": Spec(_ding_node, NODE_KINDS),
+    "ding2020.secure_filter": Spec(_ding_run, RUN_KINDS),
+    "ding2020.constant_gain_filter": Spec(
+        lambda: dict(x0=np.ones((6, 3)), delta=np.ones(4), y=np.zeros((5, 6)), A=A3, C=C6[:, 0],
+                     gains=np.full((6, 3), 0.1), adj=RING6, weights=H6, kappa=0.004, form="corrector",
+                     validate=True),
+        dict(x0=ARRAY, delta=_run_delta, y=ARRAY, A=ARRAY, C=ARRAY, gains=ARRAY, adj=_adj(connected=True),
+             weights=_stochastic, kappa=NONNEG, form=_choice, validate=_bool)),
+    "ding2020.theorem4_condition": Spec(
+        lambda: dict(A=A3, C=C6[:, 0], p=0.1, q=0.92, kappa=0.004, n_bar=3, nu=0.0, sigma=1e-6, factor=1.0),
+        dict(A=ARRAY, C=_join(ARRAY, _custom(("zero row", np.zeros((6, 3))))), p=PROB, q=PROB, kappa=NONNEG,
+             n_bar=_int(1), nu=PROB, sigma=PROB, factor=NONNEG)),
+    "ding2020.exact_error_covariance": Spec(
+        lambda: dict(gains=np.zeros((4, 6, 3)), delta=np.ones(4), P0=np.eye(18), A=A3, B=0.2 * np.eye(3),
+                     C=C6[:, 0], D=0.05, weights=H6, kappa=0.004),
+        dict(gains=ARRAY, delta=_join(_array(shape=False), _custom(("0.5", np.full(4, 0.5)), ("too short", np.ones(2)))),
+             P0=_psd(), A=ARRAY, B=_array(shape=False), C=ARRAY, D=_real(), weights=ARRAY, kappa=NONNEG)),
+    "ding2020.example": Spec(
+        lambda: dict(m=20, T=0.05, gains_low=[0.4177, 0.5799, 0.4029], gains_high=[0.2883, 0.6150, 0.4457]),
+        dict(m=_int(1), T=POS, gains_low=ARRAY, gains_high=ARRAY)),
     # ------------------------------------------------------------------ schedules
     "schedules.rrl_map_period": Spec(lambda: dict(m=2, n_y=4),
                                      dict(m=_join(_int(1), _custom(("m > n_y", 5))), n_y=_int(1, huge=True))),

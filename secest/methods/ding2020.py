@@ -1,11 +1,23 @@
-"""Distributed secure filter over a shared Gilbert-Elliott channel with a chi-square detector.
+"""ding2020: recursive secure filtering over a Gilbert-Elliott channel, distributed case.
 
-Implements the filter of Ding, Wang, Han and Zhang (2020), "Recursive secure
-filtering over Gilbert-Elliott channels in sensor networks: the distributed
-case", for every node at once (:func:`secure_filter_step`, vectorised over
-nodes and any leading batch axes such as Monte Carlo runs) and for one node
-with a plain loop over its neighbours (:func:`secure_filter_node_step`, the
-reference used by equivalence tests and by the timing of Remark 4).
+Ding, Wang, Han and Zhang (2020), "Recursive secure filtering over Gilbert-Elliott channels in
+sensor networks: the distributed case". A linear target ``x_{k+1} = A x_k + B w_k`` (1) is
+measured by ``m`` nodes, ``y_{i,k} = C_i x_k + D v_{i,k}`` plus injected data (2), (5); node ``i``
+hears its neighbours ``N_i`` (``adj[i, j] = 1``, weights ``H = [h_ij]``) over one shared
+Gilbert-Elliott channel ``delta_k`` (failure rate ``p``, recovery rate ``q``). Every node runs a
+Kalman-like filter with a consensus pull ``kappa`` (7), screens its innovation with a chi-square
+test normalised by a lower covariance bound ``Gamma`` (25) and takes the gain (32) minimising an
+upper bound ``Pi`` (26), (35). The functions, with the equations they implement:
+:func:`received_indicator` (3)-(4); :func:`consensus_prediction` (7);
+:func:`matrix_min` / :func:`matrix_max` the ``min`` / ``max`` of Section III used in (18), (27);
+:func:`secure_filter_step` one step ``k -> k+1`` of every node at once, (3)-(4), (7), (17)-(19),
+(25)-(26), (32), (34)-(35) (vectorised over nodes and any leading batch axes such as Monte
+Carlo runs); :func:`secure_filter_node_step` the same step for one node with a plain loop over
+its neighbours (the reference of Remark 4); :func:`secure_filter` the recursion over ``K``
+steps; :func:`constant_gain_filter` Sec. V's comparison filter (7) with constant gains;
+:func:`theorem4_condition` Theorem 4's condition (42)-(43); :func:`exact_error_covariance` the
+exact error covariance ``P`` that (8) bounds, every update accepted (Lemma 1, (12));
+:func:`example` the Sec. V example's matrices.
 
 Equation numbers refer to the paper. One step ``k -> k+1`` of node ``i``:
 
@@ -48,6 +60,7 @@ the reproduction). Both are flagged in :class:`SecureStep` and warned about with
 from __future__ import annotations
 
 import warnings
+from collections.abc import Callable, Sequence
 from typing import NamedTuple
 
 import numpy as np
@@ -59,14 +72,22 @@ from secest.core import validation as V
 from secest.core.validation import ValidationError, as_matrix
 
 __all__ = [
+    "Example",
     "FilterHealthWarning",
+    "SecureRun",
     "SecureStep",
+    "Theorem4",
     "consensus_prediction",
+    "constant_gain_filter",
+    "exact_error_covariance",
+    "example",
     "matrix_max",
     "matrix_min",
     "received_indicator",
+    "secure_filter",
     "secure_filter_node_step",
     "secure_filter_step",
+    "theorem4_condition",
 ]
 
 _INSPECTION = ("Gamma", "Pi")
@@ -223,10 +244,10 @@ def _check_delta(delta: ArrayLike, batch: tuple[int, ...]) -> NDArray[np.float64
     return d
 
 
-def _check_states(x_post: ArrayLike) -> NDArray[np.float64]:
-    x = as_matrix("x_post", x_post)
+def _check_states(x_post: ArrayLike, name: str = "x_post") -> NDArray[np.float64]:
+    x = as_matrix(name, x_post)
     if x.ndim < 2:
-        raise ValidationError(f"x_post must have shape (..., m, n), found {x.shape}")
+        raise ValidationError(f"{name} must have shape (..., m, n), found {x.shape}")
     return x
 
 
@@ -450,22 +471,24 @@ def _check_scalars(
         V.check_bool(name, value)
 
 
-def _validate_step(x_post, Pi_post, Gamma_post, delta, y, A, BBt, C, DDt, adj, weights, tol):
+def _validate_step(x_post, Pi_post, Gamma_post, delta, y, A, BBt, C, DDt, adj, weights, tol,
+                   names=("x_post", "Pi_post", "Gamma_post")):
     """Shapes, finiteness and the standing assumptions of ding2020 (module docstring)."""
-    x = _check_states(x_post)
+    x_name, pi_name, gamma_name = names
+    x = _check_states(x_post, x_name)
     m, n = x.shape[-2:]
     batch = x.shape[:-2]
-    note = "to match x_post"
+    note = f"to match {x_name}"
     as_matrix("A", A, (n, n), note=note)
     V.check_psd("BBt", as_matrix("BBt", BBt, (n, n), note=note), tol=tol)
     C = as_matrix("C", C, (m, None, n), note=note)
     ny = C.shape[1]
     V.check_psd("DDt", as_matrix("DDt", DDt, (ny, ny), note="to match C"), strict=True, tol=tol)
-    Pi = V.check_psd("Pi_post", as_matrix("Pi_post", Pi_post, (*batch, m, n, n), note=note), tol=tol)
-    Gam = V.check_psd("Gamma_post", as_matrix("Gamma_post", Gamma_post, (*batch, m, n, n), note=note),
+    Pi = V.check_psd(pi_name, as_matrix(pi_name, Pi_post, (*batch, m, n, n), note=note), tol=tol)
+    Gam = V.check_psd(gamma_name, as_matrix(gamma_name, Gamma_post, (*batch, m, n, n), note=note),
                       tol=tol)
-    V.check_loewner_order("Gamma_post", Gam, "Pi_post", Pi, tol=tol)
-    as_matrix("y", y, (*batch, m, ny), note="to match x_post and C")
+    V.check_loewner_order(gamma_name, Gam, pi_name, Pi, tol=tol)
+    as_matrix("y", y, (*batch, m, ny), note=f"{note} and C")
     _check_delta(delta, batch)
     _check_network(adj, weights, m)
 
@@ -802,3 +825,476 @@ def secure_filter_node_step(
     else:
         Pi_post = _sym(Pi_prior - theta * (K @ C_i @ Pi_prior))
     return x_post, Pi_post, _sym(Gamma_post), theta
+
+
+# ---------------------------------------------------------------------------- the whole recursion
+
+
+class SecureRun(NamedTuple):
+    """Result of :func:`secure_filter`: the recursion (7)/(34) run over ``K`` steps.
+
+    Attributes
+    ----------
+    x : (..., K+1, m, n) ndarray
+        Estimates ``x_{i,k}^+`` for ``k = 0..K`` (``x[..., 0, :, :]`` is ``x0``).
+    theta : (..., K+1, m) ndarray
+        Detector outcomes (25), 1 = accepted; ``theta[..., 0, :] = 1`` (no test at ``k = 0``).
+    delta_r : (..., K, m) ndarray
+        Channel indicators (4) of the predictions ``k -> k+1``, ``k = 0..K-1``.
+    Pi_end, Gamma_end : (..., m, n, n) ndarray
+        The bounds ``Pi_{i,K}^+`` and ``Gamma_{i,K}^+`` after the last step.
+    history : dict of str to ndarray
+        For every :class:`SecureStep` field named in ``keep``, its values at ``k = 1..K`` stacked
+        on a time axis right after the batch axes (as in ``x``).
+    """
+
+    x: NDArray[np.float64]
+    theta: NDArray[np.float64]
+    delta_r: NDArray[np.float64]
+    Pi_end: NDArray[np.float64]
+    Gamma_end: NDArray[np.float64]
+    history: dict[str, NDArray]
+
+
+def _check_sequence(x0: ArrayLike, delta: ArrayLike, y: ArrayLike, trailing: int) -> tuple[NDArray, int]:
+    """``y`` as (..., K+1, m[, ny]) matching ``x0`` (..., m, n), ``delta`` (..., >= K): (y, K)."""
+    x = _check_states(x0, "x0")
+    batch, m = x.shape[:-2], x.shape[-2]
+    y = as_matrix("y", y)
+    b = len(batch)
+    if y.ndim != b + 2 + trailing or y.shape[:b] != batch or y.shape[b + 1] != m:
+        what = "(..., K+1, m, ny)" if trailing else "(..., K+1, m)"
+        raise ValidationError(
+            f"Incompatible dimensions of y: expected {what} with batch {batch} and m = {m} to match x0, "
+            f"found {y.shape}")
+    steps = y.shape[b] - 1
+    if steps < 1:
+        raise ValidationError(f"y must hold at least two instants (k = 0 and k = 1), found {steps + 1}")
+    d = as_matrix("delta", delta)
+    if d.ndim < 1 or d.shape[-1] < steps:
+        raise ValidationError(
+            f"Incompatible dimensions of delta: expected (..., >= {steps}) to match y, found {d.shape}")
+    if not np.all((d == 0) | (d == 1)):
+        raise ValidationError("delta must contain only 0 and 1")
+    _check_delta(d[..., 0], batch)
+    return y, steps
+
+
+_KEEP = tuple(f for f in SecureStep._fields if f != "joseph")
+
+
+def secure_filter(
+    x0: ArrayLike,
+    Pi0: ArrayLike,
+    Gamma0: ArrayLike,
+    delta: ArrayLike,
+    y: ArrayLike,
+    *,
+    A: ArrayLike,
+    BBt: ArrayLike,
+    C: ArrayLike,
+    DDt: ArrayLike,
+    adj: ArrayLike,
+    weights: ArrayLike,
+    kappa: float,
+    threshold: float,
+    inspect: bool = True,
+    inspection_cov: str = "Gamma",
+    tol: float = 1e-10,
+    strict: bool = False,
+    joseph: bool = False,
+    received: Callable[[int, NDArray[np.float64]], ArrayLike] | None = None,
+    keep: Sequence[str] = (),
+    validate: bool = True,
+) -> SecureRun:
+    """The distributed secure filter (7)/(34) over ``K`` steps: :func:`secure_filter_step` in a loop.
+
+    Starts from ``x_{i,0}^+ = x0``, ``Pi_{i,0}^+ = Pi0``, ``Gamma_{i,0}^+ = Gamma0`` and takes the
+    first measurement update at ``k = 1`` (the prediction ``0 -> 1`` uses ``delta_0``).
+
+    Parameters
+    ----------
+    x0 : (..., m, n) array_like
+        Initial estimates; leading axes are a batch (e.g. Monte Carlo runs).
+    Pi0, Gamma0 : (..., m, n, n) array_like
+        Initial upper and lower bounds, as ``Pi_post`` / ``Gamma_post`` of :func:`secure_filter_step`.
+    delta : (..., >= K) array_like of {0, 1}
+        Channel states ``delta_k``, ``k = 0..K-1`` (time last; extra entries are ignored); without
+        batch axes one sequence is shared by the whole batch.
+    y : (..., K+1, m, ny) array_like
+        Measurements ``y_{i,k}`` (``y[..., 0, :, :]`` is not used).
+    A, BBt, C, DDt, adj, weights, kappa, threshold, inspect, inspection_cov, tol, strict, joseph
+        As in :func:`secure_filter_step`.
+    received : callable ``(k, x_post) -> (..., m, m, n)``, optional
+        Per-link messages of step ``k`` (see :func:`secure_filter_step`); default (3) as printed.
+    keep : sequence of str, default ()
+        Fields of :class:`SecureStep` to record at every step (e.g. ``("Pi_post", "gain")``).
+    validate : bool, default True
+        Check the arguments and the standing assumptions at the first step (later steps skip them).
+
+    Returns
+    -------
+    SecureRun
+
+    Raises
+    ------
+    ValidationError
+        If shapes disagree, a value is out of range or a standing assumption fails (when ``validate``).
+    """
+    validate = V.check_bool("validate", validate)
+    if isinstance(keep, str) or not isinstance(keep, Sequence):
+        raise ValidationError(f"keep must be a sequence of SecureStep field names, found {keep!r}")
+    for name in keep:
+        V.check_choice("keep", name, _KEEP)
+    if received is not None:
+        V.check_callable("received", received)
+    if validate:
+        _check_scalars(kappa, threshold, inspection_cov, tol, {"inspect": inspect, "strict": strict,
+                                                                "joseph": joseph})
+        y, steps = _check_sequence(x0, delta, y, trailing=1)
+        d0 = np.asarray(delta, dtype=float)[..., 0]
+        _validate_step(x0, Pi0, Gamma0, d0, y[..., 1, :, :], A, BBt, C, DDt, adj, weights, tol,
+                       names=("x0", "Pi0", "Gamma0"))
+    else:
+        y = np.asarray(y, dtype=float)
+        steps = y.shape[-3] - 1
+    d = np.asarray(delta, dtype=float)
+    x = np.array(x0, dtype=float)
+    Pi = np.array(Pi0, dtype=float)
+    Gam = np.array(Gamma0, dtype=float)
+    axis = x.ndim - 2  # the time axis of every stacked output
+    xs, thetas, drs = [x], [np.ones(x.shape[:-1])], []
+    hist: dict[str, list] = {name: [] for name in keep}
+    for k in range(steps):
+        st = secure_filter_step(
+            x, Pi, Gam, d[..., k], y[..., k + 1, :, :], A=A, BBt=BBt, C=C, DDt=DDt, adj=adj,
+            weights=weights, kappa=kappa, threshold=threshold, inspect=inspect,
+            inspection_cov=inspection_cov, tol=tol, strict=strict, joseph=joseph,
+            received=None if received is None else received(k, x), validate=validate and k == 0)
+        x, Pi, Gam = st.x_post, st.Pi_post, st.Gamma_post
+        xs.append(x)
+        thetas.append(st.theta)
+        drs.append(st.delta_r)
+        for name in keep:
+            hist[name].append(getattr(st, name))
+    return SecureRun(np.stack(xs, axis=axis), np.stack(thetas, axis=axis), np.stack(drs, axis=axis),
+                     Pi, Gam, {name: np.stack(v, axis=axis) for name, v in hist.items()})
+
+
+_FORMS = ("corrector", "predictor")
+
+
+def constant_gain_filter(
+    x0: ArrayLike,
+    delta: ArrayLike,
+    y: ArrayLike,
+    *,
+    A: ArrayLike,
+    C: ArrayLike,
+    gains: ArrayLike,
+    adj: ArrayLike,
+    weights: ArrayLike,
+    kappa: float,
+    form: str = "corrector",
+    validate: bool = True,
+) -> NDArray[np.float64]:
+    """The comparison filter of Sec. V: the prediction (7) with constant gains and no detector.
+
+    The paper takes its gains from the LMI designs of its refs. [9], [13] and prints them without
+    the filter's structure, so two readings are offered (scalar measurements, as in Sec. V):
+
+    * ``"corrector"``: ``x_{i,k+1}^+ = x_{i,k+1}^- + K_i (y_{i,k+1} - C_i x_{i,k+1}^-)``;
+    * ``"predictor"``: ``x_{i,k+1} = A x_{i,k} + kappa A xi_{i,k} + K_i (y_{i,k} - C_i x_{i,k})``,
+
+    with ``x_{i,k+1}^-`` the consensus prediction (7) over the shared channel (3)-(4).
+
+    Parameters
+    ----------
+    x0 : (..., m, n) array_like
+        Initial estimates; leading axes are a batch.
+    delta : (..., >= K) array_like of {0, 1}
+        Channel states ``delta_k``, time last, as in :func:`secure_filter`.
+    y : (..., K+1, m) array_like
+        Scalar measurements ``y_{i,k}``.
+    A : (n, n) array_like
+        System matrix.
+    C : (m, n) array_like
+        Measurement rows ``C_i``.
+    gains : (m, n) array_like
+        Constant gains ``K_i``.
+    adj, weights, kappa
+        As in :func:`consensus_prediction`.
+    form : {"corrector", "predictor"}, default "corrector"
+        The reading of the structure.
+    validate : bool, default True
+        Check the arguments (and the standing assumptions on the graph at the first step).
+
+    Returns
+    -------
+    (..., K+1, m, n) ndarray
+        The estimates for ``k = 0..K``.
+
+    Raises
+    ------
+    ValidationError
+        If shapes disagree or a value is out of range (when ``validate``).
+    """
+    if V.check_bool("validate", validate):
+        V.check_choice("form", form, _FORMS)
+        y, steps = _check_sequence(x0, delta, y, trailing=0)
+        m, n = np.shape(x0)[-2:]
+        as_matrix("C", C, (m, n), note="to match x0")
+        as_matrix("gains", gains, (m, n), note="to match x0")
+    else:
+        y = np.asarray(y, dtype=float)
+        steps = y.shape[-2] - 1
+    d = np.asarray(delta, dtype=float)
+    C = np.asarray(C, dtype=float)
+    gains = np.asarray(gains, dtype=float)
+    x_post = np.array(x0, dtype=float)
+    axis = x_post.ndim - 2
+    xs = [x_post]
+    for k in range(steps):
+        # (3), (4), (7): consensus prediction over the shared channel
+        x_prior, _ = consensus_prediction(x_post, d[..., k], adj, weights, A, kappa,
+                                          validate=validate and k == 0)
+        if form == "predictor":  # x_{k+1} = A x_k + kappa A xi_k + K_i (y_k - C_i x_k)
+            eta = y[..., k, :] - np.einsum("in,...in->...i", C, x_post)
+        else:  # corrector: x+ = x- + K_i (y_{k+1} - C_i x-)
+            eta = y[..., k + 1, :] - np.einsum("in,...in->...i", C, x_prior)
+        x_post = x_prior + gains * eta[..., None]
+        xs.append(x_post)
+    return np.stack(xs, axis=axis)
+
+
+class Theorem4(NamedTuple):
+    """The quantities of Theorem 4's condition (42)-(43), see :func:`theorem4_condition`.
+
+    Attributes
+    ----------
+    xi_q, xi_p : float
+        ``xi_q`` (42) and ``xi_p`` (43); the condition is ``xi_q < 1`` and ``xi_p < 1``.
+    zeta : float
+        ``((1 + nu) c_lo^2 + c_hi^2 (1 - sigma)) / c_lo^2``.
+    alpha_bar : float
+        ``||A||`` (spectral norm).
+    c_lo, c_hi : float
+        Smallest and largest ``||C_i||``.
+    """
+
+    xi_q: float
+    xi_p: float
+    zeta: float
+    alpha_bar: float
+    c_lo: float
+    c_hi: float
+
+
+def theorem4_condition(
+    A: ArrayLike,
+    C: ArrayLike,
+    *,
+    p: float,
+    q: float,
+    kappa: float,
+    n_bar: int,
+    nu: float,
+    sigma: float,
+    factor: float = 1.0,
+) -> Theorem4:
+    """Theorem 4's sufficient condition (42)-(43) for the mean upper bound to stay bounded (41).
+
+    ``xi_q = zeta alpha^2 (1 - q + q (1 + kappa)(1 + factor kappa N_bar))`` (42) and
+    ``xi_p = zeta alpha^2 (p + (1 - p)(1 + kappa)(1 + factor kappa N_bar))`` (43), with
+    ``zeta = ((1 + nu) c_lo^2 + c_hi^2 (1 - sigma)) / c_lo^2``, ``alpha = ||A||`` and ``c_lo``,
+    ``c_hi`` the extreme ``||C_i||``. ``factor = 1`` is the printed form; ``factor = 2`` is the form
+    the proof ((36), (44)-(47), with the factor 2 of ``Xi = 2 sum Pi_j^+``) implies (erratum E9).
+
+    Parameters
+    ----------
+    A : (n, n) array_like
+        System matrix.
+    C : (m, n) array_like
+        Measurement rows ``C_i`` (scalar measurements), none zero.
+    p, q : float
+        Failure and recovery rates of the Gilbert-Elliott chain, in [0, 1].
+    kappa : float
+        Coupling strength, ``kappa >= 0``.
+    n_bar : int
+        ``N_bar = 1 + max_i |N_i|``.
+    nu : float
+        Assumption 2's probability bound, in [0, 1].
+    sigma : float
+        False-alarm probability of the threshold of (25), in [0, 1].
+    factor : float, default 1.0
+        Factor of ``kappa N_bar`` in the bracket: 1 printed, 2 the proof's.
+
+    Returns
+    -------
+    Theorem4
+
+    Raises
+    ------
+    ValidationError
+        If a shape or value is out of range.
+    """
+    A = as_matrix("A", A, square=True)
+    C = as_matrix("C", C, (None, A.shape[0]), note="to match A")
+    for name, value in (("p", p), ("q", q), ("nu", nu), ("sigma", sigma)):
+        V.check_probability(name, value)
+    V.check_real("kappa", kappa, lower=0.0)
+    V.check_int("n_bar", n_bar, minimum=1)
+    V.check_real("factor", factor, lower=0.0)
+    c_norms = np.linalg.norm(C, axis=1)
+    c_lo, c_hi = c_norms.min(), c_norms.max()
+    if c_lo == 0:
+        raise ValidationError("C must have no zero row (c_lo = min ||C_i|| divides zeta)")
+    alpha_bar = np.linalg.norm(A, 2)
+    zeta = ((1 + nu) * c_lo**2 + c_hi**2 * (1 - sigma)) / c_lo**2
+    bracket = (1 + kappa) * (1 + factor * kappa * n_bar)
+    return Theorem4(float(zeta * alpha_bar**2 * (1 - q + q * bracket)),  # (42)
+                    float(zeta * alpha_bar**2 * (p + (1 - p) * bracket)),  # (43)
+                    float(zeta), float(alpha_bar), float(c_lo), float(c_hi))
+
+
+def exact_error_covariance(
+    gains: ArrayLike,
+    delta: ArrayLike,
+    P0: ArrayLike,
+    *,
+    A: ArrayLike,
+    B: ArrayLike,
+    C: ArrayLike,
+    D: float,
+    weights: ArrayLike,
+    kappa: float,
+) -> NDArray[np.float64]:
+    """Exact error covariance of the filter (7)/(34) for given gains, every update accepted.
+
+    With ``theta = 1`` the gains depend only on ``delta``, and the stacked error
+    ``e_k = x_k - x_hat_k`` evolves linearly (the Joseph form (12) of Lemma 1, exactly):
+    ``e_{k+1}^- = (I kron A - kappa delta_k (I - H) kron A) e_k^+ + (1 kron B) w_k`` and
+    ``e_{i,k+1}^+ = (I - K_i C_i) e_{i,k+1}^- - K_i D v_{i,k+1}``. Its covariance ``P_k^+`` is what
+    ``Gamma^+ <= P^+ <= Pi^+`` (8) bounds. Scalar measurements, as in Sec. V.
+
+    Parameters
+    ----------
+    gains : (K, m, n) array_like
+        Gains ``K_{i,k}``, ``k = 1..K`` (the filter's ``gain[..., 0]``).
+    delta : (>= K,) array_like of {0, 1}
+        Channel states ``delta_k``, ``k = 0..K-1``.
+    P0 : (m n, m n) array_like
+        Covariance of the stacked initial error ``e_0^+``, symmetric PSD.
+    A, B : (n, n) array_like
+        System and process-noise input matrices of (1).
+    C : (m, n) array_like
+        Measurement rows ``C_i``.
+    D : float
+        Measurement-noise gain of (2).
+    weights : (m, m) array_like
+        Row-stochastic ``H``.
+    kappa : float
+        Coupling strength, ``kappa >= 0``.
+
+    Returns
+    -------
+    (K+1, m, n, n) ndarray
+        The diagonal blocks ``P_{ii,k}^+``, ``k = 0..K``.
+
+    Raises
+    ------
+    ValidationError
+        If shapes disagree or a value is out of range.
+    """
+    K = as_matrix("gains", gains, (None, None, None))
+    steps, m, n = K.shape
+    A = as_matrix("A", A, (n, n), note="to match gains")
+    B = as_matrix("B", B, (n, None), note="to match gains")
+    C = as_matrix("C", C, (m, n), note="to match gains")
+    H = as_matrix("weights", weights, (m, m), note="to match gains")
+    P = V.check_psd("P0", as_matrix("P0", P0, (m * n, m * n), note="to match gains"))
+    d = as_matrix("delta", delta, (None,))
+    if d.shape[0] < steps or not np.all((d == 0) | (d == 1)):
+        raise ValidationError(f"delta must hold at least {steps} values in {{0, 1}}, found {d.shape[0]}")
+    D = V.check_real("D", D)
+    V.check_real("kappa", kappa, lower=0.0)
+    n3 = m * n
+    L_mat = np.eye(m) - H
+    bw = np.kron(np.ones((m, 1)), B)
+    blocks = [np.stack([P[n * i:n * (i + 1), n * i:n * (i + 1)] for i in range(m)])]
+    for k in range(steps):
+        F = np.kron(np.eye(m), A) - kappa * d[k] * np.kron(L_mat, A)  # prediction (7) of the errors
+        Pm = F @ P @ F.T + bw @ bw.T
+        KC = np.zeros((n3, n3))
+        KD = np.zeros((n3, m))
+        for i in range(m):
+            KC[n * i:n * (i + 1), n * i:n * (i + 1)] = np.outer(K[k, i], C[i])
+            KD[n * i:n * (i + 1), i] = K[k, i] * D
+        G = np.eye(n3) - KC
+        P = G @ Pm @ G.T + KD @ KD.T  # update (34), every theta = 1: Joseph form of (12)
+        P = 0.5 * (P + P.T)
+        blocks.append(np.stack([P[n * i:n * (i + 1), n * i:n * (i + 1)] for i in range(m)]))
+    return np.stack(blocks)
+
+
+class Example(NamedTuple):
+    """The numerical example of Sec. V, see :func:`example`.
+
+    Attributes
+    ----------
+    A : (3, 3) ndarray
+        Constant-acceleration model with sampling period ``T``.
+    B : (3, 3) ndarray
+        ``0.2 I_3``.
+    D : (1, 1) ndarray
+        ``0.05``.
+    C : (m, 3) ndarray
+        ``[4.5, -0.8, -0.5]`` for nodes 1-7, ``[4.0, -0.8, 1.0]`` for nodes 8-m.
+    gains : (m, 3) ndarray
+        The comparison filter's constant gains, ``gains_low`` for nodes 1-7, ``gains_high`` after.
+    """
+
+    A: NDArray[np.float64]
+    B: NDArray[np.float64]
+    D: NDArray[np.float64]
+    C: NDArray[np.float64]
+    gains: NDArray[np.float64]
+
+
+_LOW_GROUP = 7  # "i < 8" of Sec. V, 1-based: nodes 1-7
+
+
+def example(m: int, T: float, gains_low: ArrayLike, gains_high: ArrayLike) -> Example:
+    """The plant (1), sensors (2) and comparison gains of the paper's Sec. V example.
+
+    A position / velocity / acceleration target sampled with period ``T``,
+    ``x_{k+1} = A x_k + B w_k`` and ``y_{i,k} = C_i x_k + D v_{i,k}`` (plus the attack), with
+    ``w_k ~ N(0, I_3)`` and ``v_{i,k} ~ N(0, 1)``; nodes 1-7 and 8-m have different ``C_i`` and
+    constant gains.
+
+    Parameters
+    ----------
+    m : int
+        Number of sensor nodes (20 in Sec. V), at least 1.
+    T : float
+        Sampling period, positive (0.05 s in Sec. V).
+    gains_low, gains_high : (3,) array_like
+        Constant gains of the comparison filter for nodes 1-7 and 8-m (printed in Sec. V).
+
+    Returns
+    -------
+    Example
+
+    Raises
+    ------
+    ValidationError
+        If a value or shape is out of range.
+    """
+    m = V.check_int("m", m, minimum=1)
+    T = V.check_real("T", T, lower=0.0, lower_open=True)
+    low = as_matrix("gains_low", gains_low, (3,))
+    high = as_matrix("gains_high", gains_high, (3,))
+    A = np.array([[1.0, T, T**2 / 2], [0.0, 1.0, T], [0.0, 0.0, 1.0]])
+    C = np.array([[4.5, -0.8, -0.5] if i < _LOW_GROUP else [4.0, -0.8, 1.0] for i in range(m)])
+    gains = np.array([low if i < _LOW_GROUP else high for i in range(m)])
+    return Example(A, 0.2 * np.eye(3), np.array([[0.05]]), C, gains)

@@ -27,8 +27,9 @@ __all__ = ["Ding2020"]
 class Ding2020(Method):
     """Distributed secure filter over a Gilbert-Elliott channel with a chi-square detector.
 
-    Each step is :func:`secest.methods.ding2020.secure_filter_step`: consensus prediction (7), the
-    inspection (25) of the innovation against the lower bound ``Gamma``, the update (34) and
+    The run is :func:`secest.methods.ding2020.secure_filter`, the recursion the notebook verifies:
+    at every step :func:`secest.methods.ding2020.secure_filter_step`, i.e. consensus prediction (7),
+    the inspection (25) of the innovation against the lower bound ``Gamma``, the update (34) and
     the upper / lower covariance bounds (35) / (18). Its alarms are the inspected-out
     measurements (``theta = 0``), its ``bound`` the upper bound ``Pi_i^+``.
 
@@ -67,38 +68,27 @@ class Ding2020(Method):
 
     def run(self, trial: Trial) -> Estimate:
         sc = trial.scenario
-        runs, K1, N, _ = trial.y.shape
+        runs, _, N, _ = trial.y.shape
         n = sc.plant.n
-        A, BBt, DDt = sc.plant.A, sc.plant.Q, sc.R[0]
         adj = sc.network.adj
-        H = graphs.row_stochastic_weights(adj, self_weight=False)
-        x = np.zeros((runs, N, n))
-        Pi = np.broadcast_to(sc.plant.x0_std**2 * np.eye(n), (runs, N, n, n)).copy()
-        Gam = Pi.copy()
-        out = np.empty((runs, K1, N, n))
-        alarms = np.zeros((runs, K1, N), bool)
-        bound = np.empty((runs, K1, N, n, n))
-        out[:, 0], bound[:, 0] = x, Pi
+        Pi0 = np.broadcast_to(sc.plant.x0_std**2 * np.eye(n), (runs, N, n, n)).copy()
         scale = sc.plant.x0_std
-        for k in range(K1 - 1):
-            step = ding2020.secure_filter_step(
-                x,
-                Pi,
-                Gam,
-                trial.link[:, k],
-                trial.y[:, k + 1],
-                A=A,
-                BBt=BBt,
-                C=sc.C,
-                DDt=DDt,
-                adj=adj,
-                weights=H,
-                kappa=self.kappa,
-                threshold=self.threshold,
-                received=trial.received(k, x, scale),
-                validate=k == 0,
-            )
-            x, Pi, Gam = step.x_post, step.Pi_post, step.Gamma_post
-            out[:, k + 1], bound[:, k + 1] = x, Pi
-            alarms[:, k + 1] = step.theta == 0
-        return Estimate(out, alarms=alarms, bound=bound)
+        res = ding2020.secure_filter(
+            np.zeros((runs, N, n)),
+            Pi0,
+            Pi0.copy(),
+            trial.link,
+            trial.y,
+            A=sc.plant.A,
+            BBt=sc.plant.Q,
+            C=sc.C,
+            DDt=sc.R[0],
+            adj=adj,
+            weights=graphs.row_stochastic_weights(adj, self_weight=False),
+            kappa=self.kappa,
+            threshold=self.threshold,
+            received=lambda k, x: trial.received(k, x, scale),
+            keep=("Pi_post",),
+        )
+        bound = np.concatenate([Pi0[:, None], res.history["Pi_post"]], axis=1)
+        return Estimate(res.x, alarms=res.theta == 0, bound=bound)
