@@ -340,6 +340,13 @@ def draw_randomness(rng: np.random.Generator, runs: int, horizon: int) -> dict[s
 
 
 # %% [markdown]
+# The library's prediction (7) and update (8) (`secest.methods.li2025`; `c` is 1 in (8)):
+
+# %%
+show_source(M.predict, after="    if len(xh_parents) != len(bh_list):")
+show_source(M.correct, after="    return xp + ")
+
+# %% [markdown]
 # The coefficients of the table, in the library (`secest.methods.li2025`, which the arena's method
 # runs too; `variant="additive"` is the additive reading above, `kappa_v` the weight of
 # $\Phi\mathcal V\Phi^T$):
@@ -706,9 +713,8 @@ def grid_search(variant: str, seed: int, pilot_runs: int,
         with np.errstate(all="ignore"):
             for k in range(1, T + 1):
                 ah, sched = AH_ALL[k - 1], SETS[k - 1]
-                xp = xh_i @ ah.T
-                for j in K_SETS[i]:
-                    xp = xp + up["xhat"][idx, k - 1, j] @ BH[(i, j)].T
+                xp = M.predict(xh_i, [up["xhat"][idx, k - 1, j] for j in K_SETS[i]], ah,
+                               [BH[(i, j)] for j in K_SETS[i]])  # (7)
                 Sp = predicted_bound(S_i, [up["S"][idx, k - 1, j] for j in K_SETS[i]], ah,
                                      [BH[(i, j)] for j in K_SETS[i]], lam,
                                      W * np.outer(E_ALL[k - 1], E_ALL[k - 1]), coupling_factor)
@@ -722,7 +728,7 @@ def grid_search(variant: str, seed: int, pilot_runs: int,
                     X_hat = np.tile(X_hat.reshape(pilot_runs, n_c, NX, NX).mean(axis=0),
                                     (pilot_runs, 1, 1))
                 L, S_i, _ = gain_and_bound(Sp, X_hat, G, coefs, a1, xi_star, V)
-                xh_i = xp + np.einsum("frc,fc->fr", L, y_s - xp @ G.T)
+                xh_i = M.correct(xp, y_s, G, L)  # (8)
                 tr_k = np.trace(S_i, axis1=-2, axis2=-1)
                 total += tr_k
                 peak = np.maximum(peak, np.where(np.isfinite(tr_k), tr_k, np.inf))

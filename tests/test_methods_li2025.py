@@ -255,11 +255,26 @@ def test_predicted_bound_17_and_its_coupling_factor() -> None:
     assert np.allclose(alone, li2025.sym(ah @ ah.T + ewe), rtol=1e-13)
 
 
+def test_prediction_7_and_update_8_of_target_3() -> None:
+    rng = np.random.default_rng(5)
+    xh = rng.standard_normal((6, N, NX))
+    ah, bh = AH_ALL[3], [BH[(2, 0)], BH[(2, 1)]]
+    xp = li2025.predict(xh[:, 2], [xh[:, 0], xh[:, 1]], ah, bh)
+    assert np.allclose(xp, xh[:, 2] @ ah.T + xh[:, 0] @ bh[0].T + xh[:, 1] @ bh[1].T, rtol=1e-14)
+    G, L, y = CH[SETS[3]], rng.standard_normal((6, NX, 2)), rng.standard_normal((6, 2))
+    for c in (1.0, 0.3):
+        want = xp + np.einsum("frc,fc->fr", L, y - c * xp @ G.T)
+        assert np.allclose(li2025.correct(xp, y, G, L, c), want, rtol=1e-14)
+    assert np.array_equal(li2025.correct(xp, y, G, np.zeros_like(L)), xp)
+
+
 def test_bad_input_is_refused_with_the_argument_named() -> None:
     with pytest.raises(ValidationError, match="variant must be one of"):
         li2025.bound_coefficients(0.5, 0.1, 0.1, 0.1, "printed")
     with pytest.raises(ValidationError, match="S_parents and bh_list"):
         li2025.predicted_bound(np.eye(2), [np.eye(2)], np.eye(2), [], 0.1, np.eye(2))
+    with pytest.raises(ValidationError, match="xh_parents and bh_list"):
+        li2025.predict(np.zeros(2), [], np.eye(2), [np.eye(2)])
     coefs = li2025.bound_coefficients(0.5, 0.1, 0.1, 0.1)
     with pytest.raises(ValidationError, match="G must have one column per state of S_pred"):
         li2025.gain_and_bound(np.eye(3), np.eye(3), np.ones((1, 2)), coefs, 1.0, 0.1, 0.1)

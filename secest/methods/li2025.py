@@ -51,8 +51,10 @@ __all__ = [
     "UPDATES",
     "VARIANTS",
     "bound_coefficients",
+    "correct",
     "estimate",
     "gain_and_bound",
+    "predict",
     "predicted_bound",
     "sym",
 ]
@@ -251,6 +253,60 @@ def gain_and_bound(
     return L, sym(S_new), R
 
 
+def predict(xh_own: Array, xh_parents: Sequence[Array], ah: Array, bh_list: Sequence[Array]) -> Array:
+    """Prediction (7): ``x_hat_i(k|k-1)``, batched over the leading axes.
+
+    Parameters
+    ----------
+    xh_own : (..., n) array
+        ``x_hat_i(k-1|k-1)``.
+    xh_parents : sequence of (..., n) arrays
+        ``x_hat_j(k-1|k-1)`` of the upstream subsystems ``j in K_i``, paired with ``bh_list``.
+    ah, bh_list : (n, n) arrays
+        ``A_i(k-1) H_eps`` and the ``B_{i,j}(k-1) H_eps``.
+
+    Returns
+    -------
+    (..., n) array
+
+    Raises
+    ------
+    ValidationError
+        ``xh_parents`` and ``bh_list`` of different lengths.
+    """
+    if len(xh_parents) != len(bh_list):
+        raise ValidationError(
+            f"xh_parents and bh_list must pair up: found {len(xh_parents)} and {len(bh_list)} entries")
+    xp = xh_own @ ah.T  # (7): own term
+    for bh, xh_j in zip(bh_list, xh_parents, strict=True):
+        xp = xp + xh_j @ bh.T  # (7): upstream estimates
+    return xp
+
+
+def correct(xp: Array, y: Array, G: Array, L: Array, c: ArrayLike = 1.0) -> Array:
+    """Update (8): ``x_hat(k|k) = x_hat(k|k-1) + L (y - c G x_hat(k|k-1))``, batched over runs.
+
+    Parameters
+    ----------
+    xp : (runs, n) array
+        ``x_hat_i(k|k-1)``.
+    y : (runs, rows) array
+        The received rows (``y_{i, eps(k)}(k)``, or the ZOH buffer).
+    G : (rows, n) array
+        The rows of ``C H_eps`` that ``y`` measures.
+    L : (runs, n, rows) array
+        The gain.
+    c : float, default 1.0
+        Weight of the predicted measurement: 1 in (8), ``psi_check`` in the notebook's debiased
+        innovation (X1).
+
+    Returns
+    -------
+    (runs, n) array
+    """
+    return xp + np.einsum("frc,fc->fr", L, y - c * (xp @ G.T))  # (8)
+
+
 def _per_target(name: str, value: ArrayLike, N: int) -> Array:
     arr = np.broadcast_to(np.asarray(value, float), (N,))
     if not np.all(np.isfinite(arr)):
@@ -391,9 +447,8 @@ def estimate(
             coefs = bound_coefficients(psi[i], a2, a3, a4, variant)
             up = tuple(parents.get(i, ()))
             ah = AH[k - 1, i]
-            xp = xh[:, k - 1, i] @ ah.T  # prediction (7)
-            for j in up:
-                xp = xp + xh[:, k - 1, j] @ BH[(i, j)].T
+            xp = predict(xh[:, k - 1, i], [xh[:, k - 1, j] for j in up], ah,
+                         [BH[(i, j)] for j in up])  # (7)
             Sp = predicted_bound(S[:, k - 1, i], [S[:, k - 1, j] for j in up], ah,
                                  [BH[(i, j)] for j in up], lam, EWE[k - 1, i], k_factor)  # (17)
             S_pred[:, k, i] = Sp
@@ -409,11 +464,8 @@ def estimate(
                 L, S_new, _ = gain_and_bound(Sp, X_hat, G, coefs, a1, xis[i], Vs[i])  # (28), (18)
             else:  # fixed gains: the bound is not computed
                 L, S_new = np.broadcast_to(gains[k, i][:, cols], (runs, n, len(cols))), np.nan
-            pred = xp @ G.T
-            if update == "debiased":
-                pred = psi[i] * pred
             L_use = np.zeros_like(L) if update == "open_loop" else L
-            xh[:, k, i] = xp + np.einsum("frc,fc->fr", L_use, y_use - pred)  # update (8)
+            xh[:, k, i] = correct(xp, y_use, G, L_use, psi[i] if update == "debiased" else 1.0)  # (8)
             S[:, k, i] = S_new
             L_all[:, k, i][..., cols] = L_use
     return {"xhat": xh, "S": S, "S_pred": S_pred, "L": L_all}
