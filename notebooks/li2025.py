@@ -374,9 +374,9 @@ show_source(M.gain_and_bound, after="    c0, kx, kxi, kv = coefs")
 # `simulate` runs the plant (1) with the attack (6) (`plant_and_packets`, the example's data) and
 # then Algorithm 1 for the three targets over $k=1..T$, the library's `estimate` (shown below), with
 # the $F$ runs as the leading array axis (no Python loop over runs: the loop is over time and
-# targets only). All
-# randomness comes in through `draws`, so a run-by-run loop over slices `draws[f:f+1]` gives the
-# same numbers (X2; the benchmark suite times exactly this comparison). Targets are processed in the
+# targets only). All randomness comes in through `draws`, so a run-by-run loop over slices
+# `draws[f:f+1]` gives the same numbers (X2; the benchmark suite times `estimate` on all runs
+# against a loop over single runs). Targets are processed in the
 # DAG order 1, 2, 3 ($\mathfrak S_3(k|k-1)$ needs $\mathfrak S_1,\mathfrak S_2$ at $k-1$).
 #
 # `estimator` selects the measurement update:
