@@ -96,7 +96,10 @@ from scipy import stats
 
 from secest.core import montecarlo, schedules
 from secest.core.validation import ValidationError
+from secest.methods import li2025 as M
+from secest.methods.li2025 import bound_coefficients, gain_and_bound, predicted_bound, sym
 from secest.repro import plotting, results, spaces
+from secest.repro.literate import show_source
 
 print(results.environment_summary())
 
@@ -336,75 +339,44 @@ def draw_randomness(rng: np.random.Generator, runs: int, horizon: int) -> dict[s
 # only as a sensitivity row of C7.
 
 
+# %% [markdown]
+# The library's prediction (7) and update (8) (`secest.methods.li2025`; `c` is 1 in (8)):
+
 # %%
-def bound_coefficients(psi_bar, a2, a3, a4, variant: str):
-    """(c0, kappa_x, kappa_xi, kappa_v) of (18) and (28) for one reading of the coefficients.
+show_source(M.predict, after="    if len(xh_parents) != len(bh_list):")
+show_source(M.correct, after="    return xp + ")
 
-    Parameters
-    ----------
-    psi_bar : float or array
-        Probability of no attack, psi_check_i.
-    a2, a3, a4 : float or array
-        Lemma-1 weights alpha_2 (e/xi), alpha_3 (e/x), alpha_4 (x/xi).
-    variant : {"corrected", "paper", "additive"}
-        Re-derived from (12) with Lemma 1; as printed in Theorem 2; re-derived for the
-        additive reading of (6).
-    """
-    p = 1 - psi_bar
-    if variant == "corrected":
-        return 1 + (a2 + a3) * p, p * (1 + 1 / a3 + a4), p * (1 + 1 / a2 + 1 / a4), psi_bar
-    if variant == "paper":
-        return 1 - (a3 - a2) * p, psi_bar + 1 / a3 + a4 - 1, p * (1 + 1 / a2 + 1 / a4), psi_bar
-    return 1 + a2 * p, 0 * p, p * (1 + 1 / a2), 1 + 0 * p
+# %% [markdown]
+# The coefficients of the table, in the library (`secest.methods.li2025`, which the arena's method
+# runs too; `variant="additive"` is the additive reading above, `kappa_v` the weight of
+# $\Phi\mathcal V\Phi^T$):
 
+# %%
+show_source(M.bound_coefficients, after="    p = 1 - psi_bar")
 
-def sym(a: np.ndarray) -> np.ndarray:
-    """Symmetric part over the last two axes."""
-    return 0.5 * (a + np.swapaxes(a, -1, -2))
+# %% [markdown]
+# The predicted bound (17), batched over the leading axes (Monte Carlo runs, grid candidates):
 
+# %%
+show_source(M.predicted_bound, after="    if len(S_parents) != len(bh_list):")
 
-def predicted_bound(S_own, S_parents, ah, bh_list, lam, ewe, k_factor):
-    """(17): S(k|k-1), batched over the leading axis; bh_list pairs with S_parents.
+# %% [markdown]
+# The gain (28) on the scheduled rows and the updated bound (18); a batch member whose $\Pi$ is not
+# finite or exceeds $10^{14}$ (an exploding grid candidate) gets a NaN gain instead of a crash:
 
-    k_factor multiplies the coupling term by |K_i| (the corrected (17)); without it the plain
-    sum of the printed terms is used.
-    """
-    s = (1 + lam) * (ah @ S_own @ ah.T) + ewe
-    factor = len(bh_list) if k_factor else 1
-    for bh, S_j in zip(bh_list, S_parents, strict=True):
-        s = s + (1 + 1 / lam) * factor * (bh @ S_j @ bh.T)
-    return sym(s)
-
-
-def gain_and_bound(S_pred, X_hat, G, coefs, a1):
-    """(28) on the scheduled rows and (18): returns L_s (B, 4, rows), S(k|k), R_s.
-
-    G (rows, 4) = scheduled rows of C H_eps; S_pred, X_hat (B, 4, 4); coefs = (c0, kappa_x,
-    kappa_xi, kappa_v) of `bound_coefficients`, scalars or arrays broadcasting as (B, 1, 1).
-    """
-    c0, kx, kxi, kv = coefs
-    rows = G.shape[0]
-    gsg = G @ S_pred @ G.T
-    eye = np.eye(rows)
-    R = kx * (1 + a1) * gsg + kx * (1 + 1 / a1) * (G @ X_hat @ G.T) + (kxi * xi_star + kv * V) * eye
-    Pi = sym(c0 * gsg + R)
-    # divergence guard: a grid candidate whose bound exploded gets NaN instead of a crash
-    bad = ~np.all(np.isfinite(Pi), axis=(-1, -2)) | ~(np.max(np.abs(Pi), axis=(-1, -2)) < 1e14)
-    Pi = np.where(bad[:, None, None], eye, Pi)
-    L = np.swapaxes(np.linalg.solve(Pi, c0 * (G @ S_pred)), -1, -2)
-    L[bad] = np.nan
-    Mm = np.eye(NX) - L @ G
-    S_new = c0 * (Mm @ S_pred @ np.swapaxes(Mm, -1, -2)) + L @ R @ np.swapaxes(L, -1, -2)
-    return L, sym(S_new), R
+# %%
+show_source(M.gain_and_bound, after="    c0, kx, kxi, kv = coefs")
 
 
 # %% [markdown]
 # ## Monte Carlo core: Algorithm 1 for all runs at once
 #
-# `simulate` runs Algorithm 1 for the three targets over $k=1..T$ with the $F$ runs as the
-# leading array axis (no Python loop over runs: the loop is over time and targets only). All
-# randomness comes in through `draws`, so a run-by-run loop over slices `draws[f:f+1]` gives the
-# same numbers (X2; the benchmark suite times exactly this comparison). Targets are processed in the
+# `simulate` runs the plant (1) with the attack (6) (`plant_and_packets`, the example's data) and
+# then Algorithm 1 for the three targets over $k=1..T$, the library's `estimate` (shown below), with
+# the $F$ runs as the leading array axis (no Python loop over runs: the loop is over time and
+# targets only). All randomness comes in through `draws`, so a run-by-run loop over slices
+# `draws[f:f+1]` gives the same numbers (X2; the benchmark suite times `estimate` on all runs
+# against a loop over single runs). Targets are processed in the
 # DAG order 1, 2, 3 ($\mathfrak S_3(k|k-1)$ needs $\mathfrak S_1,\mathfrak S_2$ at $k-1$).
 #
 # `estimator` selects the measurement update:
@@ -416,13 +388,43 @@ def gain_and_bound(S_pred, X_hat, G, coefs, a1):
 #   off-schedule columns are zero).
 #
 # `gains`, if given, replaces (28) by fixed gains (then $\mathfrak S$ is not computed; used to check the
-# exact recursion below, X3).
+# exact recursion below, X3). The updates `"debiased"` and `"open_loop"` of `estimate` are used by the
+# arena and the tests only; this notebook runs them in its exact-moment recursion below.
+
+# %%
+show_source(M.estimate, after="    xh = np.zeros((runs, T + 1, N, n))")
 
 
 # %%
+EWE_ALL = W * (E_ALL[:, :, None] * E_ALL[:, None, :])  # E_i(k) W E_i^T(k), k = 0..T
+
+
+def plant_and_packets(draws, parents):
+    """The plant (1) and the received scheduled entries (6), Algorithm 1 lines 3-4.
+
+    Returns x (F, T+1, N, 4), the states, and y (F, T, N, m), row k-1 holding
+    y_{i, eps(k)}(k): the scheduled entries of C H x_i(k) + v_i(k), replaced by xi when attacked.
+    """
+    runs, horizon = draws["sigma"].shape[0], draws["psi"].shape[1]
+    x = np.zeros((runs, horizon + 1, N, NX))
+    y = np.zeros((runs, horizon, N, m))
+    x[:, 0] = X0_OFFSET + draws["sigma"]
+    for k in range(1, horizon + 1):
+        ah, sched = AH_ALL[k - 1], SETS[k - 1]
+        for i in range(N):
+            xn = x[:, k - 1, i] @ ah.T + E_ALL[k - 1] * draws["w"][:, k - 1, i, None]
+            for j in parents[i]:
+                xn = xn + x[:, k - 1, j] @ BH[(i, j)].T
+            x[:, k, i] = xn
+            y_raw = xn @ CH.T + draws["v"][:, k - 1, i]
+            ok = draws["psi"][:, k - 1, i, None]
+            y[:, k - 1, i] = ok * y_raw[:, sched] + (1 - ok) * XI[k, sched]  # (6)
+    return x, y
+
+
 def simulate(draws, weights, *, variant="corrected", moment="run", estimator="zero",
              k_factor=True, psi_bar=None, parents=None, gains=None):
-    """Algorithm 1 for every target, vectorised over the Monte Carlo runs (leading axis).
+    """The plant and Algorithm 1 for every target, vectorised over the Monte Carlo runs.
 
     Parameters: draws from `draw_randomness`; weights[i] = (lambda, alpha1..alpha4) of target i;
     variant of `bound_coefficients`; moment "run"/"ensemble" (surrogate of E[xhat xhat^T]);
@@ -430,55 +432,14 @@ def simulate(draws, weights, *, variant="corrected", moment="run", estimator="ze
     (T+1, N, 4, n_y) fixed gains instead of (28).
     Returns x, xhat (F, T+1, N, 4), S, S_pred (F, T+1, N, 4, 4), L (F, T+1, N, 4, n_y).
     """
-    psi_bar = PSI if psi_bar is None else np.asarray(psi_bar, float)
+    psi_bar = PSI if psi_bar is None else psi_bar
     parents = K_SETS if parents is None else parents
-    runs, horizon = draws["sigma"].shape[0], draws["psi"].shape[1]
-    x = np.zeros((runs, horizon + 1, N, NX))
-    xh = np.zeros_like(x)
-    S = np.zeros((runs, horizon + 1, N, NX, NX))
-    S_pred = np.zeros_like(S)
-    L_all = np.zeros((runs, horizon + 1, N, NX, n_y))
-    x[:, 0] = X0_OFFSET + draws["sigma"]
-    xh[:, 0] = x[:, 0]  # x_hat(0|0) = x(0): e(0|0) = 0
-    S[:, 0] = np.eye(NX)
-    z = xh[:, 0] @ CH.T  # ZOH buffer z_i(0) = C H x_hat(0|0), shape (F, N, n_y)
-    for k in range(1, horizon + 1):
-        ah = AH_ALL[k - 1]
-        ewe = W * np.outer(E_ALL[k - 1], E_ALL[k - 1])
-        sched = SETS[k - 1]
-        for i in range(N):
-            lam, a1, a2, a3, a4 = weights[i]
-            # plant (1) and measurement, Algorithm 1 lines 3-4
-            xn = x[:, k - 1, i] @ ah.T + E_ALL[k - 1] * draws["w"][:, k - 1, i, None]
-            xp = xh[:, k - 1, i] @ ah.T  # prediction (7)
-            for j in parents[i]:
-                xn = xn + x[:, k - 1, j] @ BH[(i, j)].T
-                xp = xp + xh[:, k - 1, j] @ BH[(i, j)].T
-            x[:, k, i] = xn
-            y_raw = xn @ CH.T + draws["v"][:, k - 1, i]
-            ok = draws["psi"][:, k - 1, i, None]
-            # received scheduled entries (6): replaced by xi when attacked
-            y_s = ok * y_raw[:, sched] + (1 - ok) * XI[k, sched]
-            Sp = predicted_bound(S[:, k - 1, i], [S[:, k - 1, j] for j in parents[i]], ah,
-                                 [BH[(i, j)] for j in parents[i]], lam, ewe, k_factor)  # (17)
-            S_pred[:, k, i] = Sp
-            X_hat = xp[:, :, None] * xp[:, None, :]
-            if moment == "ensemble":
-                X_hat = np.broadcast_to(X_hat.mean(axis=0), X_hat.shape)
-            if estimator == "zoh":
-                z[:, i, sched] = y_s
-                G, y_use, cols = CH, z[:, i], np.arange(n_y)
-            else:
-                G, y_use, cols = CH[sched], y_s, sched
-            if gains is None:
-                coefs = bound_coefficients(psi_bar[i], a2, a3, a4, variant)
-                L, S_new, _ = gain_and_bound(Sp, X_hat, G, coefs, a1)  # (28), (18)
-            else:  # fixed gains: the bound is not computed
-                L, S_new = np.broadcast_to(gains[k, i][:, cols], (runs, NX, len(cols))), np.nan
-            xh[:, k, i] = xp + np.einsum("frc,fc->fr", L, y_use - xp @ G.T)  # update (8)
-            S[:, k, i] = S_new
-            L_all[:, k, i][..., cols] = L
-    return {"x": x, "xhat": xh, "S": S, "S_pred": S_pred, "L": L_all}
+    x, y = plant_and_packets(draws, parents)
+    horizon = y.shape[1]
+    est = M.estimate(y, SETS[:horizon], AH_ALL[:horizon], EWE_ALL[:horizon], CH, x[:, 0], np.eye(NX),
+                     weights, psi_bar, xi_star, V, parents=parents, BH=BH, variant=variant,
+                     moment=moment, update=estimator, k_factor=k_factor, gains=gains)
+    return {"x": x, **est}
 
 
 def mse(out):
@@ -628,7 +589,7 @@ def bound_step(S, Q, i, k, w, psi_i, variant, G):
     Sp = predicted_bound(S[i][None], [S[j][None] for j in K_SETS[i]], AH_ALL[k - 1],
                          [BH[(i, j)] for j in K_SETS[i]], lam, ewe, coupling_factor)
     L, S_i, _ = gain_and_bound(Sp, Q[hs(i), hs(i)][None], G,
-                               bound_coefficients(psi_i, a2, a3, a4, variant), a1)
+                               bound_coefficients(psi_i, a2, a3, a4, variant), a1, xi_star, V)
     return L[0], S_i[0]
 
 
@@ -752,9 +713,8 @@ def grid_search(variant: str, seed: int, pilot_runs: int,
         with np.errstate(all="ignore"):
             for k in range(1, T + 1):
                 ah, sched = AH_ALL[k - 1], SETS[k - 1]
-                xp = xh_i @ ah.T
-                for j in K_SETS[i]:
-                    xp = xp + up["xhat"][idx, k - 1, j] @ BH[(i, j)].T
+                xp = M.predict(xh_i, [up["xhat"][idx, k - 1, j] for j in K_SETS[i]], ah,
+                               [BH[(i, j)] for j in K_SETS[i]])  # (7)
                 Sp = predicted_bound(S_i, [up["S"][idx, k - 1, j] for j in K_SETS[i]], ah,
                                      [BH[(i, j)] for j in K_SETS[i]], lam,
                                      W * np.outer(E_ALL[k - 1], E_ALL[k - 1]), coupling_factor)
@@ -767,8 +727,8 @@ def grid_search(variant: str, seed: int, pilot_runs: int,
                 if xhat_moment == "ensemble":  # mean over the pilot runs, per candidate
                     X_hat = np.tile(X_hat.reshape(pilot_runs, n_c, NX, NX).mean(axis=0),
                                     (pilot_runs, 1, 1))
-                L, S_i, _ = gain_and_bound(Sp, X_hat, G, coefs, a1)
-                xh_i = xp + np.einsum("frc,fc->fr", L, y_s - xp @ G.T)
+                L, S_i, _ = gain_and_bound(Sp, X_hat, G, coefs, a1, xi_star, V)
+                xh_i = M.correct(xp, y_s, G, L)  # (8)
                 tr_k = np.trace(S_i, axis1=-2, axis2=-1)
                 total += tr_k
                 peak = np.maximum(peak, np.where(np.isfinite(tr_k), tr_k, np.inf))

@@ -1,140 +1,303 @@
-"""li2025 in the arena (secest.methods.li2025): equivalence with the notebook, the arena method."""
+"""li2025: unit tests of secest.methods.li2025 on the paper's example, and the arena method.
+
+The example's data (the coordinated-turn model of Section IV, RRL-MAP with m = 2 of n_y = 4, the
+Bernoulli replacement (6) with the sin/cos attack, the Monte Carlo draws of ``mc_seed``) are built
+here as the notebook builds them; the library's estimator must then give the numbers committed in
+figures/li2025 (Figs. 2-4 and 7), and its functions the identities of the derivation (the Kalman
+limit, the stationarity of the gain (28), the ``|K_i|`` factor of (17)). Tests measure; none asserts
+that a contested claim holds or fails.
+"""
 
 from __future__ import annotations
 
+import csv
 from dataclasses import replace
 
 import numpy as np
 import pytest
-from conftest import bench_harness
 
 import secest.arena.papers  # noqa: F401  (registers the methods)
 from secest.arena import scenarios
 from secest.arena.estimators import METHODS
 from secest.arena.papers import li2025 as arena_li2025
-from secest.core import montecarlo
+from secest.core import montecarlo, schedules
 from secest.core.validation import ValidationError
 from secest.methods import li2025
+from secest.repro.results import repo_root
 
-T_NB, F_NB = 30, 8
+FIG = repo_root() / "figures" / "li2025"
+N, NX, NY, M_CH, T = 3, 4, 4, 2, 100  # targets, states, sensors, channels, horizon (paper / notebook)
+EPS, W, V, XI_STAR, PSI = 0.05, 0.03, 0.03, 0.3, np.array([0.7, 0.5, 0.3])
+WEIGHTS = [(1e-3, 1.0, 1e-2, 0.1, 0.1), (1e-2, 1.0, 1e-4, 1e-4, 0.3), (1e-2, 1.0, 1e-4, 1e-4, 0.1)]
+K_SETS = {0: (), 1: (0,), 2: (0, 1)}
+H_EPS = np.diag([1.0, 1.0, EPS, EPS])
+CH = np.array([[1, 0, 0, 0], [0, 0, 1, 0], [0, 1, 0, 0], [0, 0, 0, 1]], float) @ H_EPS
+BH = {key: np.diag(d) @ H_EPS for key, d in
+      {(1, 0): [0, 0.05, 0, 0.02], (2, 0): [0, 0.06, 0, 0.07], (2, 1): [0, 0.05, 0, 0.09]}.items()}
+X0_OFFSET = np.array([[0, 1, 0, 1], [2, 1, 2, 1], [2, 2, 2, 2]], float)
+
+
+def _turn_model(horizon: int) -> tuple[np.ndarray, np.ndarray]:
+    """A(k) and E(k), k = 0..horizon, of Section IV (T_k = 0.8 tanh k, r_k = 0.1 + 0.3 tanh k)."""
+    k = np.arange(horizon + 1)
+    tk, rk = 0.8 * np.tanh(k), 0.1 + 0.3 * np.tanh(k)
+    s, c = np.sin(rk * tk), np.cos(rk * tk)
+    a = np.zeros((horizon + 1, 4, 4))
+    a[:, 0, 0] = a[:, 2, 2] = 1.0
+    a[:, 0, 1] = a[:, 2, 3] = s / rk
+    a[:, 0, 3] = -(1 - c) / rk
+    a[:, 2, 1] = (1 - c) / rk
+    a[:, 1, 1] = a[:, 3, 3] = c
+    a[:, 1, 3] = -s
+    a[:, 3, 1] = s
+    return a, np.stack([tk**2 / 2, tk, tk**2 / 2, tk], axis=1)
+
+
+A_ALL, E_ALL = _turn_model(T)
+AH_ALL = A_ALL @ H_EPS
+EWE_ALL = W * (E_ALL[:, :, None] * E_ALL[:, None, :])
+SETS = schedules.rrl_map_sets(np.arange(1, T + 1), M_CH, NY)
+_KK = np.arange(T + 1)[:, None]
+XI = np.sqrt(2 * XI_STAR / NY) * np.where(np.arange(NY) % 2 == 0, np.sin(_KK), np.cos(_KK))
+
+
+def _plant(runs: int, seed: int = 2025) -> tuple[np.ndarray, np.ndarray]:
+    """States (runs, T+1, N, 4) and received scheduled entries (runs, T, N, m) of the example."""
+    rng = montecarlo.spawn_rngs(seed, 1)[0]
+    sigma = rng.uniform(0.0, 1.0, (runs, N, NX))
+    w = np.sqrt(W) * rng.standard_normal((runs, T, N))
+    v = np.sqrt(V) * rng.standard_normal((runs, T, N, NY))
+    psi = (rng.uniform(0.0, 1.0, (runs, T, N)) < PSI).astype(float)
+    x, y = np.zeros((runs, T + 1, N, NX)), np.zeros((runs, T, N, M_CH))
+    x[:, 0] = X0_OFFSET + sigma
+    for k in range(1, T + 1):
+        for i in range(N):
+            xn = x[:, k - 1, i] @ AH_ALL[k - 1].T + E_ALL[k - 1] * w[:, k - 1, i, None]
+            for j in K_SETS[i]:
+                xn = xn + x[:, k - 1, j] @ BH[(i, j)].T
+            x[:, k, i] = xn
+            ok = psi[:, k - 1, i, None]
+            y_raw = xn @ CH.T + v[:, k - 1, i]
+            y[:, k - 1, i] = ok * y_raw[:, SETS[k - 1]] + (1 - ok) * XI[k, SETS[k - 1]]
+    return x, y
+
+
+def _estimate(x, y, **kw):
+    return li2025.estimate(y, SETS, AH_ALL[:T], EWE_ALL[:T], CH, x[:, 0], np.eye(NX),
+                           kw.pop("weights", WEIGHTS), kw.pop("psi_bar", PSI), XI_STAR, V,
+                           parents=kw.pop("parents", K_SETS), BH=BH, **kw)
 
 
 @pytest.fixture(scope="module")
-def nb():
-    """The notebook's objects, by name (fast mode: the weight table, no grid), and its draws."""
-    ns = bench_harness().notebook_definitions(
-        "li2025", "AH_ALL", "BH", "CH", "E_ALL", "K_SETS", "N", "NX", "NZ", "PSI", "SETS", "V", "W",
-        "WEIGHTS", "XI", "bound_coefficients", "draw_randomness", "gain_and_bound", "hs",
-        "innovation_map", "m", "n_y", "predicted_bound", "simulate", "xi_star", "xs",
-        mode="fast", T=T_NB, F=F_NB)
-    ns["_draws"] = ns["draw_randomness"](montecarlo.spawn_rngs(5, 1)[0], F_NB, T_NB)
-    return ns
+def example():
+    """The paper's example with the notebook's default draws (F = 100 runs, mc_seed = 2025)."""
+    x, y = _plant(100)
+    return x, y, _estimate(x, y), _estimate(x, y, update="zoh")
 
 
-def _received(ns, out):
-    """The received scheduled entries (6) of the notebook's simulation, rebuilt from its states."""
-    d, y = ns["_draws"], np.empty((F_NB, T_NB, ns["N"], ns["m"]))
-    for k in range(1, T_NB + 1):
-        sched = ns["SETS"][k - 1]
-        for i in range(ns["N"]):
-            y_raw = out["x"][:, k, i] @ ns["CH"].T + d["v"][:, k - 1, i]
-            ok = d["psi"][:, k - 1, i, None]
-            y[:, k - 1, i] = ok * y_raw[:, sched] + (1 - ok) * ns["XI"][k, sched]
-    return y
+def _csv(name: str) -> dict[str, np.ndarray]:
+    with (FIG / f"{name}.csv").open(newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    return {key: np.array([float(r[key]) for r in rows]) for key in rows[0]}
 
 
-def _estimate(nb, out, variant, moment, update):
-    """The method's :func:`li2025.estimate` on the received data of the notebook's run ``out``."""
-    E = nb["E_ALL"][:T_NB]
-    return li2025.estimate(
-        _received(nb, out), nb["SETS"], nb["AH_ALL"][:T_NB], nb["W"] * np.einsum("ka,kb->kab", E, E),
-        nb["CH"], out["xhat"][:, 0], np.eye(4), nb["WEIGHTS"][variant], nb["PSI"], nb["xi_star"],
-        nb["V"], parents=nb["K_SETS"], BH=nb["BH"], variant=variant, moment=moment, update=update,
-    )
+def _match(measured: np.ndarray, committed: np.ndarray) -> None:
+    """The committed CSV keeps about 11 significant digits (and absolute 1e-13)."""
+    assert np.allclose(measured, committed, rtol=1e-9, atol=1e-12)
 
 
-@pytest.mark.parametrize("variant", ["corrected", "paper"])
-@pytest.mark.parametrize("moment", ["run", "ensemble"])
-@pytest.mark.parametrize("update", ["zero", "zoh"])
-def test_estimator_equals_the_notebook_on_the_paper_example(nb, variant, moment, update) -> None:
-    """Whole trajectories against the notebook's Monte Carlo ``simulate`` (its estimators: zero, zoh).
-
-    The reviewer-grade notebook's ``simulate`` knows only ``"zero"`` and ``"zoh"`` (and treats any
-    other name as ``"zero"``); its debiased innovation and open-loop prediction live in the
-    exact-moment recursion: the next test compares those two.
-    """
-    weights = nb["WEIGHTS"][variant]
-    out = nb["simulate"](nb["_draws"], weights, variant=variant, moment=moment, estimator=update)
-    mine = _estimate(nb, out, variant, moment, update)
-    for key in ("xhat", "S", "S_pred", "L"):
-        scale = max(np.abs(out[key]).max(), 1.0)
-        assert np.abs(mine[key] - out[key]).max() <= 1e-10 * scale, key
+def test_fig7_mse_and_mean_bound_are_the_committed_ones(example) -> None:
+    """MSE_i(k) and the mean tr S_i(k|k) of the zero-input and ZOH designs over the 100 runs."""
+    x, _, zero, zoh = example
+    ref = _csv("fig7_mse_and_bound")
+    for i in range(N):
+        _match(np.sum((x - zero["xhat"]) ** 2, axis=-1).mean(axis=0)[1:, i], ref[f"mse[{i}]"])
+        _match(np.trace(zero["S"], axis1=-2, axis2=-1).mean(axis=0)[1:, i], ref[f"mean_tr_S[{i}]"])
+        _match(np.sum((x - zoh["xhat"]) ** 2, axis=-1).mean(axis=0)[1:, i], ref[f"mse_zoh[{i}]"])
 
 
-def _close(a, b, what: str) -> None:
-    assert np.abs(a - b).max() <= 1e-10 * max(np.abs(b).max(), 1.0), what
+def test_figs2_to_4_trajectories_of_run_0_are_the_committed_ones(example) -> None:
+    x, _, zero, _ = example
+    for i in range(N):
+        ref = _csv(f"fig{i + 2}_target{i + 1}_trajectories")
+        for c in range(NX):
+            _match(x[0, :, i, c], ref[f"x[{c}]"])
+            _match(zero["xhat"][0, :, i, c], ref[f"xhat[{c}]"])
 
 
-@pytest.mark.parametrize("variant", ["corrected", "paper"])
-@pytest.mark.parametrize("moment", ["run", "ensemble"])
-@pytest.mark.parametrize("update", ["debiased", "open_loop"])
-def test_debiased_and_open_loop_updates_are_the_notebooks(nb, variant, moment, update) -> None:
-    """``"debiased"`` and ``"open_loop"`` step by step against the notebook's own definitions.
-
-    The notebook now runs these two only in its exact-moment recursion (``exact_moments``:
-    deterministic gains from the exact ``E{x_hat x_hat^T}``, which no defender can compute), the
-    method on sampled runs with the run's (or the runs' mean) ``x_hat x_hat^T``, the surrogate of
-    the notebook's ``simulate``. What is the same, checked at every step ``k``, target ``i`` and
-    run from the method's own previous values: the prediction (7) (the notebook's ``simulate``
-    with zero gains for the open loop, whole trajectories), the bound (17) and the gain and bound
-    (28), (18) of the zero-input design (the notebook's ``bound_step`` calls the same functions),
-    and the innovation: ``innovation_map(i, psi_i, ...)`` with ``c = psi_check_i`` (debiased) —
-    ``psi_i (Gamma x_i + v) + (1 - psi_i) xi - psi_check_i Gamma x_hat_i(k|k-1)`` — and ``L = 0``
-    (open loop). What differs by design: the method's open loop still reports the zero-input
-    design's bound ``S`` (the notebook's ``exact_moments(gain="zero")`` reports none).
-    """
-    weights = nb["WEIGHTS"][variant]
-    zero = nb["simulate"](nb["_draws"], weights, variant=variant, moment=moment)  # x: the plant
-    mine = _estimate(nb, zero, variant, moment, update)
-    if update == "open_loop":
-        gains = np.zeros((T_NB + 1, nb["N"], nb["NX"], nb["n_y"]))
-        ref = nb["simulate"](nb["_draws"], weights, variant=variant, moment=moment, gains=gains)
-        assert np.array_equal(mine["L"], gains[None].repeat(F_NB, axis=0))
-        _close(mine["xhat"], ref["xhat"], "xhat")
-    d, xh, S = nb["_draws"], mine["xhat"], mine["S"]
-    for k in range(1, T_NB + 1):
-        ah, sched = nb["AH_ALL"][k - 1], nb["SETS"][k - 1]
-        G, xi_s = nb["CH"][sched], nb["XI"][k, sched]
-        ewe = nb["W"] * np.outer(nb["E_ALL"][k - 1], nb["E_ALL"][k - 1])
-        z = np.zeros((F_NB, nb["NZ"]))  # col(x_1..x_N, x_hat_1(k|k-1)..x_hat_N(k|k-1))
-        for i in range(nb["N"]):
-            xp = xh[:, k - 1, i] @ ah.T + sum(xh[:, k - 1, j] @ nb["BH"][(i, j)].T
-                                               for j in nb["K_SETS"][i])  # (7)
-            z[:, nb["xs"](i)], z[:, nb["hs"](i)] = zero["x"][:, k, i], xp
-        for i in range(nb["N"]):
-            lam, a1, a2, a3, a4 = weights[i]
-            parents = nb["K_SETS"][i]
-            Sp = nb["predicted_bound"](S[:, k - 1, i], [S[:, k - 1, j] for j in parents], ah,
-                                       [nb["BH"][(i, j)] for j in parents], lam, ewe, True)  # (17)
-            _close(mine["S_pred"][:, k, i], Sp, f"S_pred at k={k}, i={i}")
-            xp = z[:, nb["hs"](i)]
-            X_hat = xp[:, :, None] * xp[:, None, :]
-            if moment == "ensemble":
-                X_hat = np.broadcast_to(X_hat.mean(axis=0), X_hat.shape)
-            coefs = nb["bound_coefficients"](nb["PSI"][i], a2, a3, a4, variant)
-            L, S_new, _ = nb["gain_and_bound"](mine["S_pred"][:, k, i], X_hat, G, coefs, a1)  # (28)
-            _close(S[:, k, i], S_new, f"S at k={k}, i={i}")
-            if update == "open_loop":
-                _close(xh[:, k, i], xp, f"xhat at k={k}, i={i}")
-                continue
-            _close(mine["L"][:, k, i][..., sched], L, f"L at k={k}, i={i}")
-            nu = np.zeros((F_NB, len(sched)))
-            for b in (1.0, 0.0):  # the runs whose packet was received (psi_i = 1) / replaced
-                nz, n0, _ = nb["innovation_map"](i, b, G, xi_s, "replace", nb["PSI"][i])
-                nu += (d["psi"][:, k - 1, i, None] == b) * (z @ nz.T + n0 + b * d["v"][:, k - 1, i, sched])
-            _close(xh[:, k, i], xp + np.einsum("frc,fc->fr", L, nu), f"xhat at k={k}, i={i}")
+def test_shapes_schedule_columns_and_symmetric_positive_bounds(example) -> None:
+    _, _, zero, zoh = example
+    assert zero["xhat"].shape == (100, T + 1, N, NX) and zero["L"].shape == (100, T + 1, N, NX, NY)
+    assert zero["S"].shape == zero["S_pred"].shape == (100, T + 1, N, NX, NX)
+    for k in range(1, T + 1):  # the zero-input gain has columns on eps(k) only; ZOH uses every sensor
+        off = np.setdiff1d(np.arange(NY), SETS[k - 1])
+        assert np.all(zero["L"][:, k][..., off] == 0) and np.any(zero["L"][:, k][..., SETS[k - 1]] != 0)
+    assert np.any(zoh["L"][:, 1:][..., np.setdiff1d(np.arange(NY), SETS[0])] != 0)
+    for out in (zero, zoh):
+        assert np.array_equal(out["S"], np.swapaxes(out["S"], -1, -2))
+        assert np.all(np.linalg.eigvalsh(out["S"][:, 1:]) > 0)
 
 
+def test_the_batch_over_runs_equals_a_loop_over_runs(example) -> None:
+    """X2: each run's estimate depends on its own data only (moment = "run")."""
+    x, y, zero, _ = example
+    for f in range(3):
+        one = _estimate(x[f:f + 1], y[f:f + 1])
+        for key in ("xhat", "S", "L"):
+            assert np.allclose(one[key][0], zero[key][f], rtol=1e-12, atol=1e-14), key
+
+
+def test_ensemble_moment_is_common_to_the_runs(example) -> None:
+    """With the runs' mean of xhat xhat^T the gain, hence the bound, is the same in every run."""
+    x, y, _, _ = example
+    ens = _estimate(x[:6], y[:6], moment="ensemble")
+    assert np.allclose(ens["S"], ens["S"][:1], rtol=1e-12, atol=0)
+    assert np.allclose(ens["L"], ens["L"][:1], rtol=1e-12, atol=0)
+
+
+def test_fixed_gains_reproduce_the_run_and_drop_the_bound(example) -> None:
+    """Feeding a run's own gains (28) back as fixed gains gives its estimates; S is not computed."""
+    x, y, zero, _ = example
+    fixed = _estimate(x[:1], y[:1], gains=zero["L"][0])
+    assert np.allclose(fixed["xhat"], zero["xhat"][:1], rtol=1e-12, atol=1e-13)
+    assert np.all(np.isnan(fixed["S"][:, 1:])) and np.array_equal(fixed["L"], zero["L"][:1])
+
+
+def test_open_loop_and_debiased_updates(example) -> None:
+    """Open loop: x_hat(k|k) is the prediction (7). Debiased: innovation y - psi_check G x_hat^-."""
+    x, y, zero, _ = example
+    ol = _estimate(x[:4], y[:4], update="open_loop")
+    assert np.all(ol["L"] == 0)
+    assert np.all(np.isfinite(ol["S"]))  # still the bound of the zero-input gain, on its own x_hat
+    for k in (1, 7):
+        for i in range(N):
+            xp = ol["xhat"][:, k - 1, i] @ AH_ALL[k - 1].T + sum(
+                ol["xhat"][:, k - 1, j] @ BH[(i, j)].T for j in K_SETS[i])
+            assert np.allclose(ol["xhat"][:, k, i], xp, rtol=1e-13, atol=1e-15)
+    db = _estimate(x[:4], y[:4], update="debiased")
+    k, i = 5, 1
+    xp = db["xhat"][:, k - 1, i] @ AH_ALL[k - 1].T + db["xhat"][:, k - 1, 0] @ BH[(1, 0)].T
+    G, L = CH[SETS[k - 1]], db["L"][:, k, i][..., SETS[k - 1]]
+    nu = y[:4, k - 1, i] - PSI[i] * xp @ G.T
+    assert np.allclose(db["xhat"][:, k, i], xp + np.einsum("frc,fc->fr", L, nu), rtol=1e-12, atol=1e-14)
+
+
+def test_bound_coefficients_of_the_example_and_their_readings() -> None:
+    lam, a1, a2, a3, a4 = WEIGHTS[0]
+    assert li2025.bound_coefficients(0.7, a2, a3, a4) == pytest.approx((1.033, 3.33, 33.3, 0.7))
+    # printed Theorem 2: c0 = 1 - (a3 - a2)(1 - psi) < 1 when a3 > a2; kappa_x = 2 at psi = 1, alpha = 1
+    assert li2025.bound_coefficients(0.7, a2, a3, a4, "paper") == pytest.approx((0.973, 9.8, 33.3, 0.7))
+    assert li2025.bound_coefficients(1.0, 1.0, 1.0, 1.0, "paper") == (1.0, 2.0, 0.0, 1.0)
+    assert li2025.bound_coefficients(0.7, a2, a3, a4, "additive") == pytest.approx((1.003, 0.0, 30.3, 1.0))
+    # vectorised over candidates, as the notebook's grid uses it
+    c0, kx, kxi, kv = li2025.bound_coefficients(0.5, np.array([0.1, 1.0]), 0.1, 0.1)
+    assert c0 == pytest.approx([1.1, 1.55]) and kx == pytest.approx(5.55) and kv == 0.5
+    assert kxi == pytest.approx([0.5 * (1 + 10 + 10), 0.5 * (1 + 1 + 10)])
+
+
+def _gsg(S, G):
+    return G @ S @ G.T
+
+
+def test_without_attack_the_gain_and_bound_are_the_kalman_update() -> None:
+    """psi_check = 1 (corrected coefficients): (28), (18) are K = P G^T (G P G^T + V)^-1, (I - K G) P."""
+    rng = np.random.default_rng(3)
+    a = rng.standard_normal((5, NX, NX))
+    S = a @ np.swapaxes(a, -1, -2) + np.eye(NX)
+    X_hat = rng.standard_normal((5, NX, 1))
+    X_hat = X_hat @ np.swapaxes(X_hat, -1, -2)
+    G = CH[SETS[0]]
+    coefs = li2025.bound_coefficients(1.0, 1e-2, 0.1, 0.1)
+    L, S_new, R = li2025.gain_and_bound(S, X_hat, G, coefs, 1.0, XI_STAR, V)
+    K = S @ G.T @ np.linalg.inv(G @ S @ G.T + V * np.eye(2))
+    assert np.allclose(L, K, rtol=1e-12) and np.allclose(R, V * np.eye(2), rtol=0, atol=1e-15)
+    assert np.allclose(S_new, (np.eye(NX) - K @ G) @ S, rtol=1e-11, atol=1e-13)
+
+
+def test_the_gain_28_minimises_the_trace_of_the_bound_18() -> None:
+    """At psi_check = 0.5 any perturbation of L raises tr(c0 M S M^T + L R L^T)."""
+    rng = np.random.default_rng(4)
+    a = rng.standard_normal((NX, NX))
+    S = a @ a.T + np.eye(NX)
+    xp = rng.standard_normal(NX)
+    G = CH[SETS[1]]
+    coefs = li2025.bound_coefficients(0.5, 1e-2, 0.1, 0.1)
+    L, S_new, R = li2025.gain_and_bound(S[None], np.outer(xp, xp)[None], G, coefs, 1.0, XI_STAR, V)
+
+    def trace(Lm):
+        Mm = np.eye(NX) - Lm @ G
+        return np.trace(coefs[0] * Mm @ S @ Mm.T + Lm @ R[0] @ Lm.T)
+
+    assert trace(L[0]) == pytest.approx(np.trace(S_new[0]), rel=1e-12)
+    for _ in range(20):
+        assert trace(L[0] + 1e-3 * rng.standard_normal(L[0].shape)) > trace(L[0])
+
+
+def test_an_exploding_candidate_gets_a_nan_gain_not_an_error() -> None:
+    S = np.stack([np.eye(NX), 1e20 * np.eye(NX)])
+    L, _, _ = li2025.gain_and_bound(S, np.zeros((2, NX, NX)), CH[SETS[0]],
+                                    li2025.bound_coefficients(0.7, 1e-2, 0.1, 0.1), 1.0, XI_STAR, V)
+    assert np.all(np.isfinite(L[0])) and np.all(np.isnan(L[1]))
+
+
+def test_predicted_bound_17_and_its_coupling_factor() -> None:
+    """Target 3 (K_3 = {1, 2}): the coupling term is multiplied by |K_3| = 2 with k_factor."""
+    S = [np.eye(NX) * s for s in (1.0, 2.0, 3.0)]
+    ah, ewe, lam = AH_ALL[4], EWE_ALL[4], 1e-2
+    bh = [BH[(2, 0)], BH[(2, 1)]]
+    own = (1 + lam) * ah @ S[2] @ ah.T + ewe
+    coupling = (1 + 1 / lam) * sum(b @ s @ b.T for b, s in zip(bh, S[:2], strict=True))
+    with_factor = li2025.predicted_bound(S[2], S[:2], ah, bh, lam, ewe)
+    without = li2025.predicted_bound(S[2], S[:2], ah, bh, lam, ewe, k_factor=False)
+    assert np.allclose(with_factor, li2025.sym(own + 2 * coupling), rtol=1e-13)
+    assert np.allclose(without, li2025.sym(own + coupling), rtol=1e-13)
+    alone = li2025.predicted_bound(S[0], [], ah, [], 0.0, ewe)  # lambda unused without parents
+    assert np.allclose(alone, li2025.sym(ah @ ah.T + ewe), rtol=1e-13)
+
+
+def test_prediction_7_and_update_8_of_target_3() -> None:
+    rng = np.random.default_rng(5)
+    xh = rng.standard_normal((6, N, NX))
+    ah, bh = AH_ALL[3], [BH[(2, 0)], BH[(2, 1)]]
+    xp = li2025.predict(xh[:, 2], [xh[:, 0], xh[:, 1]], ah, bh)
+    assert np.allclose(xp, xh[:, 2] @ ah.T + xh[:, 0] @ bh[0].T + xh[:, 1] @ bh[1].T, rtol=1e-14)
+    G, L, y = CH[SETS[3]], rng.standard_normal((6, NX, 2)), rng.standard_normal((6, 2))
+    for c in (1.0, 0.3):
+        want = xp + np.einsum("frc,fc->fr", L, y - c * xp @ G.T)
+        assert np.allclose(li2025.correct(xp, y, G, L, c), want, rtol=1e-14)
+    assert np.array_equal(li2025.correct(xp, y, G, np.zeros_like(L)), xp)
+
+
+def test_bad_input_is_refused_with_the_argument_named() -> None:
+    with pytest.raises(ValidationError, match="variant must be one of"):
+        li2025.bound_coefficients(0.5, 0.1, 0.1, 0.1, "printed")
+    with pytest.raises(ValidationError, match="S_parents and bh_list"):
+        li2025.predicted_bound(np.eye(2), [np.eye(2)], np.eye(2), [], 0.1, np.eye(2))
+    with pytest.raises(ValidationError, match="xh_parents and bh_list"):
+        li2025.predict(np.zeros(2), [], np.eye(2), [np.eye(2)])
+    coefs = li2025.bound_coefficients(0.5, 0.1, 0.1, 0.1)
+    with pytest.raises(ValidationError, match="G must have one column per state of S_pred"):
+        li2025.gain_and_bound(np.eye(3), np.eye(3), np.ones((1, 2)), coefs, 1.0, 0.1, 0.1)
+    with pytest.raises(ValidationError, match="coefs must be"):
+        li2025.gain_and_bound(np.eye(2), np.eye(2), np.ones((1, 2)), coefs[:3], 1.0, 0.1, 0.1)
+    args = (np.zeros((2, 3, 1, 1)), np.zeros((3, 1), int), np.eye(2), np.eye(2), np.ones((1, 2)),
+            np.zeros((2, 1, 2)), np.eye(2), [(1e-3, 1, 1, 1, 1)], 1.0, 0.0, 1.0)
+    for name, bad in (("update", "hold"), ("moment", "mean"), ("variant", "x")):
+        with pytest.raises(ValidationError, match=f"{name} must be one of"):
+            li2025.estimate(*args, **{name: bad})
+    with pytest.raises(ValidationError, match="Incompatible dimensions of AH"):
+        li2025.estimate(*args[:2], np.eye(3), *args[3:])
+    with pytest.raises(ValidationError, match="Incompatible dimensions of y"):
+        li2025.estimate(np.zeros((2, 3, 1)), *args[1:])
+    with pytest.raises(ValidationError, match="x0, sched and weights must match y"):
+        li2025.estimate(*args[:5], np.zeros((2, 2, 2)), *args[6:])
+    with pytest.raises(ValidationError, match="Incompatible dimensions of gains"):
+        li2025.estimate(*args, gains=np.zeros((3, 1, 2, 1)))
+    with pytest.raises(ValidationError, match="psi_bar must be finite"):
+        li2025.estimate(*args[:8], np.nan, *args[9:])
+
+
+# ------------------------------------------------------------------------------------ the arena
 def _kalman(sc, y):
     """Centralised Kalman filter predicting from the prior, first update at k = 1 (Algorithm 1)."""
     C = sc.C.reshape(-1, sc.plant.n)
@@ -185,9 +348,9 @@ def test_the_method_runs_on_a_small_scenario(attack: str) -> None:
 def test_the_attacked_packet_gets_the_paper_coefficients() -> None:
     """psi_check = 0.7 (card): c0, kappa_x, kappa_xi of the corrected bound at the arena weights."""
     lam, a1, a2, a3, a4 = arena_li2025.ARENA_WEIGHTS
-    c0, kx, kxi = li2025.bound_coefficients(0.7, a2, a3, a4)
-    assert (c0, kx, kxi) == pytest.approx((1.033, 3.33, 33.3))
-    assert li2025.bound_coefficients(1.0, a2, a3, a4) == (1.0, 0.0, 0.0)
+    c0, kx, kxi, kv = li2025.bound_coefficients(0.7, a2, a3, a4)
+    assert (c0, kx, kxi, kv) == pytest.approx((1.033, 3.33, 33.3, 0.7))
+    assert li2025.bound_coefficients(1.0, a2, a3, a4) == (1.0, 0.0, 0.0, 1.0)
 
 
 def test_not_applicable_outside_the_replacement_model_and_without_local_observability() -> None:
@@ -201,18 +364,8 @@ def test_not_applicable_outside_the_replacement_model_and_without_local_observab
     assert reason is not None and reason.startswith("(A, C) is observable from every node's closed")
 
 
-def test_bad_input_is_refused_with_the_argument_named() -> None:
-    with pytest.raises(ValidationError, match="variant must be one of"):
-        li2025.bound_coefficients(0.5, 0.1, 0.1, 0.1, "printed")
+def test_the_arena_method_refuses_bad_options_with_the_argument_named() -> None:
     with pytest.raises(ValidationError, match="weights must be 5 positive numbers"):
         arena_li2025.Li2025(weights=(1.0, 1.0))
     with pytest.raises(ValidationError, match="variant must be one of"):
         arena_li2025.Li2025(variant="x")
-    args = (np.zeros((2, 3, 1, 1)), np.zeros((3, 1), int), np.eye(2), np.eye(2), np.ones((1, 2)),
-            np.zeros((2, 1, 2)), np.eye(2), [(1e-3, 1, 1, 1, 1)], 1.0, 0.0, 1.0)
-    with pytest.raises(ValidationError, match="update must be one of"):
-        li2025.estimate(*args, update="hold")
-    with pytest.raises(ValidationError, match="Incompatible dimensions of AH"):
-        li2025.estimate(*args[:2], np.eye(3), *args[3:])
-    with pytest.raises(ValidationError, match="x0, sched and weights must match y"):
-        li2025.estimate(*args[:5], np.zeros((2, 2, 2)), *args[6:])

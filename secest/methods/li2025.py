@@ -47,18 +47,27 @@ from numpy.typing import ArrayLike, NDArray
 from secest.core.validation import ValidationError
 
 __all__ = [
+    "COEFFICIENTS",
     "UPDATES",
     "VARIANTS",
     "bound_coefficients",
+    "correct",
     "estimate",
     "gain_and_bound",
+    "predict",
     "predicted_bound",
+    "sym",
 ]
 
 Array = NDArray[np.float64]
+Coefficients = tuple[Any, Any, Any, Any]
 
 VARIANTS = ("corrected", "paper")
-"""Bound coefficients: re-derived from the paper's proof, or as printed in Theorem 2."""
+"""Bound coefficients of the replacement attack (6): re-derived from the paper's proof, or as
+printed in Theorem 2 (the arena's choices)."""
+COEFFICIENTS = (*VARIANTS, "additive")
+"""Every reading of :func:`bound_coefficients`: also ``"additive"``, re-derived for the additive
+reading of (6) (the notebook's sensitivity row of C7)."""
 UPDATES = ("zero", "zoh", "debiased", "open_loop")
 """Measurement updates of :func:`estimate` (the last two are the notebook's, not the paper's; the
 notebook runs them in its exact-moment recursion only, ``exact_moments``)."""
@@ -76,11 +85,12 @@ def sym(a: Array) -> Array:
 
 def bound_coefficients(
     psi_bar: ArrayLike, a2: ArrayLike, a3: ArrayLike, a4: ArrayLike, variant: str = "corrected"
-) -> tuple[Any, Any, Any]:
-    """``(c0, kappa_x, kappa_xi)`` of the bound (18) and the gain (28).
+) -> Coefficients:
+    """``(c0, kappa_x, kappa_xi, kappa_v)`` of the bound (18) and the gain (28).
 
     ``c0`` multiplies ``M S(k|k-1) M^T`` and ``Psi``, ``kappa_x`` the state terms, ``kappa_xi``
-    the attack-energy term ``xi* L Phi Phi^T L^T``.
+    the attack-energy term ``xi* L Phi Phi^T L^T`` and ``kappa_v`` the noise term
+    ``L Phi V Phi^T L^T``.
 
     Parameters
     ----------
@@ -88,30 +98,33 @@ def bound_coefficients(
         ``psi_check``, the probability that a packet is **not** replaced (6).
     a2, a3, a4 : float or array
         Lemma 1 weights of the ``e/xi`` (25), ``e/x`` (26) and ``x/xi`` (27) cross terms.
-    variant : {"corrected", "paper"}
+    variant : {"corrected", "paper", "additive"}
         ``"corrected"`` (re-derived from (12) with Lemma 1; the li2025 notebook):
         ``c0 = 1 + (a2 + a3)(1 - psi)``, ``kappa_x = (1 - psi)(1 + 1/a3 + a4)``;
         ``"paper"`` (Theorem 2 as printed): ``c0 = 1 - (a3 - a2)(1 - psi)``,
-        ``kappa_x = psi + 1/a3 + a4 - 1``. Both: ``kappa_xi = (1 - psi)(1 + 1/a2 + 1/a4)``.
+        ``kappa_x = psi + 1/a3 + a4 - 1``. Both: ``kappa_xi = (1 - psi)(1 + 1/a2 + 1/a4)``,
+        ``kappa_v = psi``. ``"additive"`` (re-derived for ``y = y_bar + (1 - psi) Phi xi``, not
+        the paper's reading): ``c0 = 1 + a2 (1 - psi)``, ``kappa_x = 0``,
+        ``kappa_xi = (1 - psi)(1 + 1/a2)``, ``kappa_v = 1``.
 
     Returns
     -------
-    c0, kappa_x, kappa_xi
+    c0, kappa_x, kappa_xi, kappa_v
+        Floats or arrays, broadcast from the arguments.
 
     Raises
     ------
     ValidationError
         Unknown ``variant``.
     """
+    p = 1 - psi_bar
     if variant == "corrected":
-        c0 = 1 + (a2 + a3) * (1 - psi_bar)
-        kx = (1 - psi_bar) * (1 + 1 / a3 + a4)
-    elif variant == "paper":
-        c0 = 1 - (a3 - a2) * (1 - psi_bar)
-        kx = psi_bar + 1 / a3 + a4 - 1
-    else:
-        raise ValidationError(f"variant must be one of {VARIANTS}, found {variant!r}")
-    return c0, kx, (1 - psi_bar) * (1 + 1 / a2 + 1 / a4)
+        return 1 + (a2 + a3) * p, p * (1 + 1 / a3 + a4), p * (1 + 1 / a2 + 1 / a4), psi_bar  # (18)
+    if variant == "paper":
+        return 1 - (a3 - a2) * p, psi_bar + 1 / a3 + a4 - 1, p * (1 + 1 / a2 + 1 / a4), psi_bar  # Thm 2
+    if variant == "additive":
+        return 1 + a2 * p, 0 * p, p * (1 + 1 / a2), 1 + 0 * p
+    raise ValidationError(f"variant must be one of {COEFFICIENTS}, found {variant!r}")
 
 
 def predicted_bound(
@@ -140,17 +153,31 @@ def predicted_bound(
     bh_list : sequence of (n, n) arrays
         ``B_{i,j}(k-1) H_eps``.
     lam : float or array
-        Lemma 1 weight ``lambda`` of the cross terms with the upstream errors.
+        Lemma 1 weight ``lambda`` of the cross terms with the upstream errors (unused, and may be
+        0, without upstream subsystems).
     ewe : (n, n) array
         ``E_i(k-1) W_i E_i^T(k-1)``.
     k_factor : bool, default True
         Multiply the coupling term by ``|K_i|`` (needed for a bound when ``|K_i| >= 2``; the
         printed (17) has no factor and an undefined product).
+
+    Returns
+    -------
+    (..., n, n) array
+        ``S_i(k|k-1)``, symmetrised.
+
+    Raises
+    ------
+    ValidationError
+        ``S_parents`` and ``bh_list`` of different lengths.
     """
-    s = (1 + lam) * (ah @ S_own @ ah.T) + ewe
+    if len(S_parents) != len(bh_list):
+        raise ValidationError(
+            f"S_parents and bh_list must pair up: found {len(S_parents)} and {len(bh_list)} entries")
+    s = (1 + lam) * (ah @ S_own @ ah.T) + ewe  # (17): own term and noise
     factor = len(bh_list) if k_factor else 1
     for bh, S_j in zip(bh_list, S_parents, strict=True):
-        s = s + (1 + 1 / lam) * factor * (bh @ S_j @ bh.T)
+        s = s + (1 + 1 / lam) * factor * (bh @ S_j @ bh.T)  # (17): coupling, times |K_i|
     return sym(s)
 
 
@@ -158,11 +185,8 @@ def gain_and_bound(
     S_pred: Array,
     X_hat: Array,
     G: Array,
-    c0: ArrayLike,
-    kx: ArrayLike,
-    kxi: ArrayLike,
+    coefs: Coefficients,
     a1: ArrayLike,
-    psi_bar: ArrayLike,
     xi_star: ArrayLike,
     V: ArrayLike,
 ) -> tuple[Array, Array, Array]:
@@ -173,7 +197,7 @@ def gain_and_bound(
     ``L = c0 S(k|k-1) G^T Pi^-1``, ``Pi = c0 G S G^T + R`` with
 
     .. math::  R = \\kappa_x(1+\\alpha_1) G S G^T + \\kappa_x(1+\\alpha_1^{-1}) G \\hat X G^T
-               + (\\kappa_\\xi \\xi^* + \\check\\psi \\mathcal V) I,
+               + (\\kappa_\\xi \\xi^* + \\kappa_v \\mathcal V) I,
 
     and ``S(k|k) = c0 M S(k|k-1) M^T + L R L^T``, ``M = I - L G`` (valid for any ``L``). A batch
     member whose ``Pi`` is not finite or exceeds 1e14 (an exploding bound, e.g. a grid
@@ -185,17 +209,15 @@ def gain_and_bound(
         ``S(k|k-1)`` and the surrogate of ``E{x_hat(k|k-1) x_hat^T(k|k-1)}``.
     G : (..., rows, n) array
         Received rows of ``C H_eps``.
-    c0, kx, kxi : float or arrays broadcasting as (..., 1, 1)
-        :func:`bound_coefficients`.
+    coefs : (c0, kappa_x, kappa_xi, kappa_v)
+        :func:`bound_coefficients`: floats or arrays broadcasting as (..., 1, 1).
     a1 : float or array
         Lemma 1 weight of (24).
-    psi_bar : float or array
-        ``psi_check``.
     xi_star : float or array
         Energy bound of the attack signal, ``||xi||^2 <= xi*``.
     V : float or (..., rows, rows) diagonal array
         Measurement-noise variance (the paper's scalar ``V_i``, or one per row as a diagonal
-        matrix: the expression ``(kxi xi* + psi V) * I`` keeps its diagonal).
+        matrix: the expression ``(kxi xi* + kv V) * I`` keeps its diagonal).
 
     Returns
     -------
@@ -203,20 +225,86 @@ def gain_and_bound(
     S_new : (..., n, n)
         Symmetrised.
     R : (..., rows, rows)
+
+    Raises
+    ------
+    ValidationError
+        ``G`` whose columns do not match ``S_pred``, or ``coefs`` not a 4-tuple.
     """
+    if np.shape(G)[-1] != np.shape(S_pred)[-1]:
+        raise ValidationError(
+            f"G must have one column per state of S_pred: found {np.shape(G)} and {np.shape(S_pred)}")
+    if len(coefs) != 4:
+        raise ValidationError(
+            f"coefs must be (c0, kappa_x, kappa_xi, kappa_v), found {len(coefs)} values")
+    c0, kx, kxi, kv = coefs
     rows, n = G.shape[-2], G.shape[-1]
     gsg = G @ S_pred @ _t(G)
     eye = np.eye(rows)
     R = (kx * (1 + a1) * gsg + kx * (1 + 1 / a1) * (G @ X_hat @ _t(G))
-         + (kxi * xi_star + psi_bar * V) * eye)
-    Pi = sym(c0 * gsg + R)
+         + (kxi * xi_star + kv * V) * eye)  # R of (18), (24) and (23) applied
+    Pi = sym(c0 * gsg + R)  # Pi of (28)
     bad = ~np.all(np.isfinite(Pi), axis=(-1, -2)) | ~(np.max(np.abs(Pi), axis=(-1, -2)) < 1e14)
     Pi = np.where(bad[..., None, None], eye, Pi)
-    L = _t(np.linalg.solve(Pi, c0 * (G @ S_pred)))
+    L = _t(np.linalg.solve(Pi, c0 * (G @ S_pred)))  # (28): L = Psi Pi^-1, Psi = c0 S G^T
     L[bad] = np.nan
     Mm = np.eye(n) - L @ G
-    S_new = c0 * (Mm @ S_pred @ _t(Mm)) + L @ R @ _t(L)
+    S_new = c0 * (Mm @ S_pred @ _t(Mm)) + L @ R @ _t(L)  # (18)
     return L, sym(S_new), R
+
+
+def predict(xh_own: Array, xh_parents: Sequence[Array], ah: Array, bh_list: Sequence[Array]) -> Array:
+    """Prediction (7): ``x_hat_i(k|k-1)``, batched over the leading axes.
+
+    Parameters
+    ----------
+    xh_own : (..., n) array
+        ``x_hat_i(k-1|k-1)``.
+    xh_parents : sequence of (..., n) arrays
+        ``x_hat_j(k-1|k-1)`` of the upstream subsystems ``j in K_i``, paired with ``bh_list``.
+    ah, bh_list : (n, n) arrays
+        ``A_i(k-1) H_eps`` and the ``B_{i,j}(k-1) H_eps``.
+
+    Returns
+    -------
+    (..., n) array
+
+    Raises
+    ------
+    ValidationError
+        ``xh_parents`` and ``bh_list`` of different lengths.
+    """
+    if len(xh_parents) != len(bh_list):
+        raise ValidationError(
+            f"xh_parents and bh_list must pair up: found {len(xh_parents)} and {len(bh_list)} entries")
+    xp = xh_own @ ah.T  # (7): own term
+    for bh, xh_j in zip(bh_list, xh_parents, strict=True):
+        xp = xp + xh_j @ bh.T  # (7): upstream estimates
+    return xp
+
+
+def correct(xp: Array, y: Array, G: Array, L: Array, c: ArrayLike = 1.0) -> Array:
+    """Update (8): ``x_hat(k|k) = x_hat(k|k-1) + L (y - c G x_hat(k|k-1))``, batched over runs.
+
+    Parameters
+    ----------
+    xp : (runs, n) array
+        ``x_hat_i(k|k-1)``.
+    y : (runs, rows) array
+        The received rows (``y_{i, eps(k)}(k)``, or the ZOH buffer).
+    G : (rows, n) array
+        The rows of ``C H_eps`` that ``y`` measures.
+    L : (runs, n, rows) array
+        The gain.
+    c : float, default 1.0
+        Weight of the predicted measurement: 1 in (8), ``psi_check`` in the notebook's debiased
+        innovation (X1).
+
+    Returns
+    -------
+    (runs, n) array
+    """
+    return xp + np.einsum("frc,fc->fr", L, y - c * (xp @ G.T))  # (8)
 
 
 def _per_target(name: str, value: ArrayLike, N: int) -> Array:
@@ -257,6 +345,7 @@ def estimate(
     moment: str = "run",
     update: str = "zero",
     k_factor: bool = True,
+    gains: ArrayLike | None = None,
 ) -> dict[str, Array]:
     """Algorithm 1 for every subsystem, vectorised over runs, in the DAG order of ``parents``.
 
@@ -284,7 +373,7 @@ def estimate(
         Default: no coupling.
     BH : mapping ``(i, j) -> B_{i,j} H_eps``, optional
         Required for every coupled pair.
-    variant : {"corrected", "paper"}
+    variant : {"corrected", "paper", "additive"}
         :func:`bound_coefficients`.
     moment : {"run", "ensemble"}
         Surrogate of ``E{x_hat x_hat^T}``: the run's own ``x_hat(k|k-1) x_hat^T(k|k-1)``, or
@@ -302,6 +391,11 @@ def estimate(
         with the ``moment`` surrogate, like the notebook's ``simulate`` for the other two.
     k_factor : bool, default True
         :func:`predicted_bound`.
+    gains : (T + 1, N, n, n_y) array, optional
+        Fixed gains ``L_i(k)`` (row ``k``; the columns of the sensors used at ``k``) instead of
+        (28): the estimator (7)-(8) with data-independent gains (the notebook's check of its
+        exact-moment recursion, X3). The bound is then not computed: ``S`` is NaN from ``k = 1``
+        on (and ``S_pred`` from ``k = 2`` on).
 
     Returns
     -------
@@ -314,8 +408,8 @@ def estimate(
     ValidationError
         Unknown option, or arrays of incompatible shapes.
     """
-    for name, val, allowed in (("variant", variant, VARIANTS), ("moment", moment, ("run", "ensemble")),
-                               ("update", update, UPDATES)):
+    for name, val, allowed in (("variant", variant, COEFFICIENTS),
+                               ("moment", moment, ("run", "ensemble")), ("update", update, UPDATES)):
         if val not in allowed:
             raise ValidationError(f"{name} must be one of {allowed}, found {val!r}")
     y = np.asarray(y, float)
@@ -334,6 +428,11 @@ def estimate(
                                                          ("V", V)))
     parents = parents or {}
     n_y = CH.shape[1]
+    if gains is not None:
+        gains = np.asarray(gains, float)
+        if gains.shape != (T + 1, N, n, n_y):
+            raise ValidationError(
+                f"Incompatible dimensions of gains: expected {(T + 1, N, n, n_y)}, found {gains.shape}")
     xh = np.zeros((runs, T + 1, N, n))
     S = np.zeros((runs, T + 1, N, n, n))
     S_pred = np.zeros_like(S)
@@ -345,12 +444,11 @@ def estimate(
         sel = np.asarray(sched[k - 1])
         for i in range(N):
             lam, a1, a2, a3, a4 = weights[i]
-            c0, kx, kxi = bound_coefficients(psi[i], a2, a3, a4, variant)
+            coefs = bound_coefficients(psi[i], a2, a3, a4, variant)
             up = tuple(parents.get(i, ()))
             ah = AH[k - 1, i]
-            xp = xh[:, k - 1, i] @ ah.T  # prediction (7)
-            for j in up:
-                xp = xp + xh[:, k - 1, j] @ BH[(i, j)].T
+            xp = predict(xh[:, k - 1, i], [xh[:, k - 1, j] for j in up], ah,
+                         [BH[(i, j)] for j in up])  # (7)
             Sp = predicted_bound(S[:, k - 1, i], [S[:, k - 1, j] for j in up], ah,
                                  [BH[(i, j)] for j in up], lam, EWE[k - 1, i], k_factor)  # (17)
             S_pred[:, k, i] = Sp
@@ -362,12 +460,12 @@ def estimate(
                 G, y_use, cols = CH[i], z[:, i], np.arange(n_y)
             else:
                 G, y_use, cols = CH[i, sel], y[:, k - 1, i], sel
-            L, S_new, _ = gain_and_bound(Sp, X_hat, G, c0, kx, kxi, a1, psi[i], xis[i], Vs[i])  # (28)
-            pred = xp @ G.T
-            if update == "debiased":
-                pred = psi[i] * pred
+            if gains is None:
+                L, S_new, _ = gain_and_bound(Sp, X_hat, G, coefs, a1, xis[i], Vs[i])  # (28), (18)
+            else:  # fixed gains: the bound is not computed
+                L, S_new = np.broadcast_to(gains[k, i][:, cols], (runs, n, len(cols))), np.nan
             L_use = np.zeros_like(L) if update == "open_loop" else L
-            xh[:, k, i] = xp + np.einsum("frc,fc->fr", L_use, y_use - pred)  # update (8)
+            xh[:, k, i] = correct(xp, y_use, G, L_use, psi[i] if update == "debiased" else 1.0)  # (8)
             S[:, k, i] = S_new
             L_all[:, k, i][..., cols] = L_use
     return {"xhat": xh, "S": S, "S_pred": S_pred, "L": L_all}

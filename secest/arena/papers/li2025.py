@@ -152,14 +152,14 @@ class Li2025(Method):
             y_rows = np.take_along_axis(recv, np.maximum(src, 0)[None, :, :, None], axis=2)
             y_rows = np.where(rows, y_rows.reshape(runs, N, -1), 0.0)
             X_hat = x[..., :, None] * x[..., None, :]
-            L, S, _ = gain_and_bound(S, X_hat, G, *coef_clean, a1, 1.0, 0.0, V)  # (28), (18)
+            L, S, _ = gain_and_bound(S, X_hat, G, coef_clean, a1, 0.0, V)  # (28), (18)
             x = x + np.einsum("rinc,ric->rin", L, y_rows - np.einsum("ricn,rin->ric", G, x))  # (8)
             for a in sorted({j for js in attacked for j in js}):  # each attacked packet
                 nodes = [i for i in range(N) if a in attacked[i]]
                 xi_star = float(np.sum((att.magnitude * sc.plant.r_std[sc.network.measures[a]]) ** 2))
                 xa, Sa = x[:, nodes], S[:, nodes]
-                L, S_new, _ = gain_and_bound(Sa, xa[..., :, None] * xa[..., None, :], sc.C[a], *coef_att,
-                                             a1, psi_att, xi_star, sc.R[a])  # (28), (18)
+                L, S_new, _ = gain_and_bound(Sa, xa[..., :, None] * xa[..., None, :], sc.C[a], coef_att,
+                                             a1, xi_star, sc.R[a])  # (28), (18)
                 x_new = xa + np.einsum("rinc,ric->rin", L, recv[:, nodes, a] - xa @ sc.C[a].T)  # (8)
                 use = (np.array(nodes) == a)[None] | up[:, None]  # a lost packet is not used
                 x[:, nodes] = np.where(use[..., None], x_new, xa)
