@@ -35,10 +35,8 @@ from harness import (  # noqa: E402
     Row,
     compare,
     format_table,
-    load_notebook,
     measure,
     not_measured,
-    notebook_definitions,
 )
 
 from secest.repro.results import repo_root  # noqa: E402
