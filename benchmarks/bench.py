@@ -35,7 +35,6 @@ from harness import (  # noqa: E402
     Row,
     compare,
     format_table,
-    load_notebook,
     measure,
     not_measured,
 )
