@@ -383,12 +383,13 @@ for name, val in structure.items():
 # In `secest.methods.guo2023` the data-independent part of the table (A2-A4, A8-A12, A14) is
 # `local_gains`, and the estimates (A1, A5-A7, A13) are `local_estimate`; both act on stacks of
 # nodes and Monte Carlo runs at once (leading axes), so `_t` is the transpose of the last two
-# axes and `_apply(M, v)` is $Mv$ over them. The gain (28) is `constrained_gain`, the stacked
-# form of `secest.core.estimation.constrained_gain`:
+# axes and `_apply(M, v)` is $Mv$ over them. The gain (28) is `secest.core.estimation.constrained_gain`,
+# called with `stacked=True` on those stacks (the same function checks the Lemmas below on single
+# matrices):
 
 # %%
 show_source(M.local_gains, after="    G1, G2 = Gbar")
-show_source(M.constrained_gain, after="    if U1.shape[-1] == 0:")
+show_source(constrained_gain, after="    if U1.shape[-1] == 0:")
 show_source(M.local_estimate, after="    z1, z2 = ")
 
 

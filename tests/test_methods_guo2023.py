@@ -16,8 +16,7 @@ from secest.arena import scenarios
 from secest.arena.estimators import METHODS
 from secest.arena.papers import guo2023 as arena_guo2023
 from secest.core import covariance
-from secest.core.estimation import constrained_gain as constrained_gain_2d
-from secest.core.estimation import feedthrough_decomposition
+from secest.core.estimation import constrained_gain, feedthrough_decomposition
 from secest.core.validation import ValidationError
 from secest.methods import guo2023
 
@@ -161,11 +160,11 @@ def test_constrained_gain_on_a_random_instance() -> None:
     rng = np.random.default_rng(3)
     S, Theta = rng.standard_normal((2, 4, 3, 5)), rng.standard_normal((2, 4, 5, 5))
     U1 = np.linalg.qr(rng.standard_normal((5, 2)))[0]
-    K = guo2023.constrained_gain(S, Theta, U1)
+    K = constrained_gain(S, Theta, U1, stacked=True)
     assert K.shape == (2, 4, 3, 5)
     assert np.abs(K @ U1).max() < 1e-12 * np.abs(K).max()
-    np.testing.assert_allclose(K[1, 2], constrained_gain_2d(S[1, 2], Theta[1, 2], U1), rtol=1e-12, atol=1e-14)
-    np.testing.assert_array_equal(guo2023.constrained_gain(S, Theta, U1[:, :0]), S @ Theta)
+    np.testing.assert_allclose(K[1, 2], constrained_gain(S[1, 2], Theta[1, 2], U1), rtol=1e-12, atol=1e-14)
+    np.testing.assert_array_equal(constrained_gain(S, Theta, U1[:, :0], stacked=True), S @ Theta)
 
 
 def test_local_gains_satisfy_the_unbiasedness_condition() -> None:
@@ -278,4 +277,4 @@ def test_bad_input_to_the_library_functions_names_the_argument() -> None:
         guo2023.error_covariance(mdl, guo2023.run_estimator(mdl, ya, link=link))
     U1 = np.array([[1.0], [0.0]])
     with pytest.raises(ValidationError, match="U1\\^T Theta U1 must be invertible"):
-        guo2023.constrained_gain(np.ones((3, 2)), np.diag([0.0, 1.0]), U1)
+        constrained_gain(np.ones((3, 2)), np.diag([0.0, 1.0]), U1, stacked=True)

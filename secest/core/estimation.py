@@ -149,7 +149,9 @@ def feedthrough_decomposition(H: ArrayLike, R: ArrayLike, *, rtol: float = 1e-10
     return FeedthroughSVD(U1=U1, U2=U2, Sigma=np.diag(s[:p]), V1=V1, V2=V2, T1=T1, rank=p)
 
 
-def constrained_gain(S: ArrayLike, Theta: ArrayLike, U1: ArrayLike) -> NDArray[np.float64]:
+def constrained_gain(
+    S: ArrayLike, Theta: ArrayLike, U1: ArrayLike, *, stacked: bool = False
+) -> NDArray[np.float64]:
     """Gain minimising ``tr P`` subject to ``K U1 = 0`` (guo2023, Lemma 2, (28)).
 
     .. math::  K = S \\Theta \\left[I - U_1 (U_1^T \\Theta U_1)^{-1} U_1^T \\Theta\\right]
@@ -166,29 +168,55 @@ def constrained_gain(S: ArrayLike, Theta: ArrayLike, U1: ArrayLike) -> NDArray[n
         Weighting matrix of (27)-(28).
     U1 : (n_y, p) array_like
         Directions of the output that the unknown input can excite (``p = 0`` allowed).
+    stacked : bool, default False
+        Accept stacks of matrices over leading axes that broadcast against each other
+        (``S`` (..., n_x, n_y), ``Theta`` (..., n_y, n_y), ``U1`` (..., n_y, p)): every run and
+        node of guo2023's estimator at once; only the trailing shapes and finiteness are checked.
 
     Returns
     -------
-    (n_x, n_y) ndarray
+    (..., n_x, n_y) ndarray
 
     Raises
     ------
     ValidationError
         Incompatible shapes, or ``U1^T Theta U1`` singular (relative condition > 1e12).
     """
-    S = as_matrix("S", S, (None, None))
-    nx, ny = S.shape
-    Theta = as_matrix("Theta", Theta, (ny, ny), note="to match S")
-    U1 = as_matrix("U1", U1, (ny, None), empty=True, note="to match S")
-    if U1.shape[1] == 0:
+    if stacked:
+        S, Theta, U1 = _stacks(S, Theta, U1)
+    else:
+        S = as_matrix("S", S, (None, None))
+        ny = S.shape[1]
+        Theta = as_matrix("Theta", Theta, (ny, ny), note="to match S")
+        U1 = as_matrix("U1", U1, (ny, None), empty=True, note="to match S")
+    if U1.shape[-1] == 0:
         return S @ Theta
+    U1t = np.swapaxes(U1, -1, -2)
     ThU1 = Theta @ U1
-    inner = U1.T @ ThU1
-    if np.linalg.cond(inner) > 1e12:
+    inner = U1t @ ThU1
+    cond = np.linalg.cond(inner)
+    if np.any(cond > 1e12):
         raise ValidationError(
-            f"U1^T Theta U1 must be invertible, found condition number {np.linalg.cond(inner):.3g}"
+            f"U1^T Theta U1 must be invertible, found condition number {np.max(cond):.3g}"
         )
-    return S @ Theta - S @ ThU1 @ np.linalg.solve(inner, U1.T @ Theta)
+    return S @ Theta - S @ ThU1 @ np.linalg.solve(inner, U1t @ Theta)  # (28)
+
+
+def _stacks(S: ArrayLike, Theta: ArrayLike, U1: ArrayLike) -> tuple[NDArray, NDArray, NDArray]:
+    """Stacks of ``S``, ``Theta``, ``U1`` with compatible trailing shapes and finite entries."""
+    arrays = [np.asarray(a, dtype=np.float64) for a in (S, Theta, U1)]
+    for name, a in zip(("S", "Theta", "U1"), arrays, strict=True):
+        if a.ndim < 2:
+            raise ValidationError(f"{name} must be a stack of matrices (ndim >= 2), "
+                                  f"found shape {a.shape}")
+        if not np.all(np.isfinite(a)):
+            raise ValidationError(f"{name} must be finite")
+    S_, Th, U = arrays
+    ny = S_.shape[-1]
+    if Th.shape[-2:] != (ny, ny) or U.shape[-2] != ny:
+        raise ValidationError(f"Incompatible dimensions: S (..., n_x, {ny}) needs Theta "
+                              f"(..., {ny}, {ny}) and U1 (..., {ny}, p), found {Th.shape} and {U.shape}")
+    return S_, Th, U
 
 
 def fusion_weights(

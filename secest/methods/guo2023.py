@@ -46,7 +46,7 @@ import scipy.linalg as sla
 from numpy.typing import NDArray
 
 from secest.core.covariance import symmetrize
-from secest.core.estimation import FeedthroughSVD, feedthrough_decomposition
+from secest.core.estimation import FeedthroughSVD, constrained_gain, feedthrough_decomposition
 from secest.core.validation import ValidationError, check_row_stochastic
 
 __all__ = [
@@ -55,7 +55,6 @@ __all__ = [
     "GuoState",
     "GuoStep",
     "LocalGains",
-    "constrained_gain",
     "decompositions",
     "error_covariance",
     "estimator_step",
@@ -82,36 +81,6 @@ def _apply(M: Array, v: Array) -> Array:
 
 
 # ---------------------------------------------------------------------------------- stage A
-
-
-def constrained_gain(S: Array, Theta: Array, U1: Array) -> Array:
-    """Gain minimising ``tr P_bar^{i,i}`` subject to ``K U_1 = 0``, (28) (Lemmas 1-2).
-
-    .. math::  K = S \\Theta [I - U_1 (U_1^T \\Theta U_1)^{-1} U_1^T \\Theta]
-
-    The batched form of :func:`secest.core.estimation.constrained_gain` (the same expression, in
-    the same order), for stacks of matrices over the leading axes.
-
-    Parameters
-    ----------
-    S : (..., n_x, n_y) array
-        ``P* C^T - J R`` of (26).
-    Theta : (..., n_y, n_y) array
-        ``Xi_bar^-1 (I - C J)``, Algorithm 1 line 13 / (30).
-    U1 : (..., n_y, p) array
-        Output directions the unknown input excites.
-
-    Returns
-    -------
-    (..., n_x, n_y) array
-    """
-    if U1.shape[-1] == 0:
-        return S @ Theta
-    ThU1 = Theta @ U1
-    inner = _t(U1) @ ThU1
-    if np.any(np.linalg.cond(inner) > 1e12):
-        raise ValidationError("U1^T Theta U1 must be invertible (condition number <= 1e12)")
-    return S @ Theta - S @ ThU1 @ np.linalg.solve(inner, _t(U1) @ Theta)
 
 
 class LocalGains(NamedTuple):
@@ -218,7 +187,7 @@ def local_gains(
     S = P_star @ _t(C) - J @ R  # A9: (26)
     Xi = C @ P_pred @ _t(C) + R  # A10: (13)
     Theta = np.linalg.solve(Xi, np.eye(C.shape[-2]) - C @ J)  # A11: (30), line 13
-    K = constrained_gain(S, Theta, dec.U1)  # A12: (28)
+    K = constrained_gain(S, Theta, dec.U1, stacked=True)  # A12: (28)
     P_loc = symmetrize(P_star - K @ _t(S))  # A14: (29)
     return LocalGains(G1, G2, C2, M2, B2, J, K, P_pred, P_loc, P_star, S, Xi, Theta, R2)
 

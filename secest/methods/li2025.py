@@ -79,7 +79,18 @@ def _t(M: Array) -> Array:
 
 
 def sym(a: Array) -> Array:
-    """Symmetric part over the last two axes."""
+    """Symmetric part over the last two axes.
+
+    Parameters
+    ----------
+    a : (..., n, n) array
+        A stack of square matrices.
+
+    Returns
+    -------
+    (..., n, n) array
+        ``(a + a^T) / 2``.
+    """
     return 0.5 * (a + _t(a))
 
 
