@@ -475,9 +475,6 @@ SPECS: dict[str, Spec] = {
         lambda: dict(S=np.ones((3, 2)), Theta=P2, U1=np.array([[1.0], [0.0]])),
         dict(S=ARRAY, Theta=_join(ARRAY, _custom(("singular", np.zeros((2, 2))))),
              U1=_array(empty=False))),
-    "estimation.fusion_weights": Spec(
-        lambda: dict(covariances=np.stack([P2, np.eye(2)]), weights=[0.3, 0.7]),
-        dict(covariances=_psd(strict=True), weights=_join(ARRAY, _custom(("sum 0.8", [0.4, 0.4]))))),
     "estimation.ltv_observability_matrix": Spec(
         lambda: dict(A_seq=[A3, A3], C_seq=[BANKS[0], BANKS[1], BANKS[2]]),
         dict(A_seq=_join(_sequence(ARRAY), _custom(("too short", [A3]))), C_seq=_sequence(ARRAY))),

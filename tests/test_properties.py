@@ -21,14 +21,13 @@ from secest.core import (
     channels,
     covariance,
     detectors,
-    estimation,
     graphs,
     montecarlo,
     schedules,
     systems,
 )
 from secest.core.validation import ValidationError, check_psd, check_real
-from secest.methods import ding2020
+from secest.methods import ding2020, guo2023
 
 settings.register_profile(
     "secest-ci",
@@ -110,9 +109,11 @@ def test_information_fusion_is_a_consistent_pd_bound(covs, data) -> None:
     x, P = covariance.information_fusion(xs, covs, w)
     assert x.shape == (2,) and np.all(np.isfinite(x))
     check_psd("P", P, strict=True)
-    _, P2, W = x, *estimation.fusion_weights(np.stack(covs), w)
-    np.testing.assert_allclose(P, P2, rtol=1e-9)
-    np.testing.assert_allclose(W.sum(axis=0), np.eye(2), atol=1e-8)
+    # guo2023's fusion (19)-(20), the one library implementation, gives the same bound
+    P2, W, x2 = guo2023.fuse(np.stack(covs), w[None], np.stack(xs)[None])  # one node fusing all
+    np.testing.assert_allclose(P, P2[0], rtol=1e-9)
+    np.testing.assert_allclose(W[0].sum(axis=0), np.eye(2), atol=1e-8)
+    np.testing.assert_allclose(x2[0], x, rtol=1e-8, atol=1e-8)
 
 
 # ---------------------------------------------------------------- graphs and channels

@@ -5,12 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from secest.core import covariance, systems
+from secest.core import systems
 from secest.core.estimation import (
     FeedthroughSVD,
     constrained_gain,
     feedthrough_decomposition,
-    fusion_weights,
     ltv_observability_matrix,
     relative_rank,
 )
@@ -127,34 +126,6 @@ def test_constrained_gain_without_constraint_and_bad_input() -> None:
         constrained_gain(S, Theta, np.ones((3, 1)))
     with pytest.raises(ValidationError, match="U1\\^T Theta U1 must be invertible"):
         constrained_gain(S, np.diag([0.0, 1.0]), np.array([[1.0], [0.0]]))
-
-
-# ----------------------------------------------------------------------------- fusion (19)-(21)
-def test_fusion_weights_match_information_fusion() -> None:
-    rng = np.random.default_rng(3)
-    P = np.array([_spd(rng, 3) for _ in range(3)])
-    x = rng.standard_normal((3, 3))
-    w = np.array([0.5, 0.3, 0.2])
-    P_f, W = fusion_weights(P, w)
-    x_ref, P_ref = covariance.information_fusion(list(x), list(P), w)
-    np.testing.assert_allclose(P_f, P_ref, atol=1e-14)
-    np.testing.assert_allclose(np.einsum("jab,jb->a", W, x), x_ref, atol=1e-13)
-    np.testing.assert_allclose(W.sum(axis=0), np.eye(3), atol=1e-13)
-    # batched application over runs
-    xs = rng.standard_normal((3, 7, 3))
-    batch = np.einsum("jab,jrb->ra", W, xs)
-    np.testing.assert_allclose(batch[4], np.einsum("jab,jb->a", W, xs[:, 4]), atol=1e-14)
-
-
-def test_fusion_weights_bad_input() -> None:
-    with pytest.raises(ValidationError, match="covariances must be a non-empty stack"):
-        fusion_weights(np.eye(2), [1.0])
-    with pytest.raises(ValidationError, match="weights must be non-negative and sum to 1"):
-        fusion_weights(np.stack([np.eye(2)] * 2), [0.5, 0.6])
-    with pytest.raises(ValidationError, match=r"Incompatible dimensions of weights: expected \(2,\)"):
-        fusion_weights(np.stack([np.eye(2)] * 2), [1.0])
-    with pytest.raises(ValidationError, match=r"covariances\[1\] must be positive definite"):
-        fusion_weights(np.stack([np.eye(2), np.diag([1.0, 0.0])]), [0.5, 0.5])
 
 
 # ----------------------------------------------------------------------------- LTV observability

@@ -10,9 +10,6 @@ unknown input ``u`` enters the output through a feed-through matrix ``H``:
    (guo2023, display after (3) and before (5))
 ``constrained_gain``
    trace-minimising gain under ``K U_1 = 0`` (guo2023, (28))
-``fusion_weights``
-   matrix weights of consensus-on-information fusion (guo2023, (19)-(20)); batched
-   form of :func:`secest.core.covariance.information_fusion`
 ``ltv_observability_matrix``
    observability matrix of a linear time-varying pair
    ``col(C_k, C_{k+1} A_k, C_{k+2} A_{k+1} A_k, ...)``
@@ -27,14 +24,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from secest.core import validation as V
-from secest.core.covariance import check_psd, symmetrize
+from secest.core.covariance import check_psd
 from secest.core.validation import ValidationError, as_matrix
 
 __all__ = [
     "FeedthroughSVD",
     "constrained_gain",
     "feedthrough_decomposition",
-    "fusion_weights",
     "ltv_observability_matrix",
     "relative_rank",
 ]
@@ -217,59 +213,6 @@ def _stacks(S: ArrayLike, Theta: ArrayLike, U1: ArrayLike) -> tuple[NDArray, NDA
         raise ValidationError(f"Incompatible dimensions: S (..., n_x, {ny}) needs Theta "
                               f"(..., {ny}, {ny}) and U1 (..., {ny}, p), found {Th.shape} and {U.shape}")
     return S_, Th, U
-
-
-def fusion_weights(
-    covariances: Sequence[ArrayLike] | ArrayLike, weights: ArrayLike
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Fused covariance bound and matrix weights of consensus-on-information fusion.
-
-    guo2023 (19)-(20): ``P = [sum_j w_j P_j^{-1}]^{-1}`` and ``W_j = w_j P P_j^{-1}``, so that
-    the fused estimate is ``x = sum_j W_j x_j`` (21) and ``sum_j W_j = I`` when the weights
-    sum to one. This is :func:`secest.core.covariance.information_fusion` returning the matrix
-    weights instead of the estimate, so that the fusion applies to a whole batch of
-    Monte Carlo runs at once (``x = np.einsum("jab,rjb->ra", W, xs)``) and the exact joint
-    error covariance can be propagated.
-
-    Parameters
-    ----------
-    covariances : (m, n, n) array_like or sequence of (n, n)
-        Positive definite covariance bounds ``P_j`` of the estimates to fuse.
-    weights : (m,) array_like
-        Non-negative scalar weights ``pi_ij`` summing to one.
-
-    Returns
-    -------
-    P : (n, n) ndarray
-        Fused bound (symmetrised).
-    W : (m, n, n) ndarray
-        Matrix weights, ``W[j] = w_j P P_j^{-1}``.
-
-    Raises
-    ------
-    ValidationError
-        Empty input, mismatched shapes, a covariance not symmetric positive definite, or
-        weights negative / not summing to one.
-    """
-    P = as_matrix("covariances", covariances, empty=True)
-    if P.ndim != 3 or P.shape[0] == 0 or P.shape[1] != P.shape[2] or P.size == 0:
-        raise ValidationError(
-            f"covariances must be a non-empty stack of square matrices (m, n, n), found shape "
-            f"{P.shape}"
-        )
-    for j in range(P.shape[0]):
-        check_psd(f"covariances[{j}]", P[j], strict=True)
-    m = P.shape[0]
-    w = as_matrix("weights", weights, (m,))
-    if np.any(w < 0) or abs(w.sum() - 1.0) > V.RTOL * max(1.0, float(np.abs(w).sum())):
-        raise ValidationError(
-            f"weights must be non-negative and sum to 1, found sum {w.sum():.6g}"
-        )
-    info = np.linalg.inv(P)
-    omega = np.einsum("j,jab->ab", w, info)
-    P_fused = symmetrize(np.linalg.inv(omega))
-    W = w[:, None, None] * np.einsum("ab,jbc->jac", P_fused, info)
-    return P_fused, W
 
 
 def ltv_observability_matrix(

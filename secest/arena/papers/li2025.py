@@ -20,6 +20,7 @@ from secest.methods.li2025 import (
     VARIANTS,
     bound_coefficients,
     gain_and_bound,
+    predict,
     predicted_bound,
 )
 
@@ -142,7 +143,7 @@ class Li2025(Method):
         for k in range(1, K1):
             recv = trial.received(k, trial.y[:, k], scale)  # (runs, N, N, ny): i receives from j
             up = trial.link[:, k].astype(bool)
-            x = x @ A.T  # (7), K_i empty
+            x = predict(x, [], A, [])  # (7), K_i empty
             S = predicted_bound(S, [], A, [], lam, Q)  # (17)
             # clean packets: psi_check = 1, one update of the received rows (empty slots masked)
             got = (src >= 0) & (slot_own[None] | up[:, None, None])  # (runs, N, slots)
