@@ -267,19 +267,13 @@ def bench_li2025(repeats: int) -> list[Row]:
     F, T, N, n_y, m, W, V, xi_star, eps = 100, 100, 3, 4, 2, 0.03, 0.03, 0.3, 0.05
     psi_check = np.array([0.7, 0.5, 0.3])
     weights = [(1e-3, 1.0, 1e-2, 0.1, 0.1), (1e-2, 1.0, 1e-4, 1e-4, 0.3), (1e-2, 1.0, 1e-4, 1e-4, 0.1)]
-    parents = {0: (), 1: (0,), 2: (0, 1)}
+    parents = li2025.EXAMPLE_PARENTS
     H = np.diag([1.0, 1.0, eps, eps])
-    CH = np.array([[1, 0, 0, 0], [0, 0, 1, 0], [0, 1, 0, 0], [0, 0, 0, 1]], float) @ H
-    BH = {key: np.diag(d) @ H for key, d in
-          {(1, 0): [0, 0.05, 0, 0.02], (2, 0): [0, 0.06, 0, 0.07], (2, 1): [0, 0.05, 0, 0.09]}.items()}
+    CH = li2025.EXAMPLE_C @ H
+    BH = {key: b @ H for key, b in li2025.EXAMPLE_B.items()}
     k = np.arange(T + 1)
-    tk, rk = 0.8 * np.tanh(k), 0.1 + 0.3 * np.tanh(k)
-    s, c = np.sin(rk * tk), np.cos(rk * tk)
-    A = np.zeros((T + 1, 4, 4))
-    A[:, 0, 0] = A[:, 2, 2] = 1.0
-    A[:, 0, 1], A[:, 2, 3], A[:, 0, 3], A[:, 2, 1] = s / rk, s / rk, -(1 - c) / rk, (1 - c) / rk
-    A[:, 1, 1], A[:, 3, 3], A[:, 1, 3], A[:, 3, 1] = c, c, -s, s
-    AH, E = A @ H, np.stack([tk**2 / 2, tk, tk**2 / 2, tk], axis=1)
+    A, E = li2025.turn_model(T)
+    AH = A @ H
     sets = schedules.rrl_map_sets(np.arange(1, T + 1), m, n_y)
     xi = np.sqrt(2 * xi_star / n_y) * np.where(np.arange(n_y) % 2 == 0, np.sin(k)[:, None],
                                                 np.cos(k)[:, None])
@@ -289,7 +283,7 @@ def bench_li2025(repeats: int) -> list[Row]:
     v = np.sqrt(V) * rng.standard_normal((F, T, N, n_y))
     psi = (rng.uniform(0.0, 1.0, (F, T, N)) < psi_check).astype(float)
     x, y = np.zeros((F, T + 1, N, 4)), np.zeros((F, T, N, m))
-    x[:, 0] = np.array([[0, 1, 0, 1], [2, 1, 2, 1], [2, 2, 2, 2]], float) + sigma
+    x[:, 0] = li2025.EXAMPLE_X0 + sigma
     for kk in range(1, T + 1):
         for i in range(N):
             x[:, kk, i] = x[:, kk - 1, i] @ AH[kk - 1].T + E[kk - 1] * w[:, kk - 1, i, None] + sum(

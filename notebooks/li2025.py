@@ -187,34 +187,16 @@ display(Markdown(spaces.provenance_markdown("li2025")))
 # Because the output is $C_iH_\epsilon x_i$, sensors 2 and 4 see $\epsilon Y^p_i$ and $\epsilon Y^v_i$.
 
 # %%
-K_SETS = {0: (), 1: (0,), 2: (0, 1)}  # 0-based K_i
+K_SETS = M.EXAMPLE_PARENTS  # 0-based K_i
 H_EPS = np.diag([1.0, 1.0, epsilon, epsilon])
-C_MAT = np.array([[1, 0, 0, 0], [0, 0, 1, 0], [0, 1, 0, 0], [0, 0, 0, 1]], float)
+C_MAT = M.EXAMPLE_C
 CH = C_MAT @ H_EPS
 SENSOR_SEES = ["$X^p$ [m]", "$\\epsilon Y^p$ [m]", "$X^v$ [m/s]", "$\\epsilon Y^v$ [m/s]"]
-B_MAT = {(1, 0): np.diag([0, 0.05, 0, 0.02]), (2, 0): np.diag([0, 0.06, 0, 0.07]),
-         (2, 1): np.diag([0, 0.05, 0, 0.09])}
+B_MAT = M.EXAMPLE_B
 BH = {key: b @ H_EPS for key, b in B_MAT.items()}
-X0_OFFSET = np.array([[0, 1, 0, 1], [2, 1, 2, 1], [2, 2, 2, 2]], float)
-
-
-def turn_model(horizon: int) -> tuple[np.ndarray, np.ndarray]:
-    """A_i(k) (T+1, 4, 4) and E_i(k) (T+1, 4) of Section IV for k = 0..horizon."""
-    k = np.arange(horizon + 1)
-    tk, rk = 0.8 * np.tanh(k), 0.1 + 0.3 * np.tanh(k)
-    s, c = np.sin(rk * tk), np.cos(rk * tk)
-    a = np.zeros((horizon + 1, 4, 4))
-    a[:, 0, 0] = a[:, 2, 2] = 1.0
-    a[:, 0, 1] = a[:, 2, 3] = s / rk
-    a[:, 0, 3] = -(1 - c) / rk
-    a[:, 2, 1] = (1 - c) / rk
-    a[:, 1, 1] = a[:, 3, 3] = c
-    a[:, 1, 3] = -s
-    a[:, 3, 1] = s
-    return a, np.stack([tk**2 / 2, tk, tk**2 / 2, tk], axis=1)
-
-
-A_ALL, E_ALL = turn_model(T)
+X0_OFFSET = M.EXAMPLE_X0
+show_source(M.turn_model, after="    k = np.arange(")
+A_ALL, E_ALL = M.turn_model(T)
 AH_ALL = A_ALL @ H_EPS
 print("A(5) =\n", np.round(A_ALL[min(5, T)], 4), "\ndet A(k) = 1:", np.allclose(np.linalg.det(A_ALL), 1))
 

@@ -29,31 +29,12 @@ FIG = repo_root() / "figures" / "li2025"
 N, NX, NY, M_CH, T = 3, 4, 4, 2, 100  # targets, states, sensors, channels, horizon (paper / notebook)
 EPS, W, V, XI_STAR, PSI = 0.05, 0.03, 0.03, 0.3, np.array([0.7, 0.5, 0.3])
 WEIGHTS = [(1e-3, 1.0, 1e-2, 0.1, 0.1), (1e-2, 1.0, 1e-4, 1e-4, 0.3), (1e-2, 1.0, 1e-4, 1e-4, 0.1)]
-K_SETS = {0: (), 1: (0,), 2: (0, 1)}
+K_SETS = li2025.EXAMPLE_PARENTS
 H_EPS = np.diag([1.0, 1.0, EPS, EPS])
-CH = np.array([[1, 0, 0, 0], [0, 0, 1, 0], [0, 1, 0, 0], [0, 0, 0, 1]], float) @ H_EPS
-BH = {key: np.diag(d) @ H_EPS for key, d in
-      {(1, 0): [0, 0.05, 0, 0.02], (2, 0): [0, 0.06, 0, 0.07], (2, 1): [0, 0.05, 0, 0.09]}.items()}
-X0_OFFSET = np.array([[0, 1, 0, 1], [2, 1, 2, 1], [2, 2, 2, 2]], float)
-
-
-def _turn_model(horizon: int) -> tuple[np.ndarray, np.ndarray]:
-    """A(k) and E(k), k = 0..horizon, of Section IV (T_k = 0.8 tanh k, r_k = 0.1 + 0.3 tanh k)."""
-    k = np.arange(horizon + 1)
-    tk, rk = 0.8 * np.tanh(k), 0.1 + 0.3 * np.tanh(k)
-    s, c = np.sin(rk * tk), np.cos(rk * tk)
-    a = np.zeros((horizon + 1, 4, 4))
-    a[:, 0, 0] = a[:, 2, 2] = 1.0
-    a[:, 0, 1] = a[:, 2, 3] = s / rk
-    a[:, 0, 3] = -(1 - c) / rk
-    a[:, 2, 1] = (1 - c) / rk
-    a[:, 1, 1] = a[:, 3, 3] = c
-    a[:, 1, 3] = -s
-    a[:, 3, 1] = s
-    return a, np.stack([tk**2 / 2, tk, tk**2 / 2, tk], axis=1)
-
-
-A_ALL, E_ALL = _turn_model(T)
+CH = li2025.EXAMPLE_C @ H_EPS
+BH = {key: b @ H_EPS for key, b in li2025.EXAMPLE_B.items()}
+X0_OFFSET = li2025.EXAMPLE_X0
+A_ALL, E_ALL = li2025.turn_model(T)
 AH_ALL = A_ALL @ H_EPS
 EWE_ALL = W * (E_ALL[:, :, None] * E_ALL[:, None, :])
 SETS = schedules.rrl_map_sets(np.arange(1, T + 1), M_CH, NY)

@@ -44,10 +44,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from secest.core.validation import ValidationError
+from secest.core.validation import ValidationError, check_int
 
 __all__ = [
     "COEFFICIENTS",
+    "EXAMPLE_B",
+    "EXAMPLE_C",
+    "EXAMPLE_PARENTS",
+    "EXAMPLE_X0",
     "UPDATES",
     "VARIANTS",
     "bound_coefficients",
@@ -56,6 +60,7 @@ __all__ = [
     "gain_and_bound",
     "predict",
     "predicted_bound",
+    "turn_model",
     "sym",
 ]
 
@@ -71,6 +76,47 @@ reading of (6) (the notebook's sensitivity row of C7)."""
 UPDATES = ("zero", "zoh", "debiased", "open_loop")
 """Measurement updates of :func:`estimate` (the last two are the notebook's, not the paper's; the
 notebook runs them in its exact-moment recursion only, ``exact_moments``)."""
+
+
+# ------------------------------------------------------------------ the example of Section IV
+EXAMPLE_PARENTS = {0: (), 1: (0,), 2: (0, 1)}
+"""``K_i`` of Section IV, 0-based: target 2 is driven by 1, target 3 by 1 and 2."""
+EXAMPLE_C = np.array([[1, 0, 0, 0], [0, 0, 1, 0], [0, 1, 0, 0], [0, 0, 0, 1]], float)
+"""``C_i`` of Section IV (the same for every target): sensors of X^p, Y^p, X^v, Y^v."""
+EXAMPLE_B = {(1, 0): np.diag([0, 0.05, 0, 0.02]), (2, 0): np.diag([0, 0.06, 0, 0.07]),
+             (2, 1): np.diag([0, 0.05, 0, 0.09])}
+"""``B_{i,j}`` of Section IV, keyed by 0-based ``(i, j)``, ``j in K_i``."""
+EXAMPLE_X0 = np.array([[0, 1, 0, 1], [2, 1, 2, 1], [2, 2, 2, 2]], float)
+"""Offsets of the initial states of Section IV (a uniform [0, 1) draw is added per component)."""
+
+
+def turn_model(horizon: int) -> tuple[Array, Array]:
+    """``A_i(k)`` and ``E_i(k)``, ``k = 0..horizon``, of Section IV's turning targets.
+
+    ``T_k = 0.8 tanh k`` and ``r_k = 0.1 + 0.3 tanh k``; the same for every target.
+
+    Parameters
+    ----------
+    horizon : int
+        Last step ``T`` (>= 0).
+
+    Returns
+    -------
+    A : (horizon + 1, 4, 4) array
+    E : (horizon + 1, 4) array
+    """
+    k = np.arange(check_int("horizon", horizon, minimum=0) + 1)
+    tk, rk = 0.8 * np.tanh(k), 0.1 + 0.3 * np.tanh(k)
+    s, c = np.sin(rk * tk), np.cos(rk * tk)
+    a = np.zeros((k.size, 4, 4))
+    a[:, 0, 0] = a[:, 2, 2] = 1.0
+    a[:, 0, 1] = a[:, 2, 3] = s / rk
+    a[:, 0, 3] = -(1 - c) / rk
+    a[:, 2, 1] = (1 - c) / rk
+    a[:, 1, 1] = a[:, 3, 3] = c
+    a[:, 1, 3] = -s
+    a[:, 3, 1] = s
+    return a, np.stack([tk**2 / 2, tk, tk**2 / 2, tk], axis=1)
 
 
 def _t(M: Array) -> Array:
