@@ -601,7 +601,6 @@ def bench_arena(repeats: int) -> list[Row]:
     previous size predicts a call over ``ARENA_CALL_BUDGET_S`` or a design over
     ``ARENA_DESIGN_BUDGET_S``, is reported as not measured with the reason.
     """
-    import secest.arena.papers  # noqa: F401  (registers the papers' methods)
     from secest.arena import scenarios
     from secest.arena.estimators import METHODS
 

@@ -84,7 +84,6 @@ from matplotlib.colors import LogNorm
 from matplotlib.patches import Patch
 from matplotlib.ticker import FuncFormatter, LogFormatterSciNotation, NullFormatter
 
-import secest.arena.papers  # noqa: F401  (registers the five papers' methods)
 from secest.arena import matrix, scenarios
 from secest.arena.estimators import METHODS
 from secest.core.validation import ValidationError
@@ -199,7 +198,7 @@ display(Markdown("\n".join(
 # %% [markdown]
 # ## The methods
 #
-# Generated from the registry (`secest.arena.estimators.METHODS`, filled by `import secest.arena.papers`): a
+# Generated from the registry (`secest.arena.estimators.METHODS`, filled when any arena module is imported): a
 # new method is one `Method` subclass passed to `register`, and it appears here and in every table
 # and figure below. The *reading* says how a method is applied where its paper's setting differs
 # (`Method.reading`); *conditions* are the statements the method checks on each scenario before it

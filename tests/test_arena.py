@@ -13,7 +13,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import secest.arena.papers  # noqa: F401  (registers the papers' methods)
 from secest.arena import estimators, matrix, scenarios
 from secest.arena.estimators import METHODS, Estimate, Method, Score, register
 from secest.core.validation import ValidationError

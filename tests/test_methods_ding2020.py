@@ -14,7 +14,6 @@ import numpy as np
 import pytest
 from scipy import stats
 
-import secest.arena.papers  # noqa: F401  (registers the methods)
 from secest.arena import scenarios
 from secest.arena.estimators import METHODS
 from secest.core import graphs

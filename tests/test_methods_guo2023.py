@@ -11,7 +11,6 @@ import numpy as np
 import pytest
 from conftest import repo_root
 
-import secest.arena.papers  # noqa: F401  (registers the methods)
 from secest.arena import scenarios
 from secest.arena.estimators import METHODS
 from secest.arena.papers import guo2023 as arena_guo2023

@@ -16,7 +16,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import secest.arena.papers  # noqa: F401  (registers the papers' methods)
 from secest.arena import scenarios
 from secest.arena.estimators import METHODS
 from secest.core import graphs, systems

@@ -16,7 +16,6 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-import secest.arena.papers  # noqa: F401  (registers the methods)
 from secest.arena import scenarios
 from secest.arena.estimators import METHODS
 from secest.arena.papers import li2025 as arena_li2025

@@ -14,7 +14,6 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-import secest.arena.papers  # noqa: F401  (registers the methods)
 from secest.arena import scenarios
 from secest.arena.estimators import METHODS
 from secest.arena.papers import ma2021 as arena_ma2021
