@@ -406,7 +406,7 @@ def test_claim_and_write_claims(tmp_path) -> None:
                       source="Theorem 1")
     assert c == {"paper": "Thm 1", "check": "dist <= bound", "measured": [0.1, 0.2],
                  "threshold": 1.0, "holds": True, "source": "Theorem 1", "verdict": "holds",
-                 "tolerance": results.DETERMINISTIC.as_dict()}
+                 "basis": "measured", "tolerance": results.DETERMINISTIC.as_dict()}
     path = results.write_claims(tmp_path / "claims.json", {"C1": c, "X1": c})
     assert json.loads(path.read_text())["C1"]["holds"] is True
 
@@ -427,6 +427,46 @@ def test_claim_optional_fields() -> None:
     assert results.headline_value(results.claim("p", "c", [1.0], 1.0, True)) is None
 
 
+def test_outcome_vocabulary() -> None:
+    # not checked: a reason is required, and the outcome is never a failure
+    n = results.claim("p", "c", 1.0, 1.0, None, not_checked="the LMI solver stopped at its limit")
+    assert n["holds"] is None and n["verdict"] == "not-checked" and n["not_checked"].startswith("the LMI")
+    assert results.point_verdict(n) in results.POINT_OUTCOMES
+    b = results.claim("p", "c", 0.0, 0.0, True, basis="by-construction", decides=False, runs=300)
+    assert b["basis"] == "by-construction" and b["runs"] == 300 and "decides" not in b
+    for kw, match in [({"holds": None}, "not_checked: give the reason"),
+                      ({"holds": True, "not_checked": "x"}, "not_checked: give the reason"),
+                      ({"holds": True, "basis": "assumed"}, "basis: expected one of"),
+                      ({"holds": True, "decides": 1}, "decides must be a bool"),
+                      ({"holds": True, "runs": 0}, "runs: expected a run count >= 1")]:
+        holds = kw.pop("holds")
+        with pytest.raises(ValidationError, match=match):
+            results.claim("p", "c", 1.0, 1.0, holds, **kw)
+
+
+def _decided(holds: bool, verdict: str | None = None, **kw) -> dict:
+    e = results.claim("p", "c", 1.0, 1.0, holds, decides=True, **kw)
+    if verdict is not None:
+        e["verdict"] = verdict
+    return e
+
+
+def test_rescience_verdict_rule() -> None:
+    ok, bad = _decided(True), _decided(False)
+    extra = results.claim("p", "c", 1.0, 1.0, False)  # does not decide
+    built = results.claim("p", "c", 1.0, 1.0, False, basis="by-construction", decides=True)
+    assert results.rescience_verdict({"C1": ok, "C2": ok, "X1": extra, "X2": built})["verdict"] == "[Re]"
+    part = results.rescience_verdict({"C10": ok, "C2": _decided(True, "undetermined")})
+    assert part["verdict"] == "[Re, partial]"
+    assert part["line"] == "[Re, partial]: C2 holds at the example, undetermined over the space; C10 holds"
+    assert results.rescience_verdict({"C1": ok, "C2": bad})["verdict"] == "[Re, partial]"
+    premise = _decided(True, premise=("A1", False))
+    assert results.rescience_verdict({"C1": bad, "C2": premise})["verdict"] == "[¬Re]"
+    assert results.rescience_verdict({"C1": _decided(None, not_checked="solver")})["verdict"] == "[¬Re]"
+    with pytest.raises(ValidationError, match="no claim has decides=True"):
+        results.rescience_verdict({"C1": extra, "X2": built})
+
+
 def test_write_claims_merges_the_sweep_verdict(tmp_path) -> None:
     c = results.claim("p", "c", 1.0, 1.0, True, source="ours")
     summary = {"C1": {"verdict": "undetermined", "fraction_holds": 0.5, "points": 4}}
@@ -441,7 +481,7 @@ def test_write_claims_merges_the_sweep_verdict(tmp_path) -> None:
 
 
 def test_claim_bad_input(tmp_path) -> None:
-    with pytest.raises(ValidationError, match="holds must be a bool, found int"):
+    with pytest.raises(ValidationError, match="holds must be a bool or None, found int"):
         results.claim("p", "c", 1.0, 1.0, 1)
     with pytest.raises(ValidationError, match="paper must be a non-empty string"):
         results.claim("", "c", 1.0, 1.0, True)

@@ -84,10 +84,29 @@ def test_region_of_a_claim_that_holds_wherever_its_premise_holds(toy: Path) -> N
     rows = sweep.tabulate(space, swept, results)
     x1 = sweep.summarise(space, rows, points)["X1"]
     kept = sum(p["seed"] == 0 for p in points)
-    assert x1["verdict"] == "undetermined" and x1["outcomes"]["fails"] == 0
+    assert x1["verdict"] == "holds" and x1["outcomes"]["fails"] == 0 and x1["decided"] == kept
     assert x1["region"] == (f"holds wherever its premise holds ({kept} of {len(points)} points); "
                             "the premise fails exactly where seed >= 1 (the next swept value, 0, is "
                             f"on the other side) ({len(points) - kept} of {len(points)} points)")
+
+
+def test_not_checked_points_are_not_failures_and_replicates_are_counted(toy: Path) -> None:
+    space = _space(toy)
+    points = spaces.design(space)
+    swept, results = _results(points, lambda p: True)
+    for (pid, p) in swept:  # C1 could not be checked at seed 1 (a numerical limit of ours)
+        if p["seed"] == 1:
+            results[pid]["claims"]["C1"]["holds"] = None
+    rows = sweep.tabulate(space, swept, results)
+    summary = sweep.summarise(space, rows, points)
+    c1, c2 = summary["C1"], summary["C2"]
+    skipped = sum(p["seed"] == 1 for p in points)
+    assert c1["verdict"] == "holds" and c1["outcomes"]["not-checked"] == skipped
+    assert c1["decided"] == len(points) - skipped and c1["fraction_holds"] == 1.0
+    # C2 measures 1.0 at every point: one evaluation, whatever the number of points
+    assert c2["evaluations"] == 1 and c1["evaluations"] > 1
+    assert sweep._space_verdict({"holds": 0, "fails": 0, "fails-premise": 0, "not-checked": 3}) == (
+        "not-checked", 0)
 
 
 def test_failed_points_are_counted_and_reported(toy: Path) -> None:

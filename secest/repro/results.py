@@ -17,16 +17,39 @@ Every notebook ends by writing its claims to ``results_path`` (default
 ``threshold``
    the value the measurement is compared with;
 ``holds``
-   whether the statement holds at this run's parameters;
+   whether the statement holds at this run's parameters, or ``null`` when it was not
+   checked here (``not_checked`` then says why: e.g. a numerical limit of ours);
 ``premise``
-   optional: the theorem's own assumption and whether it holds here;
+   optional: the theorem's own assumption, or a stated precondition of the measurement,
+   and whether it holds here;
+``basis``
+   ``measured`` (evidence), or ``by-construction``: the claim holds because of how we
+   built the check (an identity of our implementation, a quantity fixed by the premise);
+   it is kept and shown, never counted as evidence;
+``decides``
+   optional, true for the claims that decide the paper's ReScience verdict
+   (:func:`rescience_verdict`);
+``runs``
+   optional: the Monte Carlo run count the claim was measured with (its rule must not
+   change meaning with it: a rule on an interval, never on a count);
 ``verdict``
-   ``holds`` / ``fails`` / ``fails-premise`` at this point, or, once the declared space
-   has been swept (``make robustness``), over that space: ``undetermined`` when it
-   holds in part of it, with ``robustness`` giving the fraction, its interval and the
-   region;
+   the outcome at this point, one of :data:`POINT_OUTCOMES`, or, once the declared space
+   has been swept (``make robustness``), over that space (:data:`VERDICTS`):
+   ``undetermined`` when it holds at part of the points where its premise holds, with
+   ``robustness`` giving the fraction, its interval and the region;
 ``tolerance``
    how closely a re-run on another machine must reproduce ``measured``.
+
+The outcome vocabulary, the same in every notebook:
+
+``holds`` / ``fails``
+   the measured statement holds / fails, its premise holding;
+``fails-premise``
+   the paper's premise (or a stated precondition of the measurement) fails: the claim
+   says nothing here, whatever was measured;
+``not-checked``
+   we could not decide it here (a limit of our numerics or of our check): never a
+   failure of the paper.
 
 Every execution also writes a run manifest ``build/runs/<key>.json`` (not
 committed) with package versions, solver, git commit, parameters and wall time.
@@ -62,6 +85,8 @@ __all__ = [
     "LMI_ITERATES",
     "ROUNDING_RESIDUAL",
     "SIGN_DRIVEN",
+    "BASES",
+    "POINT_OUTCOMES",
     "VERDICTS",
     "Run",
     "Tolerance",
@@ -69,6 +94,7 @@ __all__ = [
     "headline_value",
     "interval",
     "point_verdict",
+    "rescience_verdict",
     "declared_parameters",
     "environment_summary",
     "notebook_path",
@@ -80,8 +106,14 @@ __all__ = [
 ]
 
 CLAIM_KEYS = ("paper", "source", "check", "measured", "threshold", "holds", "verdict", "tolerance")
-VERDICTS = ("holds", "fails", "undetermined", "fails-premise")
+POINT_OUTCOMES = ("holds", "fails", "fails-premise", "not-checked")
+"""A claim's outcome at one point of its space (:func:`point_verdict`)."""
+VERDICTS = ("holds", "fails", "undetermined", "fails-premise", "not-checked")
 """``undetermined`` only comes from a sweep of the declared space (``secest.repro.sweep``)."""
+BASES = ("measured", "by-construction")
+"""What a claim's outcome rests on: a measurement (evidence), or how the check is built."""
+RESCIENCE = ("[Re]", "[Re, partial]", "[¬Re]")
+"""The ReScience verdicts, decided by :func:`rescience_verdict`."""
 _PACKAGES = ("numpy", "scipy", "networkx", "cvxpy", "clarabel", "scs", "control", "matplotlib")
 
 
@@ -305,7 +337,7 @@ def claim(
     check: str,
     measured: Any,
     threshold: Any,
-    holds: bool | np.bool_,
+    holds: bool | np.bool_ | None,
     *,
     source: str | None = None,
     interval: Mapping[str, Any] | None = None,
@@ -313,6 +345,10 @@ def claim(
     key: str | None = None,
     tolerance: Tolerance | None = None,
     section: str | None = None,
+    not_checked: str | None = None,
+    basis: str = "measured",
+    decides: bool = False,
+    runs: int | None = None,
 ) -> dict[str, Any]:
     """One claims-JSON entry (see the module docstring for the keys).
 
@@ -327,8 +363,9 @@ def claim(
         The measured value(s); finite numbers only.
     threshold : number, sequence, mapping or None
         The value the measurement is compared with.
-    holds : bool
-        Whether the statement holds at this run's parameters.
+    holds : bool or None
+        Whether the statement holds at this run's parameters; None when it could not be
+        checked here (``not_checked`` says why; the outcome is ``not-checked``).
     source : str
         The paper's place (``"Sec. V, Fig. 4"``, ``"Theorem 2, (34)"``) or ``"ours"``.
     interval : mapping, optional
@@ -342,9 +379,28 @@ def claim(
         Reproduction tolerance of ``measured`` across machines (default :data:`DETERMINISTIC`).
     section : str, optional
         Heading of the notebook section that measures the claim (for links).
+    not_checked : str, optional
+        Why the claim could not be checked here; required exactly when ``holds`` is None.
+    basis : {"measured", "by-construction"}
+        ``by-construction`` marks a claim that holds because of how the check is built
+        (kept and shown, not counted as evidence; :data:`BASES`).
+    decides : bool
+        True for the paper's main claims, which decide its ReScience verdict
+        (:func:`rescience_verdict`).
+    runs : int, optional
+        The Monte Carlo run count behind ``measured`` (recorded; the rule must not depend on it).
     """
-    if not isinstance(holds, bool | np.bool_):
-        raise ValidationError(f"holds must be a bool, found {type(holds).__name__}")
+    if holds is not None and not isinstance(holds, bool | np.bool_):
+        raise ValidationError(f"holds must be a bool or None, found {type(holds).__name__}")
+    if (holds is None) != (not_checked is not None):
+        raise ValidationError("not_checked: give the reason exactly when holds is None "
+                              f"(holds={holds!r}, not_checked={not_checked!r})")
+    if basis not in BASES:
+        raise ValidationError(f"basis: expected one of {BASES}, found {basis!r}")
+    if not isinstance(decides, bool):
+        raise ValidationError(f"decides must be a bool, found {type(decides).__name__}")
+    if runs is not None and (isinstance(runs, bool) or not isinstance(runs, int) or runs < 1):
+        raise ValidationError(f"runs: expected a run count >= 1, found {runs!r}")
     _check_text("paper", paper)
     _check_text("check", check)
     entry: dict[str, Any] = {
@@ -352,8 +408,15 @@ def claim(
         "check": check,
         "measured": _plain(measured),
         "threshold": _plain(threshold),
-        "holds": bool(holds),
+        "holds": None if holds is None else bool(holds),
+        "basis": basis,
     }
+    if not_checked is not None:
+        entry["not_checked"] = _check_text("not_checked", not_checked)
+    if decides:
+        entry["decides"] = True
+    if runs is not None:
+        entry["runs"] = runs
     if source is not None:
         entry["source"] = _check_text("source", source)
     if interval is not None:
@@ -383,7 +446,7 @@ def claim(
 
 
 def point_verdict(entry: Mapping[str, Any]) -> str:
-    """``fails-premise`` if the claim's premise fails, else ``holds`` or ``fails``.
+    """``not-checked``, else ``fails-premise`` if the premise fails, else ``holds`` or ``fails``.
 
     Parameters
     ----------
@@ -394,12 +457,81 @@ def point_verdict(entry: Mapping[str, Any]) -> str:
     Returns
     -------
     str
-        The verdict at this run's parameters: ``"holds"``, ``"fails"`` or ``"fails-premise"``.
+        The outcome at this run's parameters, one of :data:`POINT_OUTCOMES`.
     """
+    if entry["holds"] is None:
+        return "not-checked"
     premise = entry.get("premise")
     if premise is not None and not premise["holds"]:
         return "fails-premise"
     return "holds" if entry["holds"] else "fails"
+
+
+def rescience_verdict(claims: Mapping[str, Mapping[str, Any]]) -> dict[str, Any]:
+    """The paper's ReScience verdict by one written rule, the same for all five papers.
+
+    The deciding claims are the entries with ``decides`` true and ``basis`` ``measured``:
+    the paper's main claims, chosen in the notebook (a claim true by construction never
+    decides). With the outcome at the paper's example (:func:`point_verdict` of the
+    entry: the notebooks' committed run is the paper's setting) and the verdict over the
+    declared space (``verdict``):
+
+    ``[Re]``
+        every deciding claim holds at the paper's example and its verdict over the space
+        is ``holds``;
+    ``[¬Re]``
+        no deciding claim holds at the paper's example;
+    ``[Re, partial]``
+        otherwise: some hold at the example, and some fail, fail their premise, are not
+        checked, or hold only in part of the space.
+
+    Parameters
+    ----------
+    claims : mapping
+        Claim id -> entry, as in ``figures/<key>/claims.json``.
+
+    Returns
+    -------
+    dict
+        ``verdict`` (one of :data:`RESCIENCE`), ``deciding`` (id -> ``{"example": outcome at
+        the paper's example, "space": verdict over the space}``) and ``line``: the verdict
+        with the claims that decide it, e.g. ``"[Re, partial]: C1 holds; C3 undetermined"``.
+
+    Raises
+    ------
+    ValidationError
+        If no claim decides (a notebook must name its main claims).
+    """
+    deciding = {
+        cid: {"example": point_verdict(e), "space": e["verdict"]}
+        for cid, e in sorted(claims.items(), key=lambda item: _claim_order(item[0]))
+        if e.get("decides") and e.get("basis", "measured") == "measured"
+    }
+    if not deciding:
+        raise ValidationError("rescience_verdict: no claim has decides=True (and basis 'measured')")
+    at_example = [d["example"] == "holds" for d in deciding.values()]
+    if all(at_example) and all(d["space"] == "holds" for d in deciding.values()):
+        verdict = "[Re]"
+    elif not any(at_example):
+        verdict = "[¬Re]"
+    else:
+        verdict = "[Re, partial]"
+
+    def said(cid: str, d: Mapping[str, str]) -> str:
+        if d["space"] == d["example"]:
+            return f"{cid} {d['space']}"
+        return f"{cid} {d['example']} at the example, {d['space']} over the space"
+
+    line = f"{verdict}: " + "; ".join(said(cid, d) for cid, d in deciding.items())
+    return {"verdict": verdict, "deciding": deciding, "line": line}
+
+
+def _claim_order(cid: str) -> tuple:
+    """C-claims before X-claims, numbers numerically (C2 < C2a < C10)."""
+    import re
+
+    parts = re.findall(r"\d+|\D+", cid)
+    return (cid[0] != "C",) + tuple((0, int(p)) if p.isdigit() else (1, p) for p in parts)
 
 
 def headline_value(entry: Mapping[str, Any]) -> float | None:

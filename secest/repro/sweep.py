@@ -44,7 +44,7 @@ from typing import Any
 
 from secest.core.validation import ValidationError, check_positive_int
 from secest.repro import spaces
-from secest.repro.results import headline_value, point_verdict, repo_root
+from secest.repro.results import POINT_OUTCOMES, headline_value, point_verdict, repo_root
 
 __all__ = [
     "describe_region",
@@ -55,7 +55,7 @@ __all__ = [
     "tabulate",
 ]
 
-OUTCOMES = ("holds", "fails", "fails-premise")
+OUTCOMES = POINT_OUTCOMES
 
 
 # ---------------------------------------------------------------------------- points and caching
@@ -367,9 +367,14 @@ def _cid_key(cid: str) -> tuple:
 def summarise(space: spaces.Space, rows: Sequence[Mapping[str, Any]], points: Sequence[Mapping]) -> dict:
     """Per claim: verdict over the declared space, fraction holding (Wilson 95 %), region.
 
-    The verdict is ``holds`` (``fails``, ``fails-premise``) when every finished
-    point says so, else ``undetermined``. The Wilson interval treats the design
-    points as a sample of the declared space.
+    The verdict is decided on the points where the claim was checked and its premise
+    holds (outcome ``holds`` or ``fails``): ``holds`` (``fails``) when it holds (fails) at
+    every such point, else ``undetermined``. With no such point it is ``fails-premise`` if
+    the premise fails somewhere, else ``not-checked``. Points where the premise fails or
+    that were not checked are counted and shown, never counted as failures. The fraction
+    holding and its Wilson interval are over the decided points, treated as a sample of
+    the declared space. ``evaluations`` counts the distinct (outcome, value) pairs: 1 means
+    the swept axes do not enter the claim, and "holds everywhere" is one evaluation.
 
     Parameters
     ----------
@@ -384,8 +389,9 @@ def summarise(space: spaces.Space, rows: Sequence[Mapping[str, Any]], points: Se
     -------
     dict
         Claim id -> ``verdict``, ``points`` (finished points with an outcome),
-        ``failed_points`` (points that did not finish), ``outcomes`` (count per
-        outcome), ``fraction_holds``, ``interval`` (a :func:`secest.repro.results.interval`
+        ``decided`` (points with outcome holds or fails), ``evaluations`` (distinct
+        outcome-value pairs), ``failed_points`` (points that did not finish), ``outcomes``
+        (count per outcome), ``fraction_holds``, ``interval`` (a :func:`secest.repro.results.interval`
         entry), ``region`` (:func:`describe_region`) and ``axes`` (the axes it was
         described over). Claims without any finished point are left out.
     """
@@ -402,8 +408,9 @@ def summarise(space: spaces.Space, rows: Sequence[Mapping[str, Any]], points: Se
         n = len(outcomes)
         if n == 0:
             continue
-        verdict = outcomes[0] if len(set(outcomes)) == 1 else "undetermined"
-        lo, hi = wilson_interval(counts["holds"], n)
+        verdict, decided = _space_verdict(counts)
+        lo, hi = wilson_interval(counts["holds"], decided) if decided else (0.0, 1.0)
+        evaluations = len({(r[f"{cid}.outcome"], r.get(f"{cid}.value")) for r, _ in ok})
         names = dict.fromkeys(name for _, p in ok for name in p)
         axes = {
             name: [p[name] for _, p in ok]
@@ -414,16 +421,28 @@ def summarise(space: spaces.Space, rows: Sequence[Mapping[str, Any]], points: Se
         summary[cid] = {
             "verdict": verdict,
             "points": n,
+            "decided": decided,
+            "evaluations": evaluations,
             "failed_points": sum(1 for r in rows if r["status"] != "ok"),
             "outcomes": counts,
-            "fraction_holds": counts["holds"] / n,
+            "fraction_holds": counts["holds"] / decided if decided else None,
             "interval": interval(
-                lo, hi, method="wilson, design points as a sample of the declared space"
+                lo, hi, method="wilson, decided design points as a sample of the declared space"
             ),
             "region": _region(space, axes, outcomes),
             "axes": list(axes),
         }
     return summary
+
+
+def _space_verdict(counts: Mapping[str, int]) -> tuple[str, int]:
+    """The verdict over the space from the outcome counts, and the number of decided points."""
+    decided = counts["holds"] + counts["fails"]
+    if decided == 0:
+        return ("fails-premise" if counts["fails-premise"] else "not-checked"), 0
+    if counts["fails"] == 0:
+        return "holds", decided
+    return ("fails" if counts["holds"] == 0 else "undetermined"), decided
 
 
 def _region(space: spaces.Space, axes: Mapping[str, list], outcomes: Sequence[str]) -> str:
@@ -713,7 +732,8 @@ def _scatter(ax: Any, space: spaces.Space, x_axis: str, sel: list, cid: str, has
     categorical = axis.kind == "set" and not _numeric(axis.values)
     if axis.log:
         ax.set_xscale("log")
-    style = {"holds": ("o", "tab:blue"), "fails": ("x", "tab:red"), "fails-premise": ("^", "tab:gray")}
+    style = {"holds": ("o", "tab:blue"), "fails": ("x", "tab:red"), "fails-premise": ("^", "tab:gray"),
+             "not-checked": ("D", "tab:olive")}
     for outcome, (marker, colour) in style.items():
         pts = [(r, p) for r, p in sel if r[f"{cid}.outcome"] == outcome]
         if not pts:
