@@ -108,12 +108,29 @@ class Method:
     tolerance: Tolerance = DETERMINISTIC
 
     def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
-        """The conditions the method's theory needs on ``sc``: (statement, holds) pairs."""
+        """The conditions of the method's theory on ``sc``: (statement, holds) pairs.
+
+        A failed condition does not stop the method: its cell is scored and marked as
+        outside its theory (:meth:`outside_theory`), so a mark never hides a result.
+        """
+        return []
+
+    def requirements(self, sc: Scenario) -> list[tuple[str, bool]]:
+        """What the method needs to run at all on ``sc``: (statement, holds) pairs.
+
+        The one applicability rule of the arena, the same for every method: a cell is
+        ``n/a`` only when the method cannot produce an estimate (it needs information the
+        scenario does not give, or its design does not exist there).
+        """
         return []
 
     def not_applicable(self, sc: Scenario) -> str | None:
-        """The first condition that fails on ``sc``, or None when the method applies."""
-        return next((text for text, ok in self.conditions(sc) if not ok), None)
+        """The first requirement that fails on ``sc``, or None when the method can run."""
+        return next((text for text, ok in self.requirements(sc) if not ok), None)
+
+    def outside_theory(self, sc: Scenario) -> list[str]:
+        """Every condition of the method's theory that fails on ``sc`` (empty: inside it)."""
+        return [text for text, ok in self.conditions(sc) if not ok]
 
     def run(self, trial: Trial) -> Estimate:  # pragma: no cover - abstract
         """Estimate every node's state over every run of ``trial``."""
@@ -323,7 +340,6 @@ class ConsensusKF(Method):
         W = metropolis_weights(sc.network.adj)
         Rinv = np.linalg.inv(sc.R)
         U0 = np.einsum("iyn,iyz,izm->inm", sc.C, Rinv, sc.C)
-        scale = sc.plant.x0_std * float(np.abs(U0).max())
         x = np.zeros((runs, N, n))
         P = np.broadcast_to(sc.plant.x0_std**2 * np.eye(n), (runs, N, n, n)).copy()
         out = np.empty((runs, K1, N, n))
@@ -333,7 +349,7 @@ class ConsensusKF(Method):
             u = np.einsum("iyn,iyz,riz->rin", sc.C, Rinv, trial.y[:, k])
             U = np.broadcast_to(U0, (runs, N, n, n)).copy()
             for _ in range(CONSENSUS_ROUNDS):
-                u, U = self._round(trial, k, W, u, U, scale)
+                u, U = self._round(trial, k, W, u, U)
             Y_prior = np.linalg.inv(P)
             P = np.linalg.inv(Y_prior + N * U)
             P = 0.5 * (P + np.swapaxes(P, -1, -2))
@@ -348,9 +364,9 @@ class ConsensusKF(Method):
         W: NDArray[np.float64],
         u: NDArray[np.float64],
         U: NDArray[np.float64],
-        scale: float,
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        recv = trial.received(k, u, scale)  # (runs, N, N, n): what i receives from j
+        # a shifted estimate delta of sender j moves its information vector by U_j delta
+        recv = trial.received(k, u, lambda d: np.einsum("rjnm,rijm->rijn", U, d))
         up = trial.link[:, k].astype(float)[:, None, None]
         Wr = up * (W - np.diag(np.diag(W)))  # weights of the links that are up this step
         Wr = Wr + np.eye(W.shape[0])[None] * (1.0 - Wr.sum(axis=-1, keepdims=True))

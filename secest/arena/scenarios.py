@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import difflib
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
 from importlib import resources
@@ -52,10 +52,12 @@ __all__ = [
     "Plant",
     "Scenario",
     "Trial",
+    "auto_horizon",
     "cards",
     "matrix",
     "scenario",
     "simulate",
+    "steady_state",
 ]
 
 NOISE_CLIP = 3.0
@@ -159,7 +161,7 @@ class Plant:
         positive; clipped like ``w``.
     x0_std : float
         Standard deviation of every component of the initial state, ``x_0 ~ N(0, x0_std^2 I)``
-        (state units); the prior of every estimator and the scale of message attacks.
+        (state units); the prior of every estimator.
     state_names : tuple of n str
         Names of the state components (for axis labels).
     """
@@ -253,9 +255,9 @@ class Attack:
     magnitude : float, default 0.0
         Dimensionless size. ``"bias"``: the bias is ``magnitude r_std`` on each output;
         ``"replacement"``: the replacement is uniform in ``+-magnitude r_std`` (``r_std`` of
-        the attacked output); ``"message"``: the injection is ``magnitude scale tanh(m / scale)``
-        entrywise (:meth:`Trial.received`, ``scale`` in the units of the message, e.g.
-        ``x0_std``).
+        the attacked output); ``"message"``: the state estimate a node sends is shifted by
+        ``magnitude`` oracle steady-state error standard deviations per component, random
+        signs (:meth:`Trial.received` maps it into each method's message).
     p, q : float, defaults 0.0 and 1.0
         ``"dos"``: failure (up -> down) and recovery (down -> up) probabilities per step of the
         Gilbert-Elliott chain shared by every link (:func:`secest.core.channels.gilbert_elliott`);
@@ -318,6 +320,22 @@ class Scenario:
         var = self.plant.r_std[self.network.measures] ** 2
         return np.einsum("iy,yz->iyz", var, np.eye(var.shape[1]))
 
+    @cached_property
+    def steady_covariance(self) -> NDArray[np.float64]:
+        """Error covariance of the oracle's steady-state Kalman filter after its update, (n, n).
+
+        The centralised filter on every node's clean rows: ``P^- = DARE(A, C, Q, R)``,
+        ``P = P^- - P^- C^T (C P^- C^T + R)^{-1} C P^-``. Its diagonal is the unit of the
+        falsified-message attack (:func:`simulate`).
+        """
+        return steady_state(self.plant, self.network)[0]
+
+    @cached_property
+    def time_constant(self) -> float:
+        """``tau`` in steps (:func:`steady_state`): the slower of the oracle's error decay and the
+        plant's slowest decaying open-loop mode."""
+        return steady_state(self.plant, self.network)[1]
+
     @property
     def attacked_nodes(self) -> tuple[int, ...]:
         """Nodes whose sensors the attack touches (empty for message and channel attacks)."""
@@ -344,9 +362,12 @@ class Trial:
         Shared channel state of every inter-node link (1 = up); all ones without a DoS attack.
     hits : (runs, K + 1, N, N) bool
         ``hits[r, k, i, j]``: the message node ``i`` receives from ``j`` at step ``k`` is falsified.
-    message_magnitude : float, default 0.0
-        :attr:`Attack.magnitude` of a ``"message"`` attack (0 for every other kind): the
-        dimensionless size of the injection :meth:`received` adds, in units of ``scale``.
+    message_delta : (runs, K + 1, N, n) array, optional
+        The falsification of a ``"message"`` attack as a perturbation of the state estimate that
+        node ``j`` sends at step ``k``, in the state's own units: ``magnitude`` times the oracle's
+        steady-state error standard deviation of each component, with a random sign per
+        component (:func:`simulate`); None for every other kind. The same perturbation for every
+        method: :meth:`received` maps it into each method's message by the method's encoding.
     """
 
     scenario: Scenario
@@ -356,9 +377,14 @@ class Trial:
     attacked: NDArray[np.bool_]
     link: NDArray[np.int8]
     hits: NDArray[np.bool_]
-    message_magnitude: float = field(default=0.0)
+    message_delta: NDArray[np.float64] | None = field(default=None)
 
-    def received(self, k: int, messages: NDArray[np.float64], scale: float) -> NDArray[np.float64]:
+    def received(
+        self,
+        k: int,
+        messages: NDArray[np.float64],
+        encode: Callable[[NDArray[np.float64]], NDArray[np.float64]] | None = None,
+    ) -> NDArray[np.float64]:
         """What every node receives from every other at step ``k``.
 
         Parameters
@@ -366,23 +392,78 @@ class Trial:
         k : int
             Step index.
         messages : (runs, N, d) array
-            What each node sends (its estimate, innovation, solver state...).
-        scale : float
-            Typical size of a message entry; the falsification adds
-            ``magnitude * scale * tanh(m / scale)`` entrywise (bounded by ``magnitude * scale``).
+            What each node sends (its estimate, innovation, information vector...).
+        encode : callable, optional
+            The method's encoding of a falsified state estimate: ``encode(delta)`` maps the
+            perturbations ``delta`` (runs, N, N, n) of the estimates the senders ``j`` send to
+            the receivers ``i`` into perturbations (runs, N, N, d) of their messages (e.g.
+            ``C_j delta`` for a sent measurement, ``Y_j delta`` for an information vector).
+            Default: the message is the state estimate itself (``d = n``).
 
         Returns
         -------
         (runs, N, N, d) array
             ``out[r, i, j]`` is what node ``i`` receives from ``j`` (before the channel: the
             caller applies :attr:`link`, since what a lost packet means is method-specific).
+
+        Raises
+        ------
+        ValidationError
+            If a message is not a state estimate and no ``encode`` is given, or ``encode``
+            returns another shape.
         """
         m = np.asarray(messages, dtype=float)
         out = np.broadcast_to(m[:, None, :, :], (m.shape[0], m.shape[1], *m.shape[1:])).copy()
-        if self.message_magnitude:
-            inject = self.message_magnitude * scale * np.tanh(m / scale)
-            out += self.hits[:, k, :, :, None] * inject[:, None, :, :]
-        return out
+        if self.message_delta is None:
+            return out
+        delta = self.hits[:, k, :, :, None] * self.message_delta[:, k, None, :, :]
+        if encode is None:
+            if m.shape[-1] != delta.shape[-1]:
+                raise ValidationError(f"encode: messages of {m.shape[-1]} entries are not state "
+                                      f"estimates (n = {delta.shape[-1]}); give their encoding")
+            return out + delta
+        shift = np.asarray(encode(delta), dtype=float)
+        if shift.shape != out.shape:
+            raise ValidationError(f"encode: expected perturbations of shape {out.shape}, "
+                                  f"found {shift.shape}")
+        return out + shift
+
+
+def steady_state(plant: Plant, network: Network) -> tuple[NDArray[np.float64], float]:
+    """The oracle's steady state on ``network``: its error covariance and the time constant ``tau``.
+
+    ``tau = max(-1 / ln rho((I - K C) A), max over open-loop modes |lambda| < 1 of -1 / ln |lambda|)``
+    in steps, with ``K`` the steady-state gain of the centralised Kalman filter on every node's
+    rows. The first term is how fast the best estimator forgets its prior; the second how slowly
+    an estimator that does not see a decaying mode forgets it (a node that does not observe the
+    whole state). The arena's windows are multiples of ``tau`` (``secest/arena/protocol.toml``).
+
+    Parameters
+    ----------
+    plant : Plant
+    network : Network
+
+    Returns
+    -------
+    (P, tau)
+        ``P`` (n, n), the error covariance after the update; ``tau`` in steps (finite, > 0).
+    """
+    C = plant.outputs[network.measures].reshape(-1, plant.n)
+    R = np.diag((plant.r_std[network.measures] ** 2).reshape(-1))
+    A, Q = plant.A, plant.Q
+    try:
+        Pm = sla.solve_discrete_are(A.T, C.T, Q, R)
+    except (ValueError, np.linalg.LinAlgError) as exc:
+        raise ValidationError(f"network {network.name}: the oracle's Riccati equation has no "
+                              f"stabilising solution ({exc})") from None
+    gain = Pm @ C.T @ np.linalg.inv(C @ Pm @ C.T + R)
+    P = Pm - gain @ C @ Pm
+    rho = float(np.max(np.abs(np.linalg.eigvals((np.eye(plant.n) - gain @ C) @ A))))
+    modes = np.abs(np.linalg.eigvals(A))
+    decaying = modes[(modes < 1.0 - 1e-9) & (modes > 0.0)]
+    taus = [-1.0 / np.log(rho)] if 0.0 < rho < 1.0 else [1.0]
+    taus += list(-1.0 / np.log(decaying))
+    return 0.5 * (P + P.T), float(max(taus))
 
 
 # ---------------------------------------------------------------------------------- cards
@@ -586,8 +667,9 @@ def scenario(
         Name of a ``[network.<name>]`` card; the scenario's plant is the network's.
     attack : str
         Name of an ``[attack.<name>]`` card; its ``nodes`` must exist in ``network``.
-    horizon : int, optional
-        Number of steps ``K`` (positive); default the ``[matrix]`` horizon.
+    horizon : int or "auto", optional
+        Number of steps ``K`` (positive), or ``"auto"``: :func:`auto_horizon`, the shortest
+        horizon with a steady window (``protocol.toml``); default the ``[matrix]`` horizon.
     runs : int, optional
         Number of Monte Carlo runs (at least 2); default the ``[matrix]`` runs.
     seed : int, optional
@@ -617,9 +699,12 @@ def scenario(
     att = c["attack"][attack]
     if any(i >= net.N for i in att.nodes):
         raise ValidationError(f"attack {attack}: nodes {att.nodes} do not all exist in {network}")
-    K = check_positive_int("horizon", horizon if horizon is not None else m["horizon"])
     R = check_positive_int("runs", runs if runs is not None else m["runs"], minimum=2)
     plant = c["plant"][net.plant]
+    K = horizon if horizon is not None else m["horizon"]
+    if K == "auto":
+        K = auto_horizon(plant, net)
+    K = check_positive_int("horizon", K)
     validation.check_size("horizon", K, validation.MAX_STEPS, "steps")
     widest = max(plant.n, net.measures.shape[1])  # a trial holds every node's output per step
     validation.check_size("runs x (horizon + 1) x nodes", R * (K + 1) * net.N * widest,
@@ -635,6 +720,19 @@ def scenario(
         runs=R,
         seed=int(seed if seed is not None else m["seed"]),
     )
+
+
+MIN_HORIZON_TAU = 20
+"""A horizon of at least this many time constants gives a steady window (``protocol.toml``)."""
+
+
+def auto_horizon(plant: Plant, network: Network) -> int:
+    """The shortest horizon of ``protocol.toml``: ``MIN_HORIZON_TAU tau``, up to a multiple of 10 steps.
+
+    ``tau`` is :func:`steady_state`'s time constant of the plant on the network.
+    """
+    tau = steady_state(plant, network)[1]
+    return int(10 * np.ceil(MIN_HORIZON_TAU * tau / 10))
 
 
 def matrix(
@@ -725,10 +823,12 @@ def simulate(sc: Scenario) -> Trial:
 
         link = channels.gilbert_elliott(att.p, att.q, K + 1, channel_rng, size=R)
     hits = np.zeros((R, K + 1, N, N), dtype=bool)
+    delta = None
     if att.kind == "message":
         hits = (message_rng.random((R, K + 1, N, N)) < att.prob) & (net.adj[None, None] > 0)
-    magnitude = att.magnitude if att.kind == "message" else 0.0
-    return Trial(sc, x, y, y_clean, attacked, link, hits, magnitude)
+        signs = np.where(message_rng.random((R, K + 1, N, plant.n)) < 0.5, -1.0, 1.0)
+        delta = att.magnitude * np.sqrt(np.diag(sc.steady_covariance)) * signs
+    return Trial(sc, x, y, y_clean, attacked, link, hits, delta)
 
 
 def _sensor_attack(

@@ -108,7 +108,7 @@ class Guo2023(Method):
     ``H^i = I`` on the sensors the attack card names (``threat="card"``, the paper's known
     attack channels (2)), ``n_d = 0``, ``pi_ij = 1/(|N_i| + 1)`` on the closed neighbourhood
     (Sec. V), ``x0 = 0``, ``P_0`` the prior, SVD rank tolerance ``1e-10``; only the local
-    estimates are exchanged (``scale = x0_std``); a lost message is left out of the fusion
+    estimates are exchanged; a lost message is left out of the fusion
     and the weights renormalised; alarms (ours): chi-square test of ``u_hat_1`` at
     :data:`~secest.arena.estimators.CHI2_ALPHA`.
 
@@ -142,13 +142,7 @@ class Guo2023(Method):
         mdl = arena_model(sc, self.threat)
         A, C, R = sc.plant.A, sc.C, sc.R
         decs = [feedthrough_decomposition(mdl.Hbar(0)[i], R[i], rtol=self.rtol) for i in range(mdl.N)]
-        Gs = mdl.Gbar(0)
-        ny = C.shape[1]
         C2 = np.vstack([d.U2.T @ C[i] for i, d in enumerate(decs)])
-        rank_ok = all(
-            np.linalg.matrix_rank(d.U2.T @ C[i] @ Gs[i] @ d.V2) == d.V2.shape[1]
-            for i, d in enumerate(decs)
-        )
         adj = sc.network.adj
         connected = True
         try:
@@ -159,20 +153,32 @@ class Guo2023(Method):
             ("the graph is undirected and connected (Sec. II)",
              bool(np.array_equal(adj, adj.T)) and connected),
             ("A is invertible (Assumption 1)", bool(np.linalg.cond(A) < 1e12)),
-            ("n_y_i >= n_u at every node (standing assumption after (3))",
-             all(ny >= H.shape[1] for H in mdl.Hbar(0))),
-            ("C_2^i G_bar_2^i has full column rank at every node (solvability of (10), (13))", rank_ok),
             ("(A, C_2) is observable, C_2 = [C_2^1; ...; C_2^N] the attack-free outputs (Assumption 2)",
              bool(C2.shape[0] > 0 and systems.is_observable(A, C2))),
+            ("its attack model: deception on the sensors through known channels H^i (2); the "
+             "exchanged estimates arrive intact", sc.attack.kind not in ("message", "dos")),
+        ]
+
+    def requirements(self, sc: Scenario) -> list[tuple[str, bool]]:
+        mdl = arena_model(sc, self.threat)
+        decs = [feedthrough_decomposition(mdl.Hbar(0)[i], sc.R[i], rtol=self.rtol) for i in range(mdl.N)]
+        Gs = mdl.Gbar(0)
+        rank_ok = all(
+            np.linalg.matrix_rank(d.U2.T @ sc.C[i] @ Gs[i] @ d.V2) == d.V2.shape[1]
+            for i, d in enumerate(decs)
+        )
+        return [
+            ("n_y_i >= n_u at every node (standing assumption after (3))",
+             all(sc.C.shape[1] >= H.shape[1] for H in mdl.Hbar(0))),
+            ("C_2^i G_bar_2^i has full column rank at every node (solvability of (10), (13))", rank_ok),
         ]
 
     def run(self, trial: Trial) -> Estimate:
         sc = trial.scenario
         mdl = arena_model(sc, self.threat)
-        scale = sc.plant.x0_std
         dos = not np.all(trial.link == 1)
         res = run_estimator(
-            mdl, trial.y, received=lambda k, m: trial.received(k, m, scale),
+            mdl, trial.y, received=trial.received,  # it sends x^{i,i}, a state estimate
             link=trial.link if dos else None, keep_steps=False, rtol=self.rtol,
         )
         runs, K1, N, _ = trial.y.shape

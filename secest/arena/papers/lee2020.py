@@ -134,10 +134,19 @@ class Lee2020(Method):
         d = self._design(sc)
         q = self.q
         return [
-            ("Assumption 3: the communication graph is undirected and connected", d["graph"]),
             (f"Assumption 1: at most q = {q} sensor bank(s) attacked", len(sc.attacked_nodes) <= q),
             (f"Assumption 2: (C, A) is 2q-redundant observable, q = {q} (any N - 2q banks observe "
              "the plant)", bool(d["redundant"])),
+            ("its model (1) is noise-free (the arena's plants have process and sensor noise)", False),
+            ("Assumption 3: reliable links (no falsified or lost messages)",
+             sc.attack.kind not in ("message", "dos")),
+        ]
+
+    def requirements(self, sc: Scenario) -> list[tuple[str, bool]]:
+        d = self._design(sc)
+        return [
+            ("Assumption 3: the communication graph is undirected and connected (the solver's "
+             "coupling needs it)", d["graph"]),
             ("Assumption 4: a basis in which every bank's unobservable subspace is spanned by basis "
              f"vectors (our {d['basis'].construction} construction, verified)", d["basis"].ok),
             (f"(5): observer gains place eig(F_i) by the '{self.poles}' rule (F_i Hurwitz)",
@@ -151,21 +160,15 @@ class Lee2020(Method):
             raise ValidationError(f"lee2020 is not applicable to {sc.name}: {reason}")
         d = self._design(sc)
         obs: SampledObserver = d["observer"]
-        res = run_sampled(obs, trial.y, lambda k, m: trial.received(k, m, sc.plant.x0_std), trial.link)
+        res = run_sampled(obs, trial.y, trial.received, trial.link)  # it sends x_hat_i
         exceed = np.abs(res.zbar - res.xbar) > d["tau"]
         steps = np.arange(trial.y.shape[1])[:, None]
         alarms = np.any(exceed, axis=-1) & (steps >= d["first"][None, :])[None]
-        outside = ["sensor and process noise (the paper's model (1) is noise-free)"]
-        if sc.attack.kind == "message":
-            outside.append("falsified messages (the paper's links are reliable, Assumption 3)")
-        if sc.attack.kind == "dos":
-            outside.append("lost messages (the paper's links are reliable, Assumption 3)")
         notes = {
             "substeps": obs.substeps,
             "substep_s": sc.plant.dt / obs.substeps,
             "poles": self.poles,
             "basis": d["basis"].construction,
             "alarms_from_step": [int(f) for f in d["first"]],
-            "outside_theory": outside,
         }
         return Estimate(res.xhat, alarms=alarms, notes=notes)

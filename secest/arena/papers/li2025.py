@@ -133,15 +133,19 @@ class Li2025(Method):
         slot_own = src == np.arange(N)[:, None]
         att = sc.attack
         psi_att = 1.0 - att.prob
-        scale = sc.plant.x0_std * float(np.abs(sc.C).sum(axis=-1).max())
         x = np.zeros((runs, N, n))
         S = np.broadcast_to(sc.plant.x0_std**2 * np.eye(n), (runs, N, n, n)).copy()
         xs, Ss = np.empty((runs, K1, N, n)), np.empty((runs, K1, N, n, n))
         xs[:, 0], Ss[:, 0] = x, S
         coef_clean = bound_coefficients(1.0, a2, a3, a4, self.variant)
+        C = sc.C
+
+        def encode(delta: Array) -> Array:  # a node relays C_j x: a shifted state moves it by C_j delta
+            return np.einsum("jyn,rijn->rijy", C, delta)
+
         coef_att = bound_coefficients(psi_att, a2, a3, a4, self.variant)
         for k in range(1, K1):
-            recv = trial.received(k, trial.y[:, k], scale)  # (runs, N, N, ny): i receives from j
+            recv = trial.received(k, trial.y[:, k], encode)  # (runs, N, N, ny): i receives from j
             up = trial.link[:, k].astype(bool)
             x = predict(x, [], A, [])  # (7), K_i empty
             S = predicted_bound(S, [], A, [], lam, Q)  # (17)

@@ -113,8 +113,16 @@ class Ma2021(Method):
              "(L_i = aleph_i = 0)", True),
             ("Assumption 1 (2): every measurement noise stays in its ellipsoid (no sensor attack)",
              not sc.attacked_nodes),
+            ("its attack model: falsified innovations on reliable links (Sec. II; no lost messages)",
+             sc.attack.kind != "dos"),
+        ]
+
+    def requirements(self, sc: Scenario) -> list[tuple[str, bool]]:
+        d = self.design(sc)
+        where = "" if d.failure is None else f" (fails: {d.failure})"
+        return [
             (f"Theorems 2-3: the recursive LMI (30) is feasible and certified at every step "
-             f"k = 0..{sc.horizon - 1}{where}", d.failure is None),
+             f"k = 0..{sc.horizon - 1}{where} (its gains G_k)", d.failure is None),
         ]
 
     def run(self, trial: Trial) -> Estimate:
@@ -127,12 +135,14 @@ class Ma2021(Method):
         n, A, C = sc.plant.n, sc.plant.A, sc.C
         F = np.broadcast_to(A, (N, n, n))
         H = np.zeros((N, N, n, ny))  # optimal for OP2 (module docstring)
-        scale = float(np.sqrt(max(np.max(np.diag(sc.plant.x0_std**2 * C[i] @ C[i].T + sc.R[i]))
-                                  for i in range(N))))
+
+        def encode(delta: Array) -> Array:  # z_j = y_j - C_j x_j: a shifted x_j moves it by -C_j delta
+            return -np.einsum("jyn,rijn->rijy", C, delta)
+
         xhat = np.zeros((runs, K1, N, n))
         for k in range(K1 - 1):
             z = trial.y[:, k] - np.einsum("iyn,rin->riy", C, xhat[:, k])
-            recv = trial.received(k, z, scale)
+            recv = trial.received(k, z, encode)
             theta = sc.network.adj[None] * trial.link[:, k, None, None]  # a lost message is not used
             xhat[:, k + 1] = estimator_update(F, d.G[k], H, xhat[:, k], z, recv, theta)
         Bell = d.P / (1.0 - self.p)
