@@ -165,3 +165,20 @@ def test_kcf_refuses_a_gain_beyond_one_over_the_max_degree() -> None:
     with pytest.raises(ValidationError, match="epsilon must be < 1 / max degree = 0.1"):
         kcf.run(t)
     assert baselines.KalmanConsensusFilter(epsilon=0.05).not_applicable(t.scenario) is None
+
+
+def test_a_ci_round_is_the_weighted_average_of_the_information_pairs() -> None:
+    """``x_i + Y^{-1} sum_{j != i} w_ij (q_j - Y_j x_i)`` is ``(sum_j w_ij Y_j)^{-1} sum_j w_ij q_j``."""
+    rng = np.random.default_rng(1)
+    runs, N, n = 3, 5, 4
+    L = rng.standard_normal((runs, N, n, n))
+    Y = L @ np.swapaxes(L, -1, -2) + n * np.eye(n)
+    x = rng.standard_normal((runs, N, n))
+    q = np.einsum("rinm,rim->rin", Y, x)
+    W = estimators.metropolis_weights(scenarios.scenario("inertia5", "none").network.adj)
+    Wk = np.broadcast_to(W, (runs, N, N))
+    x_new, Y_new = baselines._ci_round(Wk, x, Y, np.broadcast_to(q[:, None], (runs, N, N, n)))
+    Y_avg = np.einsum("rij,rjnm->rinm", Wk, Y)
+    x_avg = np.linalg.solve(Y_avg, np.einsum("rij,rjn->rin", Wk, q)[..., None])[..., 0]
+    assert np.array_equal(Y_new, Y_avg)
+    assert np.abs(x_new - x_avg).max() < 1e-13 * np.abs(x_avg).max()  # measured 4.4e-16 at |x| <= 1.2

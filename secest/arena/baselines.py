@@ -83,7 +83,7 @@ def _information(trial: Trial, k: int) -> tuple[NDArray[np.float64], NDArray[np.
     return np.broadcast_to(U, (u.shape[0], *U.shape)), u
 
 
-class Prior(NamedTuple):
+class _Prior(NamedTuple):
     """Every node's prior in every run: estimate ``x^-`` (runs, N, n), covariance ``P^-`` and
     information matrix ``Y^- = (P^-)^{-1}`` (runs, N, n, n)."""
 
@@ -92,17 +92,17 @@ class Prior(NamedTuple):
     Y: NDArray[np.float64]
 
 
-def _start(trial: Trial) -> Prior:
+def _start(trial: Trial) -> _Prior:
     """The prior of every node in every run: ``x^- = 0``, ``P^- = x0_std^2 I``."""
     sc = trial.scenario
     runs, _, N, _ = trial.y.shape
     n = sc.plant.n
     P = np.broadcast_to(sc.plant.x0_std**2 * np.eye(n), (runs, N, n, n)).copy()
-    return Prior(np.zeros((runs, N, n)), P, _sym(np.linalg.inv(P)))
+    return _Prior(np.zeros((runs, N, n)), P, _sym(np.linalg.inv(P)))
 
 
 def _correct(
-    prior: Prior, U: NDArray[np.float64], u: NDArray[np.float64]
+    prior: _Prior, U: NDArray[np.float64], u: NDArray[np.float64]
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """(L1): ``Y = Y^- + U``, ``P = Y^{-1}``, ``xhat = x^- + P (u - U x^-)``; returns (xhat, P, Y)."""
     Y = prior.Y + U
@@ -113,10 +113,10 @@ def _correct(
 
 def _predict(
     x: NDArray[np.float64], P: NDArray[np.float64], A: NDArray[np.float64], Q: NDArray[np.float64]
-) -> Prior:
+) -> _Prior:
     """(L2): the prior ``x^- = A x``, ``P^- = A P A^T + Q``, ``Y^- = (P^-)^{-1}``."""
     P_prior = _sym(A @ P @ A.T + Q)
-    return Prior(x @ A.T, P_prior, _sym(np.linalg.inv(P_prior)))
+    return _Prior(x @ A.T, P_prior, _sym(np.linalg.inv(P_prior)))
 
 
 def _delivered(trial: Trial, k: int) -> NDArray[np.float64]:
@@ -330,12 +330,13 @@ class ConsensusInformationKF(Method):
 
     name = "consensus-kf-1"
     kind = "baseline"
-    title = "distributed KF, consensus on information, one exchange per step"
     reading = ("messages are the corrected information vectors q_j (falsified) and matrices Y_j; "
                "a lost message is not fused (its weight stays with the receiver)")
 
     def __init__(self, rounds: int = 1) -> None:
         self.rounds = _check_rounds(rounds)
+        per_step = "one exchange" if self.rounds == 1 else f"{self.rounds} exchanges"
+        self.title = f"distributed KF, consensus on information, {per_step} per step"
 
     def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
         return _undirected(sc)
