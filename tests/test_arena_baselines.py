@@ -182,3 +182,12 @@ def test_a_ci_round_is_the_weighted_average_of_the_information_pairs() -> None:
     x_avg = np.linalg.solve(Y_avg, np.einsum("rij,rjn->rin", Wk, q)[..., None])[..., 0]
     assert np.array_equal(Y_new, Y_avg)
     assert np.abs(x_new - x_avg).max() < 1e-13 * np.abs(x_avg).max()  # measured 4.4e-16 at |x| <= 1.2
+
+
+def test_wmsr_refuses_inconsistent_shapes() -> None:
+    with pytest.raises(ValidationError, match="Incompatible dimensions of received"):
+        baselines.wmsr(np.zeros((1, 3, 2)), np.zeros((1, 3, 2)), np.ones((1, 3, 3)), 1)
+    with pytest.raises(ValidationError, match="Incompatible dimensions of delivered"):
+        baselines.wmsr(np.zeros((1, 3, 2)), np.zeros((1, 3, 3, 2)), np.ones((3, 3)), 1)
+    with pytest.raises(ValidationError, match="trimmed"):
+        baselines.wmsr(np.zeros((1, 3, 2)), np.zeros((1, 3, 3, 2)), np.ones((1, 3, 3)), -1)

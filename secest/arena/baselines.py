@@ -465,8 +465,8 @@ class KalmanConsensusFilter(Method):
         xhat_i = psi_i + C_i sum_j (x_j^- - x_i^-),    C_i = epsilon P_i^- / (1 + ||P_i^-||_F)
 
     (the KCF's consensus gain ``gamma P_i / (1 + ||P_i||)`` with ``gamma = epsilon``); the
-    covariance is the local ``P_i`` of (L1), the consensus term being left out of it as in the
-    suboptimal KCF, and (L2) predicts. Since ``||C_i||_2 < epsilon``, ``epsilon d_max < 1``
+    covariance is the local ``P_i`` of (L1), the consensus term left out of it as in the KCF's
+    covariance update, and (L2) predicts. Since ``||C_i||_2 < epsilon``, ``epsilon d_max < 1``
     (``d_max`` the largest in-degree) keeps the consensus part a convex combination (the
     Perron-matrix step-size condition of discrete-time consensus); the protocol refuses larger
     gains as unstable, and so does :meth:`run`.
@@ -523,8 +523,8 @@ def wmsr(
     largest (all of them if fewer than ``F``), of those strictly smaller the ``F`` smallest,
     and averages its own value with the rest, with equal weights (ties ranked by sender index).
     Among at most ``F`` faulty neighbours, every kept value lies within the range of the
-    normal ones; the resilience guarantee needs a ``(2F + 1)``-robust graph (LeBlanc et al.,
-    Theorem 2), which the arena does not check.
+    normal ones; the resilience guarantee against ``F``-local malicious neighbours needs a
+    ``(2F + 1)``-robust graph (LeBlanc et al. 2013), which the arena does not check.
 
     Parameters
     ----------
@@ -543,6 +543,12 @@ def wmsr(
         The W-MSR update of every node.
     """
     F = check_int("trimmed", trimmed, minimum=0)
+    runs, N, n = np.shape(own)
+    for name, value, want in (("received", received, (runs, N, N, n)),
+                              ("delivered", delivered, (runs, N, N))):
+        if np.shape(value) != want:
+            raise ValidationError(f"Incompatible dimensions of {name}: expected {want}, "
+                                  f"found {np.shape(value)}")
     valid = ((delivered > 0) & ~np.eye(own.shape[1], dtype=bool)[None])[..., None]
     above = valid & (received > own[:, :, None])
     below = valid & (received < own[:, :, None])
