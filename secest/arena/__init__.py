@@ -3,7 +3,10 @@
 ``scenarios``
    plants, networks and attacks as data (``cards.toml``), and the trials drawn from them
 ``estimators``
-   the :class:`~secest.arena.estimators.Method` interface, the registry, the baselines, the scores
+   the :class:`~secest.arena.estimators.Method` interface, the registry, the centralised
+   baselines, the scores
+``baselines``
+   the distributed baselines (local, consensus, diffusion, Kalman consensus, W-MSR filters)
 ``matrix``
    the matrix of scenarios x methods and its tables
 
@@ -12,6 +15,7 @@ The arena uses the estimation library (:mod:`secest.core`) and the papers' metho
 (:mod:`secest.methods`); neither of those imports it.
 """
 
-# The five papers' methods are registered whenever the arena is used (not only after an explicit
-# import of secest.arena.papers): a matrix never silently scores the baselines alone.
-from secest.arena import papers  # noqa: E402, F401
+# The distributed baselines and the five papers' methods are registered whenever the arena is used
+# (not only after an explicit import of secest.arena.papers): a matrix never silently scores the
+# centralised baselines alone.
+from secest.arena import baselines, papers  # noqa: E402, F401

@@ -14,14 +14,14 @@ Baselines (every scenario):
 
 * ``oracle``: centralised Kalman filter fed the clean measurements of every node;
 * ``kf``: the same fed the measurements as delivered (attacks included), no defence;
-* ``consensus-kf``: distributed Kalman filter with consensus on measurement information
-  (``CONSENSUS_ROUNDS`` rounds per step, Metropolis weights), no defence;
 * ``chi2-kf``: centralised Kalman filter that drops every node's measurement whose
   normalised innovation exceeds the chi-square quantile ``1 - CHI2_ALPHA`` (the classic
   bad-data detector); its drops are its alarms.
 
 The centralised baselines have no inter-node links: falsified messages and denial of
 service do not reach them (they are the references, not competitors, on those columns).
+The distributed baselines (``local-kf``, ``consensus-kf-1``, ``consensus-kf``, ``diffusion-kf``,
+``kcf``, ``wmsr-kf``) live in :mod:`secest.arena.baselines`.
 """
 
 from __future__ import annotations
@@ -40,7 +40,6 @@ from secest.core.validation import ValidationError
 
 __all__ = [
     "CHI2_ALPHA",
-    "CONSENSUS_ROUNDS",
     "EXTRAS",
     "METHODS",
     "RESERVED",
@@ -54,8 +53,6 @@ __all__ = [
     "score",
 ]
 
-CONSENSUS_ROUNDS = 5
-"""Average-consensus rounds per step of the ``consensus-kf`` baseline."""
 CHI2_ALPHA = 1e-3
 """False-alarm probability per measurement of the ``chi2-kf`` baseline's test."""
 
@@ -311,70 +308,6 @@ def metropolis_weights(adj: NDArray[np.float64]) -> NDArray[np.float64]:
     deg = adj.sum(axis=1)
     W = adj / (1.0 + np.maximum(deg[:, None], deg[None, :]))
     return W + np.diag(1.0 - W.sum(axis=1))
-
-
-@register
-class ConsensusKF(Method):
-    """Distributed Kalman filter with consensus on measurement information, no defence.
-
-    At every step each node forms ``u_i = C_i^T R_i^{-1} y_i`` and ``U_i = C_i^T R_i^{-1} C_i``,
-    runs ``CONSENSUS_ROUNDS`` rounds of average consensus on them with Metropolis weights
-    (what it receives from neighbours may be falsified or lost), and updates its
-    information filter with ``N`` times the averages (the centralised update when the
-    rounds converge).
-    """
-
-    name = "consensus-kf"
-    title = f"distributed KF, {CONSENSUS_ROUNDS} consensus rounds on measurement information"
-    reading = "messages are the information vectors u_j; a lost message leaves the receiver's own value"
-
-    def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
-        sym = bool(np.array_equal(sc.network.adj, sc.network.adj.T))
-        return [("the graph is undirected (Metropolis weights)", sym)]
-
-    def run(self, trial: Trial) -> Estimate:
-        sc = trial.scenario
-        runs, K1, N, ny = trial.y.shape
-        n = sc.plant.n
-        A, Q = sc.plant.A, sc.plant.Q
-        W = metropolis_weights(sc.network.adj)
-        Rinv = np.linalg.inv(sc.R)
-        U0 = np.einsum("iyn,iyz,izm->inm", sc.C, Rinv, sc.C)
-        x = np.zeros((runs, N, n))
-        P = np.broadcast_to(sc.plant.x0_std**2 * np.eye(n), (runs, N, n, n)).copy()
-        out = np.empty((runs, K1, N, n))
-        for k in range(K1):
-            if k > 0:
-                x, P = x @ A.T, A @ P @ A.T + Q
-            u = np.einsum("iyn,iyz,riz->rin", sc.C, Rinv, trial.y[:, k])
-            U = np.broadcast_to(U0, (runs, N, n, n)).copy()
-            for _ in range(CONSENSUS_ROUNDS):
-                u, U = self._round(trial, k, W, u, U)
-            Y_prior = np.linalg.inv(P)
-            P = np.linalg.inv(Y_prior + N * U)
-            P = 0.5 * (P + np.swapaxes(P, -1, -2))
-            x = np.einsum("rinm,rim->rin", P, np.einsum("rinm,rim->rin", Y_prior, x) + N * u)
-            out[:, k] = x
-        return Estimate(out)
-
-    @staticmethod
-    def _round(
-        trial: Trial,
-        k: int,
-        W: NDArray[np.float64],
-        u: NDArray[np.float64],
-        U: NDArray[np.float64],
-    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        # a shifted estimate delta of sender j moves its information vector by U_j delta
-        recv = trial.received(k, u, lambda d: np.einsum("rjnm,rijm->rijn", U, d))
-        up = trial.link[:, k].astype(float)[:, None, None]
-        Wr = up * (W - np.diag(np.diag(W)))  # weights of the links that are up this step
-        Wr = Wr + np.eye(W.shape[0])[None] * (1.0 - Wr.sum(axis=-1, keepdims=True))
-        off = Wr - np.eye(W.shape[0])[None] * np.diagonal(Wr, axis1=1, axis2=2)[..., None]
-        diag = np.diagonal(Wr, axis1=1, axis2=2)
-        u_new = diag[..., None] * u + np.einsum("rij,rijn->rin", off, recv)
-        U_new = np.einsum("rij,rjnm->rinm", Wr, U)
-        return u_new, U_new
 
 
 # ---------------------------------------------------------------------------------- scoring
