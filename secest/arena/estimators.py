@@ -39,18 +39,23 @@ from secest.core.tolerances import DETERMINISTIC, Tolerance
 from secest.core.validation import ValidationError
 
 __all__ = [
+    "BOOTSTRAP",
     "CHI2_ALPHA",
     "EXTRAS",
+    "GROWTH_LIMIT",
     "METHODS",
     "RESERVED",
+    "SETTLE_TAU",
     "Estimate",
     "Method",
     "Score",
-    "check_burn_in",
     "evaluate",
+    "growth",
+    "normalised_errors",
     "rate",
     "register",
     "score",
+    "settle_steps",
 ]
 
 CHI2_ALPHA = 1e-3
@@ -313,141 +318,184 @@ def metropolis_weights(adj: NDArray[np.float64]) -> NDArray[np.float64]:
 # ---------------------------------------------------------------------------------- scoring
 
 
+SETTLE_TAU = 5
+"""The transient window is the first ``SETTLE_TAU tau`` steps (``protocol.toml`` [score])."""
+GROWTH_LIMIT = 4.0
+"""A cell is diverged when its late mean squared normalised error exceeds this many times its
+mid-window one (``protocol.toml`` [divergence])."""
+BOOTSTRAP = 2000
+"""Percentile-bootstrap resamples of the runs for every score interval (seed 0)."""
+
+
 @dataclass
 class Score:
-    """How one method did on one scenario, relative to the oracle on the same runs.
+    """How one method did on one scenario, in the oracle's units, on the same runs.
 
-    Every interval is a 95 % interval over the scenario's Monte Carlo runs, given as
-    ``(value, low, high)``; a field is None where it does not apply.
+    The unit-free error of node ``i`` at step ``k`` in run ``r`` is
+    ``q = e^T Sigma_o^{-1} e / n`` with ``e = xhat - x`` and ``Sigma_o`` the oracle's error
+    covariance pooled over runs and the window (:func:`score`); a score is
+    ``sqrt(mean q)``: 1 is the oracle's accuracy on every plant, in any state coordinates.
+    Every interval is a 95 % percentile bootstrap over the runs, ``(value, low, high)``.
 
     Attributes
     ----------
     status : {"ok", "n/a", "diverged", "error"}
-        ``"ok"``: the method ran and was scored; ``"n/a"``: a condition of its theory fails on
-        the scenario (:meth:`Method.not_applicable`), it did not run; ``"diverged"``: its
-        estimate is not finite in some run, so it is not scored; ``"error"``: it raised (the
-        reason is its message, or ``needs extra: lmi`` where an optional package is missing);
-        the other cells are not affected.
+        ``"ok"``: scored; ``"n/a"``: the method cannot run on the scenario (a requirement
+        fails, :meth:`Method.requirements`); ``"diverged"``: an estimate is not finite, or its
+        error grows (:data:`GROWTH_LIMIT`): it shows no score; ``"error"``: it raised (its
+        message, or ``needs extra: lmi``). The other cells are not affected.
     reason : str
-        Why the status is not ``"ok"`` (the failed condition, or the divergence); empty otherwise.
-    rmse_mean : (value, low, high) floats, optional
-        Network-mean RMSE over the nodes (:func:`rmse`, state units, steps after the burn-in)
-        divided by the oracle's RMSE on the same runs: the ratio of the means over runs, with
-        a paired percentile-bootstrap interval. 1 is the oracle's accuracy; dimensionless.
-    rmse_worst : (value, low, high) floats, optional
-        The same with the worst node of each run (largest per-node RMSE) in the numerator.
-    detection : (value, low, high) floats, optional
-        Fraction of attacked (run, step, node) samples after the burn-in on which the method
-        raises an alarm (:func:`rate`); None without alarms or without an attacked sample.
-    false_alarm : (value, low, high) floats, optional
-        Fraction of attack-free (run, step, node) samples after the burn-in that carry an
-        alarm (:func:`rate`); None when the method raises no alarms.
+        Why the status is not ``"ok"``; empty otherwise.
+    outside : tuple of str
+        The conditions of the method's theory that fail on the scenario
+        (:meth:`Method.outside_theory`): the cell is scored and marked, never hidden.
+    steady, steady_worst : (value, low, high) floats, optional
+        Network score on the steady window ``[settle, K]`` (the mean over nodes of the
+        per-node scores), and the worst node's.
+    transient : (value, low, high) floats, optional
+        Network score on the transient window ``[0, settle)``.
+    growth : float, optional
+        Mean ``q`` over the last quarter of the steady window over that of its second quarter
+        (divergence rule); about 1 in a steady state.
+    detection, false_alarm : (value, low, high) floats, optional
+        Alarm rates on the attacked / attack-free (run, step, node) samples of the steady
+        window (:func:`rate`); None without alarms (or without an attacked sample).
     notes : dict
-        The method's :attr:`Estimate.notes` (e.g. its reading of the scenario), copied.
+        The method's :attr:`Estimate.notes`, copied.
     """
 
     status: str
     reason: str = ""
-    rmse_mean: tuple[float, float, float] | None = None
-    rmse_worst: tuple[float, float, float] | None = None
+    outside: tuple[str, ...] = ()
+    steady: tuple[float, float, float] | None = None
+    steady_worst: tuple[float, float, float] | None = None
+    transient: tuple[float, float, float] | None = None
+    growth: float | None = None
     detection: tuple[float, float, float] | None = None
     false_alarm: tuple[float, float, float] | None = None
     notes: dict[str, Any] = field(default_factory=dict)
 
 
-def rmse(xhat: NDArray[np.float64], x: NDArray[np.float64], burn_in: int) -> NDArray[np.float64]:
-    """Per-run, per-node RMSE over steps ``k >= burn_in``: shape (runs, N)."""
-    err = xhat[:, burn_in:] - x[:, burn_in:, None, :]
-    return np.sqrt(np.mean(np.sum(err**2, axis=-1), axis=1))
-
-
-def score(trial: Trial, estimate: Estimate, oracle: Estimate, *, burn_in: int | None = None) -> Score:
-    """RMSE relative to the oracle (network mean and worst node) and detector rates, with intervals.
-
-    The ratios are per run (paired: the same truth and noises), averaged over runs with a
-    percentile bootstrap 95 % interval; detection and false-alarm rates are fractions of
-    (run, step, node) samples after the burn-in (:func:`rate`: the union of the Wilson
-    interval and a bootstrap over runs). A non-finite estimate is reported as ``diverged``.
+def settle_steps(sc: Scenario, *, short: bool = False) -> int:
+    """First step of the steady window: ``ceil(SETTLE_TAU tau)`` (:attr:`Scenario.time_constant`).
 
     Parameters
     ----------
-    trial : Trial
-        The runs both estimates were computed on: its truth ``x`` (runs, K + 1, n) is the
-        reference of the RMSE, its ``attacked`` (runs, K + 1, N) mask that of the alarm rates.
-    estimate : Estimate
-        The scored method's estimates, ``xhat`` of shape (runs, K + 1, N, n), with its
-        ``alarms`` (runs, K + 1, N) where it has them.
-    oracle : Estimate
-        The oracle's estimates on the same trial (:class:`Oracle`): the denominator of the
-        RMSE ratios, averaged over nodes.
-    burn_in : int, optional
-        Number of initial steps ``k < burn_in`` left out of every statistic (the transient
-        from the prior); default ``K // 5``, ``K`` the horizon.
-
-    Returns
-    -------
-    Score
-        Status ``"ok"`` with the RMSE ratios (and detection / false-alarm rates when the
-        method raises alarms), or ``"diverged"``.
-    """
-    from secest.core.montecarlo import bootstrap_interval
-
-    K = trial.x.shape[1] - 1
-    burn = check_burn_in(burn_in, K)
-    _check_estimate("estimate", estimate, trial)
-    _check_estimate("oracle", oracle, trial)
-    if not np.all(np.isfinite(estimate.xhat)):
-        return Score("diverged", "the estimate is not finite in some run")
-    ref = rmse(oracle.xhat, trial.x, burn).mean(axis=1)
-    mine = rmse(estimate.xhat, trial.x, burn)
-
-    def ratio(values: NDArray[np.float64]) -> tuple[float, float, float]:
-        pairs = np.column_stack([values, ref])
-        lo, hi = bootstrap_interval(pairs, "mean")
-        return float(values.mean() / ref.mean()), lo, hi
-
-    result = Score(
-        "ok",
-        rmse_mean=ratio(mine.mean(axis=1)),
-        rmse_worst=ratio(mine.max(axis=1)),
-        notes=dict(estimate.notes),
-    )
-    if estimate.alarms is not None:
-        attacked = trial.attacked[:, burn:]
-        alarms = estimate.alarms[:, burn:]
-        if attacked.any():
-            result.detection = rate(alarms, attacked)
-        result.false_alarm = rate(alarms, ~attacked)
-    return result
-
-
-
-def check_burn_in(burn_in: int | None, K: int) -> int:
-    """``burn_in`` checked against the horizon ``K``: an int in [0, K - 1]; None gives ``K // 5``.
-
-    Parameters
-    ----------
-    burn_in : int or None
-        Steps left out of every statistic.
-    K : int
-        The horizon (steps after the initial one).
-
-    Returns
-    -------
-    int
-        The burn-in.
+    sc : Scenario
+    short : bool
+        Allow a horizon shorter than ``MIN_HORIZON_TAU tau`` (a smoke test, fast mode): the
+        windows are then halves of the horizon and mean nothing about a steady state.
 
     Raises
     ------
     ValidationError
-        If ``burn_in`` is not an integer in [0, K - 1].
+        If the horizon is shorter than ``MIN_HORIZON_TAU tau`` and ``short`` is False.
     """
-    if burn_in is None:
-        return K // 5
-    if isinstance(burn_in, bool) or not isinstance(burn_in, int | np.integer) or not 0 <= burn_in < K:
-        raise ValidationError(f"burn_in must be an integer in [0, {K - 1}] (the horizon is {K} steps), "
-                              f"found {burn_in!r}")
-    return int(burn_in)
+    from secest.arena.scenarios import MIN_HORIZON_TAU, auto_horizon
+
+    tau = sc.time_constant
+    if sc.horizon < MIN_HORIZON_TAU * tau:
+        if not short:
+            raise ValidationError(
+                f"horizon of {sc.name}: {sc.horizon} steps give no steady window; at least "
+                f"{MIN_HORIZON_TAU} tau = {MIN_HORIZON_TAU * tau:.0f} steps (tau = {tau:.3g} steps; "
+                f"horizon = \"auto\" gives {auto_horizon(sc.plant, sc.network)})"
+            )
+        return max(1, sc.horizon // 2)
+    return int(np.ceil(SETTLE_TAU * tau))
+
+
+def normalised_errors(
+    xhat: NDArray[np.float64], x: NDArray[np.float64], oracle: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """``q = e^T Sigma_o^{-1} e / n`` per (run, step, node), ``Sigma_o`` pooled over the given steps.
+
+    Parameters
+    ----------
+    xhat : (runs, k, N, n) array
+        The scored estimates on the window's steps.
+    x : (runs, k, n) array
+        The truth on the same steps.
+    oracle : (runs, k, n) array
+        The oracle's estimate on the same steps (one per step: it is centralised).
+
+    Returns
+    -------
+    (runs, k, N) array
+        The unit-free squared errors; their mean for the oracle is exactly 1.
+    """
+    eo = (oracle - x).reshape(-1, x.shape[-1])
+    sigma = eo.T @ eo / eo.shape[0]
+    e = xhat - x[:, :, None, :]
+    white = np.linalg.solve(np.linalg.cholesky(sigma), np.moveaxis(e, -1, 0).reshape(x.shape[-1], -1))
+    return np.sum(white**2, axis=0).reshape(e.shape[:-1]) / x.shape[-1]
+
+
+def _scores(q: NDArray[np.float64]) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+    """Network and worst-node scores of ``q`` (runs, k, N), each with its bootstrap interval."""
+    per_run = q.mean(axis=1)  # (runs, N)
+    rng = np.random.default_rng(0)
+    resampled = per_run[rng.integers(0, per_run.shape[0], (BOOTSTRAP, per_run.shape[0]))].mean(axis=1)
+    nodes, nodes_b = np.sqrt(per_run.mean(axis=0)), np.sqrt(resampled)
+
+    def triple(value: float, draws: NDArray[np.float64]) -> tuple[float, float, float]:
+        lo, hi = np.percentile(draws, [2.5, 97.5])
+        return float(value), float(lo), float(hi)
+
+    return (triple(nodes.mean(), nodes_b.mean(axis=1)), triple(nodes.max(), nodes_b.max(axis=1)))
+
+
+def growth(q: NDArray[np.float64]) -> float:
+    """Mean of ``q`` (runs, k, N) over the last quarter of the steps over its second quarter."""
+    L = q.shape[1]
+    mid = q[:, L // 4: max(L // 2, L // 4 + 1)].mean()
+    late = q[:, (3 * L) // 4:].mean()
+    return float(late / mid) if mid > 0 else float("inf")
+
+
+def score(trial: Trial, estimate: Estimate, oracle: Estimate, *, short: bool = False) -> Score:
+    """Unit-free scores on the transient and steady windows, divergence by growth, alarm rates.
+
+    Parameters
+    ----------
+    trial : Trial
+        The runs both estimates were computed on.
+    estimate : Estimate
+        The scored method's estimates, ``xhat`` (runs, K + 1, N, n), with its ``alarms``.
+    oracle : Estimate
+        The oracle's estimates on the same trial (:class:`Oracle`): its error covariance is the
+        unit of the score, per window.
+    short : bool
+        Allow a horizon without a steady window (:func:`settle_steps`).
+
+    Returns
+    -------
+    Score
+        ``"ok"`` with the scores (and rates when the method raises alarms), or ``"diverged"``
+        with the reason (not finite, or the growth factor).
+    """
+    _check_estimate("estimate", estimate, trial)
+    _check_estimate("oracle", oracle, trial)
+    settle = settle_steps(trial.scenario, short=short)
+    if not np.all(np.isfinite(estimate.xhat)):
+        return Score("diverged", "the estimate is not finite in some run")
+    x, xo = trial.x, oracle.xhat[:, :, 0]
+    q_steady = normalised_errors(estimate.xhat[:, settle:], x[:, settle:], xo[:, settle:])
+    g = growth(q_steady)
+    if not g <= GROWTH_LIMIT:
+        return Score("diverged", f"its error grows: late / mid mean squared error {g:.3g} > "
+                     f"{GROWTH_LIMIT:g}", growth=g)
+    steady, worst = _scores(q_steady)
+    transient = _scores(normalised_errors(estimate.xhat[:, :settle], x[:, :settle], xo[:, :settle]))[0]
+    result = Score("ok", steady=steady, steady_worst=worst, transient=transient, growth=g,
+                   notes=dict(estimate.notes))
+    if estimate.alarms is not None:
+        attacked = trial.attacked[:, settle:]
+        alarms = estimate.alarms[:, settle:]
+        if attacked.any():
+            result.detection = rate(alarms, attacked)
+        result.false_alarm = rate(alarms, ~attacked)
+    return result
 
 
 def _scenario_key(sc: Scenario) -> tuple:
@@ -512,9 +560,13 @@ def evaluate(
     *,
     observe: Callable[[str, Trial, Estimate], None] | None = None,
     trial: Trial | None = None,
-    burn_in: int | None = None,
+    short: bool = False,
 ) -> dict[str, Score]:
-    """Score every method (or ``names``) on scenario ``sc``: one trial, the oracle as reference.
+    """Score every method (or ``names``) on scenario ``sc``: one trial, the oracle as the unit.
+
+    Every method runs unless it cannot (:meth:`Method.not_applicable`: ``n/a``); a method
+    outside its theory is scored and marked (:attr:`Score.outside`); one that raises is an
+    ``error`` cell.
 
     Parameters
     ----------
@@ -528,15 +580,15 @@ def evaluate(
         first), e.g. to keep error curves without holding every estimate in memory.
     trial : Trial, optional
         The runs to use (default: :func:`secest.arena.scenarios.simulate` of ``sc``).
-    burn_in : int, optional
-        Steps not scored (default ``K // 5``, see :func:`score`).
+    short : bool
+        Allow a horizon without a steady window (:func:`settle_steps`; smoke tests only).
     """
     from secest.arena.scenarios import simulate
 
     unknown = [n for n in names or [] if n not in METHODS]
     if unknown:
         raise ValidationError(f"methods {unknown} are not registered; registered: {list(METHODS)}")
-    check_burn_in(burn_in, sc.horizon)
+    settle_steps(sc, short=short)
     if trial is not None and _scenario_key(trial.scenario) != _scenario_key(sc):
         raise ValidationError(f"trial: drawn for scenario {trial.scenario.name!r}, not for {sc.name!r}")
     trial = simulate(sc) if trial is None else trial
@@ -545,22 +597,30 @@ def evaluate(
         observe("oracle", trial, oracle)
     out: dict[str, Score] = {}
     for name in names or list(METHODS):
-        method = METHODS[name]
+        out[name] = _cell(METHODS[name], trial, oracle, runner, observe, short)
+    return out
+
+
+def _cell(method: Method, trial: Trial, oracle: Estimate, runner: Callable | None,
+          observe: Callable | None, short: bool) -> Score:
+    """One cell: n/a, error, or the score marked with the failed conditions of its theory."""
+    sc = trial.scenario
+    try:
         reason = method.not_applicable(sc)
         if reason is not None:
-            out[name] = Score("n/a", reason)
-            continue
-        if name == "oracle":
-            out[name] = score(trial, oracle, oracle, burn_in=burn_in)
-            continue
-        try:
+            return Score("n/a", reason)
+        outside = tuple(method.outside_theory(sc))
+        if method.name == "oracle":
+            est = oracle
+        else:
             est = (runner or (lambda m, t: m.run(t)))(method, trial)
             if observe is not None:
-                observe(name, trial, est)
-            out[name] = score(trial, est, oracle, burn_in=burn_in)
-        except Exception as exc:  # one failing method is one cell, never an aborted matrix
-            out[name] = Score("error", _error_reason(exc))
-    return out
+                observe(method.name, trial, est)
+        result = score(trial, est, oracle, short=short)
+    except Exception as exc:  # one failing method is one cell, never an aborted matrix
+        return Score("error", _error_reason(exc))
+    result.outside = outside
+    return result
 
 
 EXTRAS = {"cvxpy": "lmi", "clarabel": "lmi", "scs": "lmi"}

@@ -30,6 +30,7 @@ from secest.arena.scenarios import Scenario, Trial, simulate
 from secest.core.validation import ValidationError
 
 __all__ = [
+    "CELL_FIELDS",
     "STATUSES",
     "Curves",
     "Matrix",
@@ -60,14 +61,14 @@ class Curves:
     active : (K + 1,) array
         Fraction of runs in which the attack acts at step ``k`` (a sensor attacked, a
         falsified message, a link down); zero without attack.
-    burn_in : int
-        Steps before ``burn_in`` are not scored (the filters' initial transient).
+    settle : int
+        First step of the steady window (:func:`secest.arena.estimators.settle_steps`).
     """
 
     t: NDArray[np.float64]
     rms: dict[str, NDArray[np.float64]]
     active: NDArray[np.float64]
-    burn_in: int
+    settle: int
 
 
 @dataclass
@@ -166,7 +167,7 @@ def run_matrix(
     methods: Sequence[str] | None = None,
     *,
     curves: bool = True,
-    burn_in: int | None = None,
+    short: bool = False,
 ) -> Matrix:
     """Score ``methods`` (default: every registered one) on every scenario.
 
@@ -181,8 +182,9 @@ def run_matrix(
         Registered method names; the oracle is always scored (it is the reference).
     curves : bool
         Keep each method's error over time (:class:`Curves`).
-    burn_in : int, optional
-        Steps not scored; default ``K // 5`` (as :func:`secest.arena.estimators.score`).
+    short : bool
+        Allow horizons without a steady window (smoke tests only; see
+        :func:`~secest.arena.estimators.settle_steps`).
     """
     names = list(METHODS) if methods is None else list(methods)
     unknown = [n for n in names if n not in METHODS]
@@ -208,7 +210,7 @@ def run_matrix(
             return est
 
         trial = simulate(sc)
-        scores = estimators.evaluate(sc, names, timed, observe=observe, trial=trial, burn_in=burn_in)
+        scores = estimators.evaluate(sc, names, timed, observe=observe, trial=trial, short=short)
         for name, s in scores.items():
             out.cells[(sc.name, name)] = s
         if curves:
@@ -217,7 +219,7 @@ def run_matrix(
                 t=np.arange(K + 1) * sc.plant.dt,
                 rms=kept,
                 active=attack_activity(trial),
-                burn_in=K // 5 if burn_in is None else burn_in,
+                settle=estimators.settle_steps(sc, short=short),
             )
     return out
 
@@ -252,13 +254,18 @@ def fmt_interval(value: tuple[float, float, float] | None, *, percent: bool = Fa
     return f"{_sig(v)}{unit} [{_sig(lo)}, {_sig(hi)}]"
 
 
+CELL_FIELDS = ("status", "steady", "worst", "transient", "detection", "false_alarm", "outside")
+"""The words of a cell (:func:`cell_text`), in table order."""
+
+
 def cell_text(s: Score) -> dict[str, str]:
-    """The words of one cell: status, mean ratio, worst ratio, detection, false alarm.
+    """The words of one cell: status, steady and worst-node scores, transient score, rates, marks.
 
     A scored cell gives every number with its interval ("–" where the method has no
-    detector, or the scenario no attacked sample); an N/A cell names the failed condition
-    (``"N/A: <condition>"``); a diverged one says so; an error cell gives the error
-    (``"error: <message>"``, or ``"needs extra: lmi ..."``).
+    detector, or the scenario no attacked sample) and ``outside`` the failed conditions of
+    the method's theory ("" inside it); an N/A cell names the missing requirement; a
+    diverged one says why (not finite, or its growth factor), never a score; an error cell
+    gives the error (``"error: <message>"``, or ``"needs extra: lmi ..."``).
 
     Parameters
     ----------
@@ -267,25 +274,28 @@ def cell_text(s: Score) -> dict[str, str]:
     """
     if s.status not in STATUSES:
         raise ValidationError(f"status must be one of {STATUSES}, found {s.status!r}")
+    blank = dict.fromkeys(CELL_FIELDS, "")
+    outside = "; ".join(s.outside)
     if s.status == "n/a":
         if not s.reason:
-            raise ValidationError("an N/A cell must name the failed condition (reason)")
-        text = f"N/A: {s.reason}"
-        return {"status": "N/A", "mean": text, "worst": "", "detection": "", "false_alarm": ""}
+            raise ValidationError("an N/A cell must name the failed requirement (reason)")
+        return blank | {"status": "N/A", "steady": f"N/A: {s.reason}"}
     if s.status == "diverged":
         text = f"diverged: {s.reason}" if s.reason else "diverged"
-        return {"status": "diverged", "mean": text, "worst": "", "detection": "", "false_alarm": ""}
+        return blank | {"status": "diverged", "steady": text, "outside": outside}
     if s.status == "error":
         text = s.reason if s.reason.startswith("needs extra") else f"error: {s.reason}"
-        return {"status": "error", "mean": text, "worst": "", "detection": "", "false_alarm": ""}
-    if s.rmse_mean is None or s.rmse_worst is None:
-        raise ValidationError("a scored cell must carry its mean and worst RMSE ratios")
+        return blank | {"status": "error", "steady": text}
+    if s.steady is None or s.steady_worst is None or s.transient is None:
+        raise ValidationError("a scored cell must carry its steady, worst-node and transient scores")
     return {
         "status": "ok",
-        "mean": fmt_interval(s.rmse_mean),
-        "worst": fmt_interval(s.rmse_worst),
+        "steady": fmt_interval(s.steady),
+        "worst": fmt_interval(s.steady_worst),
+        "transient": fmt_interval(s.transient),
         "detection": fmt_interval(s.detection, percent=True),
         "false_alarm": fmt_interval(s.false_alarm, percent=True),
+        "outside": outside,
     }
 
 

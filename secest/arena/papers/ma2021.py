@@ -106,8 +106,6 @@ class Ma2021(Method):
         return _DESIGNS[key]
 
     def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
-        d = self.design(sc)
-        where = "" if d.failure is None else f" (fails: {d.failure})"
         return [
             ("(12)-(13): the plant and sensors are linear, so the Taylor remainders vanish "
              "(L_i = aleph_i = 0)", True),
