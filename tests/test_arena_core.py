@@ -13,7 +13,7 @@ from secest.core.validation import ValidationError
 
 
 def _scenario(network: str = "inertia5", attack: str = "none", **kw) -> scenarios.Scenario:
-    return scenarios.scenario(network, attack, **({"runs": 6, "horizon": 60} | kw))
+    return scenarios.scenario(network, attack, **({"runs": 6, "horizon": "auto"} | kw))
 
 
 def test_every_card_loads_and_the_matrix_crosses_them() -> None:
@@ -44,14 +44,41 @@ def test_trials_share_truth_and_noise_across_attacks() -> None:
     assert np.abs(v).max() > scenarios.NOISE_CLIP - 1e-9  # the clip is reached: the check is not vacuous
 
 
-def test_message_falsification_is_bounded_and_only_on_links() -> None:
-    t = scenarios.simulate(_scenario(attack="message"))
-    m = np.random.default_rng(0).standard_normal((6, 5, 3)) * 10
-    out = t.received(3, m, scale=2.0)
-    clean = np.broadcast_to(m[:, None], out.shape)
-    diff = out - clean
-    assert np.abs(diff).max() <= t.message_magnitude * 2.0
-    assert not np.any(diff[:, ~(t.scenario.network.adj > 0)])  # nothing on non-links
+def test_message_falsification_shifts_the_sent_estimate_in_physical_units() -> None:
+    t = scenarios.simulate(_scenario(attack="message", horizon=40))
+    sc = t.scenario
+    m = np.random.default_rng(0).standard_normal((6, 5, sc.plant.n)) * 10
+    out = t.received(3, m)
+    diff = out - np.broadcast_to(m[:, None], out.shape)
+    sd = np.sqrt(np.diag(sc.steady_covariance))  # the oracle's steady-state error sd per component
+    hit = t.hits[:, 3]
+    assert np.allclose(np.abs(diff[hit]), sc.attack.magnitude * sd)  # exactly magnitude sd, any sign
+    assert not np.any(diff[~hit]) and not np.any(hit[:, ~(sc.network.adj > 0)])  # only on hit links
+    # a method whose message is not its estimate maps the same shift by its own encoding
+    C = sc.C
+    y = t.y[:, 3]
+    relayed = t.received(3, y, lambda d: np.einsum("jyn,rijn->rijy", C, d))
+    shift = relayed - y[:, None]
+    assert np.allclose(shift, np.einsum("jyn,rijn->rijy", C, diff))
+    with pytest.raises(ValidationError, match="encode: messages of 1 entries are not state estimates"):
+        t.received(3, y)
+    with pytest.raises(ValidationError, match="encode: expected perturbations of shape"):
+        t.received(3, y, lambda d: d)
+    assert scenarios.simulate(_scenario(horizon=40)).message_delta is None
+
+
+def test_time_constants_and_auto_horizons() -> None:
+    """tau: the slower of the oracle's error decay and the plant's slowest decaying mode."""
+    c = scenarios.cards()
+    tank = scenarios.scenario("tank12", "none", runs=2)
+    slowest = -1.0 / np.log(np.abs(np.linalg.eigvals(tank.plant.A)).max())  # open loop, 90.3 s
+    assert tank.time_constant == pytest.approx(slowest) and tank.plant.dt == 1.0
+    assert tank.horizon == scenarios.auto_horizon(c["plant"]["quadruple_tank"], c["network"]["tank12"])
+    assert tank.horizon >= scenarios.MIN_HORIZON_TAU * tank.time_constant and tank.horizon % 10 == 0
+    target = scenarios.scenario("target20", "none", runs=2)  # marginally stable: the oracle's decay
+    P, tau = scenarios.steady_state(target.plant, target.network)
+    assert np.allclose(P, target.steady_covariance) and tau == target.time_constant
+    assert 1.0 < tau < target.horizon / scenarios.MIN_HORIZON_TAU + 1e-9
 
 
 def test_bad_cards_and_names_are_refused() -> None:
@@ -70,8 +97,38 @@ def test_oracle_equals_the_undefended_kf_without_attack_and_scores_one() -> None
     kf = METHODS["kf"].run(t)
     assert np.array_equal(oracle.xhat, kf.xhat)
     s = estimators.score(t, kf, oracle)
-    assert s.status == "ok" and s.rmse_mean[0] == pytest.approx(1.0)
-    assert s.rmse_mean[1] <= 1.0 <= s.rmse_mean[2]
+    # the oracle's own covariance is the unit: it scores 1 on both windows by construction
+    assert s.status == "ok" and s.steady[0] == pytest.approx(1.0, rel=1e-12)
+    assert s.transient[0] == pytest.approx(1.0, rel=1e-12) and s.steady[1] <= 1.0 <= s.steady[2]
+    assert s.growth == pytest.approx(1.0, abs=0.5) and s.outside == ()
+
+
+def test_the_score_is_unit_free() -> None:
+    """q = e' Sigma_o^-1 e / n does not change under any invertible change of state coordinates."""
+    rng = np.random.default_rng(1)
+    x = rng.standard_normal((5, 30, 3))
+    oracle = x + 0.1 * rng.standard_normal(x.shape)
+    xhat = x[:, :, None] + 0.3 * rng.standard_normal((5, 30, 4, 3))
+    T = np.array([[1e3, 2.0, 0.0], [0.0, 1e-2, 0.0], [5.0, 0.0, 7.0]])  # mixed units
+    q = estimators.normalised_errors(xhat, x, oracle)
+    qT = estimators.normalised_errors(xhat @ T.T, x @ T.T, oracle @ T.T)
+    assert np.allclose(q, qT, rtol=1e-9) and estimators.normalised_errors(
+        oracle[:, :, None], x, oracle).mean() == pytest.approx(1.0, rel=1e-12)
+
+
+def test_a_growing_error_is_diverged_not_a_ratio() -> None:
+    sc = _scenario()
+    t = scenarios.simulate(sc)
+    oracle = METHODS["oracle"].run(t)
+    settle = estimators.settle_steps(sc)
+    k = np.arange(sc.horizon + 1)
+    grow = 1.0 + np.maximum(k - settle, 0) / 40.0  # RMS error grows linearly: finite, unbounded
+    est = Estimate(oracle.xhat + grow[None, :, None, None] * (oracle.xhat - t.x[:, :, None]))
+    s = estimators.score(t, est, oracle)
+    assert s.status == "diverged" and s.steady is None and s.growth > estimators.GROWTH_LIMIT
+    assert "its error grows" in s.reason
+    from secest.arena import matrix
+    assert matrix.cell_text(s)["steady"].startswith("diverged: its error grows")
 
 
 def test_consensus_kf_on_a_complete_graph_is_the_centralised_kf() -> None:
@@ -85,7 +142,7 @@ def test_consensus_kf_on_a_complete_graph_is_the_centralised_kf() -> None:
 
 
 def test_chi2_baseline_false_alarms_near_its_level_without_attack() -> None:
-    sc = _scenario(network="tank12", runs=20, horizon=200)
+    sc = _scenario(network="tank12", runs=20)
     t = scenarios.simulate(sc)
     s = estimators.score(t, METHODS["chi2-kf"].run(t), METHODS["oracle"].run(t))
     lo, hi = s.false_alarm[1:]
@@ -97,21 +154,27 @@ def test_chi2_baseline_false_alarms_near_its_level_without_attack() -> None:
 def test_a_new_method_is_found_in_the_matrix() -> None:
     class Toy(Method):
         name = "toy-zero"
-        title = "estimates zero"
+        title = "the centralised KF, shifted by 0.1"
 
         def conditions(self, sc):
             return [("the plant has three states", sc.plant.n == 3)]
 
+        def requirements(self, sc):
+            return [("the plant has at most four states", sc.plant.n <= 4)]
+
         def run(self, trial):
-            r, k1, n_nodes, _ = trial.y.shape
-            return Estimate(np.zeros((r, k1, n_nodes, trial.scenario.plant.n)))
+            x = estimators.centralised_kf(trial.scenario, trial.y) + 0.1
+            return Estimate(np.repeat(x[:, :, None], trial.y.shape[2], axis=2))
 
     register(Toy)
     try:
         out = estimators.evaluate(_scenario(network="target20"), ["oracle", "toy-zero"])
-        assert out["toy-zero"].status == "ok" and out["toy-zero"].rmse_mean[0] > 1.0
-        na = estimators.evaluate(_scenario(), ["toy-zero"])["toy-zero"]
-        assert na.status == "n/a" and na.reason == "the plant has three states"
+        assert out["toy-zero"].status == "ok" and out["toy-zero"].steady[0] > 1.0
+        assert out["toy-zero"].outside == ()
+        tank = estimators.evaluate(_scenario(network="tank12"), ["toy-zero"])["toy-zero"]
+        assert tank.status == "ok" and tank.outside == ("the plant has three states",)  # scored, marked
+        na = estimators.evaluate(_scenario(), ["toy-zero"])["toy-zero"]  # six states: it cannot run
+        assert na.status == "n/a" and na.reason == "the plant has at most four states"
     finally:
         METHODS.pop("toy-zero")
 
@@ -206,7 +269,7 @@ def test_a_bad_network_or_plant_key_is_refused_by_name() -> None:
     assert set(scenarios.CARD_KEYS) == {"plant", "network", "attack"}
 
 
-def test_score_and_evaluate_check_shapes_trials_and_burn_in() -> None:
+def test_score_and_evaluate_check_shapes_trials_and_horizons() -> None:
     sc = _scenario()
     t = scenarios.simulate(sc)
     oracle = METHODS["oracle"].run(t)
@@ -215,15 +278,14 @@ def test_score_and_evaluate_check_shapes_trials_and_burn_in() -> None:
         estimators.score(t, Estimate(oracle.xhat[:, :, :-1]), oracle)  # one node missing
     with pytest.raises(ValidationError, match=r"estimate.xhat"):
         estimators.score(t, Estimate(oracle.xhat[..., :1]), oracle)  # one state component
-    for bad in (-1, K, 1.5, True):
-        with pytest.raises(ValidationError, match=rf"burn_in must be an integer in \[0, {K - 1}\]"):
-            estimators.score(t, oracle, oracle, burn_in=bad)
-        with pytest.raises(ValidationError, match="burn_in"):
-            estimators.evaluate(sc, ["oracle"], burn_in=bad)
+    short = _scenario(horizon=60)
+    with pytest.raises(ValidationError, match=r"horizon of inertia5/none: 60 steps give no steady window"):
+        estimators.evaluate(short, ["oracle"])
+    assert estimators.evaluate(short, ["oracle"], short=True)["oracle"].status == "ok"
+    assert estimators.settle_steps(short, short=True) == 30 and estimators.settle_steps(sc) <= K // 4
     other = scenarios.simulate(replace(sc, seed=sc.seed + 1))
     with pytest.raises(ValidationError, match="trial: drawn for scenario"):
         estimators.evaluate(sc, ["oracle"], trial=other)
-    assert estimators.score(t, oracle, oracle, burn_in=K - 1).status == "ok"
 
 
 def test_a_failing_method_is_one_error_cell() -> None:
@@ -249,8 +311,8 @@ def test_a_failing_method_is_one_error_cell() -> None:
         assert out["toy-broken"].reason == "RuntimeError: singular matrix at step 3"
         assert out["toy-no-lmi"].reason == "needs extra: lmi (pip install 'secest[lmi]')"
         assert out["kf"].status == "ok" and out["oracle"].status == "ok"
-        assert matrix.cell_text(out["toy-broken"])["mean"] == "error: RuntimeError: singular matrix at step 3"
-        assert matrix.cell_text(out["toy-no-lmi"])["mean"].startswith("needs extra: lmi")
+        assert matrix.cell_text(out["toy-broken"])["steady"] == "error: RuntimeError: singular matrix at step 3"
+        assert matrix.cell_text(out["toy-no-lmi"])["steady"].startswith("needs extra: lmi")
     finally:
         METHODS.pop("toy-broken")
         METHODS.pop("toy-no-lmi")

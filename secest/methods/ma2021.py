@@ -1206,6 +1206,8 @@ class LinearDesign:
         Largest eigenvalue over every certified LMI matrix (in the normalised units).
     fallbacks : int
         Steps solved by the fallback solver.
+    held_from : int or None
+        First step whose gains are held from the settled recursion (``hold_rtol``), else None.
     """
 
     G: Array
@@ -1214,6 +1216,11 @@ class LinearDesign:
     failure: str | None = None
     worst_eig: float = float("-inf")
     fallbacks: int = 0
+    held_from: int | None = None
+
+
+HOLD_STEPS = 10
+"""Consecutive settled steps after which :func:`linear_design` holds its gains (``hold_rtol``)."""
 
 
 def _node_types(C: Array, U_half: Array) -> tuple[list[int], Array]:
@@ -1261,13 +1268,16 @@ def _linear_op2(A: Array, C: Array, U_half: Array, types: list[int]) -> StepProb
 
 
 def linear_design(A: ArrayLike, C: ArrayLike, V_half: ArrayLike, U_half: ArrayLike, P0: ArrayLike,
-                  steps: int) -> LinearDesign:
+                  steps: int, *, hold_rtol: float | None = None) -> LinearDesign:
     """OP2 (32) on a linear plant, ``F_i = A``, ``H = 0``, ``W^ = 0``: the gains ``G_{i,k}``, ``P_k``.
 
     Each step solves ``min tr P_{k+1}`` subject to LMI (30) of every distinct node (see
     :func:`_linear_op2` for the normalisation), then ``G_i = S_k G~_i``,
     ``P_{k+1} = S_k P~ S_k^T`` (symmetrised). The recursion stops at the first step no solver
-    certifies (:attr:`LinearDesign.failure`).
+    certifies (:attr:`LinearDesign.failure`). With ``hold_rtol`` (ours, for long horizons) it
+    also stops once the recursion is at its steady state, ``||P_{k+1} - P_k||_F <= hold_rtol
+    ||P_k||_F`` on :data:`HOLD_STEPS` consecutive steps, and holds the last gains and ``P``
+    for the remaining steps.
 
     Parameters
     ----------
@@ -1283,6 +1293,9 @@ def linear_design(A: ArrayLike, C: ArrayLike, V_half: ArrayLike, U_half: ArrayLi
         ``P_0``, positive definite (Assumption 3).
     steps : int
         Number of steps ``K``.
+    hold_rtol : float, optional
+        Relative change of ``P_k`` below which the recursion counts as settled (None: solve
+        every step).
 
     Returns
     -------
@@ -1306,6 +1319,7 @@ def linear_design(A: ArrayLike, C: ArrayLike, V_half: ArrayLike, U_half: ArrayLi
     types, kind = _node_types(C, U_half)
     sp = _linear_op2(A, C, U_half, types)
     out = LinearDesign(np.full((steps, C.shape[0], n, C.shape[1]), np.nan), P, types)
+    settled = 0
     for k in range(steps):
         S = np.linalg.cholesky(P[k])
         Si = np.linalg.inv(S)
@@ -1324,4 +1338,10 @@ def linear_design(A: ArrayLike, C: ArrayLike, V_half: ArrayLike, U_half: ArrayLi
         P[k + 1] = covariance.symmetrize(S @ sp.vars["P"].value @ S.T)
         gains = np.stack([S @ sp.vars["G"][i].value for i in types])
         out.G[k] = gains[kind]
+        settled = settled + 1 if hold_rtol is not None and (
+            np.linalg.norm(P[k + 1] - P[k]) <= hold_rtol * np.linalg.norm(P[k])) else 0
+        if settled >= HOLD_STEPS:
+            out.G[k + 1:], P[k + 2:] = out.G[k], P[k + 1]
+            out.held_from = k + 1
+            break
     return out
