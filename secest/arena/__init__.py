@@ -4,8 +4,17 @@
    plants, networks and attacks as data (``cards.toml``), and the trials drawn from them
 ``estimators``
    the :class:`~secest.arena.estimators.Method` interface, the registry, the baselines, the scores
+``papers``
+   the five papers' methods (:mod:`secest.methods`) behind the ``Method`` interface, registered
 ``matrix``
    the matrix of scenarios x methods and its tables
+``report``
+   :func:`race` (cards and methods of one's own in one call) and the matrix as files: CSV,
+   JSON, heatmap, per-plant tables; the card schema as documentation
+``cli``
+   the command line ``python -m secest.arena`` over :func:`race`
+``protocol``
+   the pre-registered protocol of the arena (``protocol.toml``)
 
 Importing any module of the arena registers the baselines and the five papers' methods.
 The arena uses the estimation library (:mod:`secest.core`) and the papers' methods
@@ -15,3 +24,6 @@ The arena uses the estimation library (:mod:`secest.core`) and the papers' metho
 # The five papers' methods are registered whenever the arena is used (not only after an explicit
 # import of secest.arena.papers): a matrix never silently scores the baselines alone.
 from secest.arena import papers  # noqa: E402, F401
+from secest.arena.report import race
+
+__all__ = ["race"]
