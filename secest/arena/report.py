@@ -125,7 +125,8 @@ def heatmap(m: matrix.Matrix, *, title: str, width: float = 7.16) -> Figure:
     Returns
     -------
     matplotlib.figure.Figure
-        Not attached to pyplot; save it with ``fig.savefig``.
+        Not attached to pyplot; save it with ``fig.savefig``. Font sizes are set here (those of
+        :mod:`secest.repro.plotting`'s house style), so the figure reads the same without it.
     """
     import matplotlib as mpl
     from matplotlib.colors import LogNorm
@@ -175,16 +176,17 @@ def heatmap(m: matrix.Matrix, *, title: str, width: float = 7.16) -> Figure:
         ax.axvline(edge - 0.5, color="black", lw=1.2)
     ax.set_xticks(range(len(order)), order, rotation=30, ha="right")
     ax.set_yticks(range(len(rows)), [sc.name.replace("/", " / ") for sc in rows])
-    ax.tick_params(length=0)
+    ax.tick_params(length=0, labelsize=8)
     ax.grid(False)
-    ax.set_xlabel(" | ".join(label for label, _ in groups))
+    ax.set_xlabel(" | ".join(label for label, _ in groups), fontsize=9)
     bar = fig.colorbar(image, ax=ax, fraction=0.04, pad=0.05,
                        extend="max" if finite.max() > norm.vmax else "neither")
-    bar.set_label("mean RMSE / oracle RMSE (log scale)")
+    bar.set_label("mean RMSE / oracle RMSE (log scale)", fontsize=9)
+    bar.ax.tick_params(labelsize=8)
     ax.legend(handles=[Patch(facecolor="0.85", hatch="////", edgecolor="0.55",
                              label="N/A: a condition of the method's theory fails")],
               loc="upper left", bbox_to_anchor=(0.0, -0.16), frameon=False, fontsize=7)
-    ax.set_title(title)
+    ax.set_title(title, fontsize=9)
     return fig
 
 
