@@ -143,7 +143,13 @@ def load_method(spec: str) -> str:
 
 
 def list_text(cards: scenarios.Extra = None) -> str:
-    """The cards (name, title; a network's plant and size) and the registered methods, as text."""
+    """The cards (name, title; a network's plant and size) and the registered methods, as text.
+
+    Parameters
+    ----------
+    cards : path or mapping, optional
+        More cards (``--cards``), listed with the package's.
+    """
     c = scenarios.cards(cards)
     lines = ["plants:"]
     lines += [f"  {n:18} {p.title}" for n, p in c["plant"].items()]
@@ -197,4 +203,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     counts = {s: sum(c.status == s for c in m.cells.values()) for s in matrix.STATUSES}
     print(f"{len(m.scenarios)} scenarios x {len(m.methods)} methods: "
           + ", ".join(f"{n} {s}" for s, n in counts.items()) + f"; written to {args.out}")
+    if not report.can_plot():
+        print("heatmap.png not drawn: it needs matplotlib (pip install 'secest[notebooks]')")
     return 0

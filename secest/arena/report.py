@@ -20,6 +20,7 @@ validator uses, as the markdown tables of the documentation.
 from __future__ import annotations
 
 import csv
+import importlib.util
 import json
 import math
 from collections.abc import Sequence
@@ -38,6 +39,7 @@ if TYPE_CHECKING:
 __all__ = [
     "COLUMNS",
     "GROUPS",
+    "can_plot",
     "card_schema",
     "columns",
     "heatmap",
@@ -95,7 +97,13 @@ def columns(m: matrix.Matrix) -> dict[str, list]:
 
 
 def method_order(names: Sequence[str]) -> list[str]:
-    """``names`` grouped as the heatmap's columns (:data:`GROUPS`), registration order within."""
+    """``names`` grouped as the heatmap's columns (:data:`GROUPS`), registration order within.
+
+    Parameters
+    ----------
+    names : sequence of str
+        Registered method names.
+    """
     return [n for kind, _ in GROUPS for n in names if _group(n) == kind]
 
 
@@ -146,7 +154,8 @@ def heatmap(m: matrix.Matrix, *, title: str, width: float = 7.16) -> Figure:
         raise ValidationError("m: the heatmap needs at least one scored cell, found none")
     norm = LogNorm(vmin=min(1.0, float(finite.min())), vmax=min(VMAX, max(10.0, float(finite.max()))))
     cmap = mpl.colormaps["YlOrRd"]
-    fig = Figure(figsize=(width, 1.2 + 0.27 * len(rows)))
+    height = 1.2 + 0.27 * len(rows)  # inches
+    fig = Figure(figsize=(width, height))
     ax = fig.subplots()
     image = ax.imshow(np.ma.masked_invalid(values), cmap=cmap, norm=norm, aspect="auto")
     for i, sc in enumerate(rows):
@@ -185,7 +194,9 @@ def heatmap(m: matrix.Matrix, *, title: str, width: float = 7.16) -> Figure:
     bar.ax.tick_params(labelsize=8)
     ax.legend(handles=[Patch(facecolor="0.85", hatch="////", edgecolor="0.55",
                              label="N/A: a condition of the method's theory fails")],
-              loc="upper left", bbox_to_anchor=(0.0, -0.16), frameon=False, fontsize=7)
+              loc="upper left", frameon=False, fontsize=7,
+              # as far below the axes at any number of rows as at 15 (the arena's, -0.16 of its axes)
+              bbox_to_anchor=(0.0, -0.16 * (1.2 + 0.27 * 15) / height))
     ax.set_title(title, fontsize=9)
     return fig
 
@@ -332,6 +343,11 @@ def race(
     return m
 
 
+def can_plot() -> bool:
+    """Whether matplotlib is installed (the ``notebooks`` extra): :func:`write` draws the heatmap."""
+    return importlib.util.find_spec("matplotlib") is not None
+
+
 def _json_number(value: Any) -> Any:
     return None if isinstance(value, float) and not math.isfinite(value) else value
 
@@ -352,7 +368,8 @@ def write(m: matrix.Matrix, out: str | Path) -> list[Path]:
         The files written: ``matrix.csv`` (:func:`columns`), ``matrix.json`` (the scenarios,
         the methods and one record per cell: :func:`columns` with NaN as ``null``, and the
         words of :func:`secest.arena.matrix.table_rows` under ``"text"``), ``heatmap.png``
-        (:func:`heatmap`) and ``tables/<plant>.md`` (:func:`plant_tables`).
+        (:func:`heatmap`; only where matplotlib is installed, :func:`can_plot`, and some cell
+        is scored) and ``tables/<plant>.md`` (:func:`plant_tables`).
     """
     folder = Path(out)
     if folder.is_file():
@@ -375,12 +392,16 @@ def write(m: matrix.Matrix, out: str | Path) -> list[Path]:
                   for cell, text in zip(cells, matrix.table_rows(m), strict=True)],
     }
     (folder / "matrix.json").write_text(json.dumps(record, indent=1, allow_nan=False) + "\n")
-    fig = heatmap(m, title=f"Arena: network-mean RMSE relative to the oracle "
-                           f"({', '.join(map(str, record['runs']))} runs, "
-                           f"{', '.join(map(str, record['horizon']))} steps, seed "
-                           f"{', '.join(map(str, record['seed']))})")
-    fig.savefig(folder / "heatmap.png", dpi=200, bbox_inches="tight", metadata={"Software": None})
-    written = [folder / "matrix.csv", folder / "matrix.json", folder / "heatmap.png"]
+    written = [folder / "matrix.csv", folder / "matrix.json"]
+    png = folder / "heatmap.png"
+    png.unlink(missing_ok=True)  # never a stale heatmap next to a new matrix
+    if can_plot() and any(c.status == "ok" for c in m.cells.values()):
+        fig = heatmap(m, title=f"Arena: network-mean RMSE relative to the oracle "
+                               f"({', '.join(map(str, record['runs']))} runs, "
+                               f"{', '.join(map(str, record['horizon']))} steps, seed "
+                               f"{', '.join(map(str, record['seed']))})")
+        fig.savefig(png, dpi=200, bbox_inches="tight", metadata={"Software": None})
+        written.append(png)
     for plant, text in plant_tables(m).items():
         (folder / "tables" / f"{plant}.md").write_text(text)
         written.append(folder / "tables" / f"{plant}.md")
