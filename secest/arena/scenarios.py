@@ -79,7 +79,7 @@ CARD_KEYS: dict[str, dict[str, str]] = {
         "plant": "name of the plant card it observes",
         "N": "number of nodes, >= 2",
         "graph": "ring, complete or rgg (random geometric graph in the unit square)",
-        "degree": "ring only, optional: even degree >= 2 (default 2)",
+        "degree": "ring only, optional: even degree, >= 2 and < N (default 2)",
         "radius": "rgg only: connection radius",
         "seed": "rgg only: seed of the node positions",
         "measures": "per node, the rows of the plant's outputs it measures (0-based)",
