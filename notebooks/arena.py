@@ -231,22 +231,8 @@ print(f"{len(MATRIX.cells)} cells: " + ", ".join(f"{n} {s}" for s, n in status_c
 # (– where the method has no detector, or the scenario no attacked sample).
 
 # %%
-TABLE = matrix.table_rows(MATRIX)
-plant_of = {sc.name: sc.plant.name for sc in SCENARIOS}
-for plant in plants_used:
-    lines = [f"**Plant `{plant}`** — {md(CARDS['plant'][plant].title)}", "",
-             "| scenario | method | mean ratio [95 % CI] | worst-node ratio [95 % CI] | "
-             "detection [95 % CI] | false alarm [95 % CI] |",
-             "|---|---|---|---|---|---|"]
-    for row in TABLE:
-        if plant_of[row["scenario"]] != plant:
-            continue
-        if row["status"] == "ok":
-            cells = [row["mean"], row["worst"], row["detection"], row["false_alarm"]]
-        else:
-            cells = [f"**{md(row['mean'])}**", "", "", ""]
-        lines.append(f"| `{row['scenario']}` | `{row['method']}` | " + " | ".join(cells) + " |")
-    display(Markdown("\n".join(lines)))
+for table in report.plant_tables(MATRIX).values():  # secest.arena.report, as python -m secest.arena
+    display(Markdown(table))
 
 # %% [markdown]
 # ## Heatmap of the whole matrix

@@ -233,7 +233,7 @@ def plant_tables(m: matrix.Matrix) -> dict[str, str]:
         else:
             cells = [f"**{_md(row['mean'])}**", "", "", ""]
         lines.append(f"| `{row['scenario']}` | `{row['method']}` | " + " | ".join(cells) + " |")
-    return {plant: "\n".join(lines) + "\n" for plant, lines in out.items()}
+    return {plant: "\n".join(lines) for plant, lines in out.items()}
 
 
 def card_schema() -> str:
@@ -403,6 +403,6 @@ def write(m: matrix.Matrix, out: str | Path) -> list[Path]:
         fig.savefig(png, dpi=200, bbox_inches="tight", metadata={"Software": None})
         written.append(png)
     for plant, text in plant_tables(m).items():
-        (folder / "tables" / f"{plant}.md").write_text(text)
+        (folder / "tables" / f"{plant}.md").write_text(text + "\n")
         written.append(folder / "tables" / f"{plant}.md")
     return written
