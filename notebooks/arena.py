@@ -80,11 +80,10 @@ import re
 import matplotlib.pyplot as plt
 import numpy as np
 from IPython.display import Markdown, display
-from matplotlib.colors import LogNorm
 from matplotlib.patches import Patch
 from matplotlib.ticker import FuncFormatter, LogFormatterSciNotation, NullFormatter
 
-from secest.arena import matrix, scenarios
+from secest.arena import matrix, report, scenarios
 from secest.arena.estimators import METHODS
 from secest.core.validation import ValidationError
 from secest.repro import plotting, results, spaces
@@ -232,22 +231,8 @@ print(f"{len(MATRIX.cells)} cells: " + ", ".join(f"{n} {s}" for s, n in status_c
 # (– where the method has no detector, or the scenario no attacked sample).
 
 # %%
-TABLE = matrix.table_rows(MATRIX)
-plant_of = {sc.name: sc.plant.name for sc in SCENARIOS}
-for plant in plants_used:
-    lines = [f"**Plant `{plant}`** — {md(CARDS['plant'][plant].title)}", "",
-             "| scenario | method | mean ratio [95 % CI] | worst-node ratio [95 % CI] | "
-             "detection [95 % CI] | false alarm [95 % CI] |",
-             "|---|---|---|---|---|---|"]
-    for row in TABLE:
-        if plant_of[row["scenario"]] != plant:
-            continue
-        if row["status"] == "ok":
-            cells = [row["mean"], row["worst"], row["detection"], row["false_alarm"]]
-        else:
-            cells = [f"**{md(row['mean'])}**", "", "", ""]
-        lines.append(f"| `{row['scenario']}` | `{row['method']}` | " + " | ".join(cells) + " |")
-    display(Markdown("\n".join(lines)))
+for table in report.plant_tables(MATRIX).values():  # secest.arena.report, as python -m secest.arena
+    display(Markdown(table))
 
 # %% [markdown]
 # ## Heatmap of the whole matrix
@@ -267,32 +252,6 @@ TOL = results.Tolerance(
     + "; every other method deterministic)")
 
 
-def triple(value: tuple[float, float, float] | None) -> tuple[float, float, float]:
-    return (np.nan, np.nan, np.nan) if value is None else tuple(float(v) for v in value)
-
-
-def matrix_data() -> dict[str, list]:
-    """One row per cell, every number of the tables (NaN where there is none)."""
-    data: dict[str, list] = {k: [] for k in (
-        "scenario", "method", "status", "mean", "mean_low", "mean_high", "worst", "worst_low",
-        "worst_high", "detection", "detection_low", "detection_high", "false_alarm",
-        "false_alarm_low", "false_alarm_high", "reason")}
-    for sc in SCENARIOS:
-        for name in method_names:
-            c = MATRIX.cell(sc.name, name)
-            data["scenario"].append(sc.name)
-            data["method"].append(name)
-            data["status"].append(c.status)
-            for key in ("mean", "worst", "detection", "false_alarm"):
-                field = {"mean": c.rmse_mean, "worst": c.rmse_worst}.get(key, getattr(c, key, None))
-                v, lo, hi = triple(field)
-                data[key].append(v)
-                data[f"{key}_low"].append(lo)
-                data[f"{key}_high"].append(hi)
-            data["reason"].append(c.reason)
-    return data
-
-
 def method_style(name: str) -> dict:
     """Baselines in black / greys with their own dashes, the papers' methods in colour, solid."""
     baselines = [n for n in method_names if METHODS[n].kind != "paper"]
@@ -307,58 +266,11 @@ def method_style(name: str) -> dict:
     return {"color": f"C{papers.index(name) % 5}", "ls": "-", "lw": 1.3}
 
 
-order = [n for n in method_names if METHODS[n].kind != "paper"] + [
-    n for n in method_names if METHODS[n].kind == "paper"]
-n_base = sum(METHODS[n].kind != "paper" for n in method_names)
-values = np.full((len(SCENARIOS), len(order)), np.nan)
-for i, sc in enumerate(SCENARIOS):
-    for j, name in enumerate(order):
-        c = MATRIX.cell(sc.name, name)
-        if c.status == "ok":
-            values[i, j] = c.rmse_mean[0]
-finite = values[np.isfinite(values)]
-VMAX = 1e3  # colours saturate above 1000x the oracle's RMSE (the number in the cell is exact)
-norm = LogNorm(vmin=min(1.0, float(finite.min())), vmax=min(VMAX, max(10.0, float(finite.max()))))
-cmap = plt.get_cmap("YlOrRd")
-fig, ax = plt.subplots(figsize=(plotting.PAGE_WIDTH, 1.2 + 0.27 * len(SCENARIOS)))
-image = ax.imshow(np.ma.masked_invalid(values), cmap=cmap, norm=norm, aspect="auto")
-for i, sc in enumerate(SCENARIOS):
-    for j, name in enumerate(order):
-        c = MATRIX.cell(sc.name, name)
-        if c.status == "ok":
-            v = c.rmse_mean[0]
-            r, g, b, _ = cmap(norm(v))
-            ink = "black" if 0.299 * r + 0.587 * g + 0.114 * b > 0.55 else "white"
-            ax.text(j, i, matrix._sig(v), ha="center", va="center", fontsize=6.5, color=ink)
-        else:
-            colour = "0.85" if c.status == "n/a" else "black"
-            ax.add_patch(plt.Rectangle((j - 0.5, i - 0.5), 1, 1, facecolor=colour, hatch="////",
-                                       edgecolor="0.55", lw=0))
-            label = {"n/a": "N/A", "diverged": "div.", "error": "err."}[c.status]
-            ax.text(j, i, label, ha="center", va="center",
-                    fontsize=6.5, color="black" if c.status == "n/a" else "white")
-starts = [i for i, sc in enumerate(SCENARIOS) if i == 0 or sc.plant.name != SCENARIOS[i - 1].plant.name]
-for i in starts[1:]:
-    ax.axhline(i - 0.5, color="black", lw=1.2)
-for i, end in zip(starts, [*starts[1:], len(SCENARIOS)], strict=True):  # the plant of each group
-    ax.text(len(order) - 0.4, (i + end - 1) / 2, SCENARIOS[i].plant.name.replace("_", " "),
-            rotation=270, ha="left", va="center", fontsize=7.5, clip_on=False)
-ax.axvline(n_base - 0.5, color="black", lw=1.2)
-ax.set_xticks(range(len(order)), order, rotation=30, ha="right")
-ax.set_yticks(range(len(SCENARIOS)), [sc.name.replace("/", " / ") for sc in SCENARIOS])
-ax.tick_params(length=0)
-ax.grid(False)
-ax.set_xlabel("baselines | papers' methods")
-bar = fig.colorbar(image, ax=ax, fraction=0.04, pad=0.05,
-                   extend="max" if finite.max() > norm.vmax else "neither")
-bar.set_label("mean RMSE / oracle RMSE (log scale)")
-ax.legend(handles=[Patch(facecolor="0.85", hatch="////", edgecolor="0.55",
-                         label="N/A: a condition of the method's theory fails")],
-          loc="upper left", bbox_to_anchor=(0.0, -0.16), frameon=False, fontsize=7)
-ax.set_title(f"Arena: network-mean RMSE relative to the oracle ({runs_used} runs, "
-             f"{horizon_used} steps, seed {seed}, attack magnitudes ×{attack_scale:g})")
-plotting.save_figure(fig, FIG_DIR, "extra_matrix_heatmap", data=matrix_data(), tolerance=TOL)
-plt.show()
+order = report.method_order(method_names)  # baselines, then the papers' methods
+fig = report.heatmap(MATRIX, width=plotting.PAGE_WIDTH, title=(
+    f"Arena: network-mean RMSE relative to the oracle ({runs_used} runs, {horizon_used} steps, "
+    f"seed {seed}, attack magnitudes ×{attack_scale:g})"))
+plotting.save_figure(fig, FIG_DIR, "extra_matrix_heatmap", data=report.columns(MATRIX), tolerance=TOL)
 
 # %% [markdown]
 # ## Error over time, one figure per plant

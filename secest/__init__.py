@@ -8,7 +8,12 @@ The package has four layers; each imports only the layers before it:
 :mod:`secest.methods`
    the five papers' estimators (one module per paper key), with the papers' equation numbers
 :mod:`secest.arena`
-   scenarios (cards), the ``Method`` interface and baselines, scores and the matrix
+   the papers' methods and the baselines raced on shared scenarios: ``scenarios`` (plants,
+   networks and attacks as cards), ``estimators`` (the ``Method`` interface, the registry, the
+   baselines, the scores), ``papers`` (the five methods behind that interface), ``matrix`` (every
+   method on every scenario, its tables), ``report`` (``race``: one's own cards and methods in one
+   call, the matrix as files), ``cli`` (``python -m secest.arena``), ``protocol`` (the
+   pre-registered protocol)
 :mod:`secest.repro`
    the reproduction tooling: results and claims, plotting, notebook execution, declared
    spaces, sweeps on Dask, ``make verify`` and the site

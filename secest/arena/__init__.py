@@ -7,8 +7,17 @@
    baselines, the scores
 ``baselines``
    the distributed baselines (local, consensus, diffusion, Kalman consensus, W-MSR filters)
+``papers``
+   the five papers' methods (:mod:`secest.methods`) behind the ``Method`` interface, registered
 ``matrix``
    the matrix of scenarios x methods and its tables
+``report``
+   :func:`race` (cards and methods of one's own in one call) and the matrix as files: CSV,
+   JSON, heatmap, per-plant tables; the card schema as documentation
+``cli``
+   the command line ``python -m secest.arena`` over :func:`race`
+``protocol``
+   the pre-registered protocol of the arena (``protocol.toml``)
 
 Importing any module of the arena registers the baselines and the five papers' methods.
 The arena uses the estimation library (:mod:`secest.core`) and the papers' methods
@@ -19,3 +28,6 @@ The arena uses the estimation library (:mod:`secest.core`) and the papers' metho
 # (not only after an explicit import of secest.arena.papers): a matrix never silently scores the
 # centralised baselines alone.
 from secest.arena import baselines, papers  # noqa: E402, F401
+from secest.arena.report import race
+
+__all__ = ["race"]

@@ -81,7 +81,7 @@ CARD_KEYS: dict[str, dict[str, str]] = {
         "plant": "name of the plant card it observes",
         "N": "number of nodes, >= 2",
         "graph": "ring, complete or rgg (random geometric graph in the unit square)",
-        "degree": "ring only, optional: even degree >= 2 (default 2)",
+        "degree": "ring only, optional: even degree, >= 2 and < N (default 2)",
         "radius": "rgg only: connection radius",
         "seed": "rgg only: seed of the node positions",
         "measures": "per node, the rows of the plant's outputs it measures (0-based)",
@@ -499,8 +499,19 @@ def _cards(extra: Extra = None) -> dict[str, Any]:
             if name in raw.get(kind, {}):
                 raise ValidationError(f"extra cards: {kind} {name!r} already exists in cards.toml")
             raw.setdefault(kind, {})[name] = card
+    extends = more.get("matrix", {})
+    per_call = sorted({"horizon", "runs", "seed"} & set(extends))
+    if per_call:
+        raise ValidationError(f"extra cards: [matrix] {per_call[0]} is not read from an extra file; "
+                              f"pass {per_call[0]}= to matrix() or scenario() (--{per_call[0]} on "
+                              "the command line)")
+    _check_keys("extra cards:", "[matrix]", extends, set(), {"networks", "attacks"})
     for key in ("networks", "attacks"):  # extra [matrix] lists extend the cross
-        added = [n for n in more.get("matrix", {}).get(key, []) if n not in raw["matrix"][key]]
+        names = extends.get(key, [])
+        if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
+            raise ValidationError(f"extra cards: [matrix] {key} must be a list of card names, "
+                                  f"found {names!r}")
+        added = [n for n in names if n not in raw["matrix"][key]]
         raw["matrix"][key] = [*raw["matrix"][key], *added]
     return raw
 
@@ -512,8 +523,12 @@ def _plant(name: str, card: dict[str, Any]) -> Plant:
     outputs = as_matrix(f"plant {name}: outputs", card["outputs"], (None, Ac.shape[0]))
     r_std = as_matrix(f"plant {name}: r_std", card["r_std"], (outputs.shape[0],))
     for key in ("dt", "q_std", "x0_std"):
-        if not float(card[key]) > 0:
-            raise ValidationError(f"plant {name}: {key} must be positive, found {card[key]!r}")
+        validation.check_real(f"plant {name}: {key}", card[key], lower=0.0, lower_open=True)
+    names = card["state_names"]
+    if (not isinstance(names, list) or len(names) != Ac.shape[0]
+            or not all(isinstance(s, str) for s in names)):
+        raise ValidationError(f"plant {name}: state_names must list {Ac.shape[0]} names (one per "
+                              f"state component), found {names!r}")
     if np.any(r_std <= 0):
         raise ValidationError(f"plant {name}: every r_std must be positive")
     return Plant(
@@ -540,13 +555,20 @@ def _graph(name: str, card: dict[str, Any]) -> NDArray[np.float64]:
     if kind == "complete":
         adj = graphs.complete_graph(N)
     elif kind == "ring":
-        half = check_positive_int(f"network {name}: degree", card.get("degree", 2), minimum=2) // 2
+        degree = validation.check_int(f"network {name}: degree", card.get("degree", 2), minimum=2)
+        if degree % 2 or degree >= N:
+            raise ValidationError(f"network {name}: degree must be even and below N = {N}, "
+                                  f"found {degree}")
+        half = degree // 2
         adj = np.zeros((N, N))
         for s in range(1, half + 1):
             adj += np.roll(np.eye(N), s, axis=1) + np.roll(np.eye(N), -s, axis=1)
         adj = (adj > 0).astype(float)
     elif kind == "rgg":
-        adj = graphs.random_geometric_graph(N, float(card["radius"]), int(card["seed"]))
+        radius = validation.check_real(f"network {name}: radius", card["radius"], lower=0.0,
+                                       lower_open=True)
+        seed = validation.check_int(f"network {name}: seed", card["seed"], minimum=0)
+        adj = graphs.random_geometric_graph(N, radius, seed)
     else:
         raise ValidationError(f"network {name}: graph must be ring, complete or rgg, found {kind!r}")
     return graphs.check_connected(adj)
@@ -559,7 +581,13 @@ def _network(name: str, card: dict[str, Any], plants: dict[str, Plant]) -> Netwo
     if card["plant"] not in plants:
         raise ValidationError(f"network {name}: plant {card['plant']!r} has no card")
     adj = _graph(name, card)
-    measures = np.asarray(card["measures"], dtype=np.intp)
+    rows = card["measures"]
+    if not isinstance(rows, list) or not all(
+            isinstance(r, list) and all(isinstance(i, int) and not isinstance(i, bool) for i in r)
+            for r in rows):
+        raise ValidationError(f"network {name}: measures must be a list (one per node) of lists of "
+                              f"output indices (integers), found {rows!r}")
+    measures = np.asarray(rows, dtype=np.intp) if len({len(r) for r in rows}) == 1 else np.empty(0)
     n_out = plants[card["plant"]].outputs.shape[0]
     if measures.ndim != 2 or measures.shape[0] != adj.shape[0]:
         raise ValidationError(

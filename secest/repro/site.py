@@ -1209,6 +1209,9 @@ def prepare(srcdir: str | Path, root: Path = ROOT) -> list[Path]:
     _write(gen / "verdicts.md", verdict_table(root), written)
     _write(gen / "lock.md", lock_markdown(root), written)
     _write(gen / "parameters.md", parameters_markdown(root), written)
+    from secest.arena.report import card_schema  # the card validator's schema, as tables
+
+    _write(gen / "card_schema.md", card_schema(), written)
     _write(src / "readme.md", readme_markdown(root), written)
     _write(src / "errata.md", errata_markdown(root), written)
     _write(src / "claims.md", claims_markdown(root), written)
