@@ -10,7 +10,8 @@ The package has four layers; each imports only the layers before it:
 :mod:`secest.arena`
    the papers' methods and the baselines raced on shared scenarios: ``scenarios`` (plants,
    networks and attacks as cards), ``estimators`` (the ``Method`` interface, the registry, the
-   baselines, the scores), ``papers`` (the five methods behind that interface), ``matrix`` (every
+   centralised baselines, the scores), ``baselines`` (the distributed baselines), ``papers`` (the
+   five methods behind that interface), ``matrix`` (every
    method on every scenario, its tables), ``report`` (``race``: one's own cards and methods in one
    call, the matrix as files), ``cli`` (``python -m secest.arena``), ``protocol`` (the
    pre-registered protocol)

@@ -53,7 +53,8 @@ def test_the_five_methods_are_registered_without_importing_secest_methods() -> N
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     names = out.stdout.strip().split(",")
     assert {"ding2020", "guo2023", "lee2020", "li2025", "ma2021"} <= set(names)
-    assert names[:4] == ["oracle", "kf", "chi2-kf", "consensus-kf"]
+    assert names[:3] == ["oracle", "kf", "chi2-kf"]
+    assert {"local-kf", "consensus-kf-1", "consensus-kf", "diffusion-kf", "kcf", "wmsr-kf"} <= set(names)
 
 
 def test_a_method_named_oracle_is_refused() -> None:
@@ -122,12 +123,12 @@ def test_a_trial_of_another_scenario_is_refused(small) -> None:
              r"trial: drawn for scenario 'inertia5/bias', not for 'inertia5/none'")
 
 
-@pytest.mark.parametrize("burn_in", [-1, 10, 99])
-def test_a_burn_in_outside_the_horizon_is_refused(small, burn_in: int) -> None:
+def test_a_horizon_without_a_steady_window_is_refused(small) -> None:
     sc, trial, oracle = small
-    expected = rf"burn_in must be an integer in \[0, 9\] \(the horizon is 10 steps\), found {burn_in}"
-    _refused(lambda: estimators.score(trial, oracle, oracle, burn_in=burn_in), expected)
-    _refused(lambda: matrix.run_matrix([sc], ["oracle"], burn_in=burn_in), expected)
+    expected = (r"horizon of inertia5/none: 10 steps give no steady window; at least 20 tau = 2857 "
+                r"steps \(tau = 143 steps; horizon = \"auto\" gives 2860\)")
+    _refused(lambda: estimators.score(trial, oracle, oracle), expected)
+    _refused(lambda: matrix.run_matrix([sc], ["oracle"]), expected)
 
 
 def test_run_sweep_with_zero_workers_is_refused() -> None:

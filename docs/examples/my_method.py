@@ -23,7 +23,8 @@ class FixedGainKF(Method):
     kind = "user"
     reading = "ignores its neighbours: nothing it receives can be falsified or lost"
 
-    def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
+    def requirements(self, sc: Scenario) -> list[tuple[str, bool]]:
+        # without it the Riccati equation of a node has no solution: the method cannot run (N/A)
         n = sc.plant.n
         observable = all(
             np.linalg.matrix_rank(np.vstack([C @ np.linalg.matrix_power(sc.plant.A, p)

@@ -77,7 +77,10 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--attacks", type=_names, metavar="A,B,...",
                    help="attack cards to cross (default the [matrix] attacks)")
     p.add_argument("--runs", type=_count(2), help="Monte Carlo runs per scenario (default [matrix])")
-    p.add_argument("--horizon", type=_count(1), help="steps per run (default [matrix])")
+    p.add_argument("--horizon", type=_count(1), help="steps per run (default [matrix]: 20 time "
+                   "constants of each plant; a shorter horizon needs --short)")
+    p.add_argument("--short", action="store_true", help="smoke test: allow horizons without a "
+                   "steady window (shorter than 20 time constants)")
     p.add_argument("--seed", type=_count(0), help="root seed of the runs (default [matrix])")
     p.add_argument("--out", metavar="DIR", help="folder to write matrix.csv, matrix.json, "
                    "heatmap.png and tables/<plant>.md into")
@@ -196,7 +199,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.out is None:
             raise ValidationError("--out DIR is required to race (or --list to see the cards)")
         m = report.race(args.cards, args.methods, plants=args.plants, attacks=args.attacks,
-                        runs=args.runs, horizon=args.horizon, seed=args.seed, out=args.out)
+                        runs=args.runs, horizon=args.horizon, seed=args.seed, out=args.out,
+                        short=args.short)
     except ValidationError as exc:
         print(f"{PROG}: error: {exc}", file=sys.stderr)
         return 2

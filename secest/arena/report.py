@@ -9,7 +9,7 @@ of the cross, :func:`secest.arena.matrix.run_matrix`, and, given ``out``, the fi
    one row per (scenario, method) cell: :func:`columns` (every number with its interval, NaN /
    ``null`` where there is none) and the words of :func:`secest.arena.matrix.table_rows`
 ``heatmap.png``
-   :func:`heatmap`, the mean ratio of every cell
+   :func:`heatmap`, the steady-window score of every cell
 ``tables/<plant>.md``
    :func:`plant_tables`, one markdown table per plant
 
@@ -49,14 +49,15 @@ __all__ = [
     "write",
 ]
 
-COLUMNS = ("scenario", "method", "status", "mean", "mean_low", "mean_high", "worst", "worst_low",
-           "worst_high", "detection", "detection_low", "detection_high", "false_alarm",
-           "false_alarm_low", "false_alarm_high", "reason")
+COLUMNS = ("scenario", "method", "status", "steady", "steady_low", "steady_high", "worst", "worst_low",
+           "worst_high", "transient", "transient_low", "transient_high", "growth", "detection",
+           "detection_low", "detection_high", "false_alarm", "false_alarm_low", "false_alarm_high",
+           "reason", "outside")
 """The columns of :func:`columns` (and of ``matrix.csv``), in order."""
 GROUPS = (("baseline", "baselines"), ("paper", "papers' methods"), (None, "other methods"))
 """Column groups of the heatmap: :attr:`Method.kind` (None: any other kind) and its label."""
 VMAX = 1e3
-"""Colours of :func:`heatmap` saturate above this mean ratio (the number in the cell is exact)."""
+"""Colours of :func:`heatmap` saturate above this score (the number in the cell is exact)."""
 
 
 def _triple(value: tuple[float, float, float] | None) -> tuple[float, float, float]:
@@ -74,10 +75,11 @@ def columns(m: matrix.Matrix) -> dict[str, list]:
     Returns
     -------
     dict
-        :data:`COLUMNS` -> list: the status, the mean and worst-node RMSE ratios and the
-        detection and false-alarm rates with their 95 % intervals (``<name>_low``,
-        ``<name>_high``; NaN where the cell has no such number) and the reason of a cell that
-        is not scored.
+        :data:`COLUMNS` -> list: the status, the unit-free steady-window network and worst-node
+        scores, the transient score, the growth factor, the detection and false-alarm rates
+        with their 95 % intervals (``<name>_low``, ``<name>_high``; NaN where the cell has no
+        such number), the reason of a cell that is not scored, and the conditions of the
+        method's theory that fail there (``outside``, ``"; "``-joined).
     """
     data: dict[str, list] = {k: [] for k in COLUMNS}
     for sc in m.scenarios:
@@ -86,13 +88,16 @@ def columns(m: matrix.Matrix) -> dict[str, list]:
             data["scenario"].append(sc.name)
             data["method"].append(name)
             data["status"].append(c.status)
-            for key, value in (("mean", c.rmse_mean), ("worst", c.rmse_worst),
-                               ("detection", c.detection), ("false_alarm", c.false_alarm)):
+            for key, value in (("steady", c.steady), ("worst", c.steady_worst),
+                               ("transient", c.transient), ("detection", c.detection),
+                               ("false_alarm", c.false_alarm)):
                 v, lo, hi = _triple(value)
                 data[key].append(v)
                 data[f"{key}_low"].append(lo)
                 data[f"{key}_high"].append(hi)
+            data["growth"].append(np.nan if c.growth is None else float(c.growth))
             data["reason"].append(c.reason)
+            data["outside"].append("; ".join(c.outside))
     return data
 
 
@@ -114,12 +119,13 @@ def _group(name: str) -> str | None:
 
 
 def heatmap(m: matrix.Matrix, *, title: str, width: float = 7.16) -> Figure:
-    """Every cell's mean RMSE ratio on a logarithmic colour scale, the number printed in it.
+    """Every cell's steady-window score on a logarithmic colour scale, the number printed in it.
 
     Rows are the scenarios, grouped by plant (a line between plants, the plant's name on the
     right); columns the methods in :func:`method_order`, a line between groups. Hatched grey
-    cells are N/A, hatched black ones diverged or raised (``div.``, ``err.``). Colours run from
-    ``min(1, smallest ratio)`` to ``min(VMAX, max(10, largest ratio))``.
+    cells are N/A, hatched black ones diverged or raised (``div.``, ``err.``); a dot in the
+    corner marks a cell outside the method's theory (scored all the same). Colours run from
+    ``min(1, smallest score)`` to ``min(VMAX, max(10, largest score))``.
 
     Parameters
     ----------
@@ -139,6 +145,7 @@ def heatmap(m: matrix.Matrix, *, title: str, width: float = 7.16) -> Figure:
     import matplotlib as mpl
     from matplotlib.colors import LogNorm
     from matplotlib.figure import Figure
+    from matplotlib.lines import Line2D
     from matplotlib.patches import Patch, Rectangle
 
     order = method_order(m.methods)
@@ -148,7 +155,7 @@ def heatmap(m: matrix.Matrix, *, title: str, width: float = 7.16) -> Figure:
         for j, name in enumerate(order):
             c = m.cell(sc.name, name)
             if c.status == "ok":
-                values[i, j] = c.rmse_mean[0]
+                values[i, j] = c.steady[0]
     finite = values[np.isfinite(values)]
     if finite.size == 0:
         raise ValidationError("m: the heatmap needs at least one scored cell, found none")
@@ -166,6 +173,8 @@ def heatmap(m: matrix.Matrix, *, title: str, width: float = 7.16) -> Figure:
                 ink = "black" if 0.299 * r + 0.587 * g + 0.114 * b > 0.55 else "white"
                 ax.text(j, i, matrix._sig(values[i, j]), ha="center", va="center", fontsize=6.5,
                         color=ink)
+                if c.outside:
+                    ax.plot(j + 0.36, i - 0.3, marker="o", ms=2.2, color=ink, lw=0)
             else:
                 colour = "0.85" if c.status == "n/a" else "black"
                 ax.add_patch(Rectangle((j - 0.5, i - 0.5), 1, 1, facecolor=colour, hatch="////",
@@ -190,10 +199,13 @@ def heatmap(m: matrix.Matrix, *, title: str, width: float = 7.16) -> Figure:
     ax.set_xlabel(" | ".join(label for label, _ in groups), fontsize=9)
     bar = fig.colorbar(image, ax=ax, fraction=0.04, pad=0.05,
                        extend="max" if finite.max() > norm.vmax else "neither")
-    bar.set_label("mean RMSE / oracle RMSE (log scale)", fontsize=9)
+    bar.set_label("steady-window score, oracle = 1 (log scale)", fontsize=9)
     bar.ax.tick_params(labelsize=8)
     ax.legend(handles=[Patch(facecolor="0.85", hatch="////", edgecolor="0.55",
-                             label="N/A: a condition of the method's theory fails")],
+                             label="N/A: the method cannot run (a requirement fails)"),
+                       Line2D([], [], marker="o", ms=2.2, color="black", lw=0,
+                              label="outside the method's theory (scored)")],
+              ncols=2,
               loc="upper left", frameon=False, fontsize=7,
               # as far below the axes at any number of rows as at 15 (the arena's, -0.16 of its axes)
               bbox_to_anchor=(0.0, -0.16 * (1.2 + 0.27 * 15) / height))
@@ -217,8 +229,9 @@ def plant_tables(m: matrix.Matrix) -> dict[str, str]:
     -------
     dict
         Plant name -> markdown: a bold heading with the plant's title, then one row per cell
-        (:func:`secest.arena.matrix.table_rows`): the mean and worst-node ratios and the
-        detection and false-alarm rates with their 95 % intervals, or the cell's status in bold.
+        (:func:`secest.arena.matrix.table_rows`): the steady-window network and worst-node
+        scores, the transient score, the detection and false-alarm rates with their 95 %
+        intervals, and the failed conditions of the method's theory; or the cell's status in bold.
     """
     plant_of = {sc.name: sc.plant for sc in m.scenarios}
     out: dict[str, list[str]] = {}
@@ -226,12 +239,13 @@ def plant_tables(m: matrix.Matrix) -> dict[str, str]:
         plant = plant_of[row["scenario"]]
         lines = out.setdefault(plant.name, [
             f"**Plant `{plant.name}`** — {_md(plant.title)}", "",
-            "| scenario | method | mean ratio [95 % CI] | worst-node ratio [95 % CI] | "
-            "detection [95 % CI] | false alarm [95 % CI] |", "|---|---|---|---|---|---|"])
+            "| scenario | method | steady score [95 % CI] | worst node | transient | "
+            "detection | false alarm | outside its theory |", "|---|---|---|---|---|---|---|---|"])
         if row["status"] == "ok":
-            cells = [row["mean"], row["worst"], row["detection"], row["false_alarm"]]
+            cells = [row["steady"], row["worst"], row["transient"], row["detection"],
+                     row["false_alarm"], _md(row["outside"])]
         else:
-            cells = [f"**{_md(row['mean'])}**", "", "", ""]
+            cells = [f"**{_md(row['steady'])}**", "", "", "", "", _md(row["outside"])]
         lines.append(f"| `{row['scenario']}` | `{row['method']}` | " + " | ".join(cells) + " |")
     return {plant: "\n".join(lines) for plant, lines in out.items()}
 
@@ -294,9 +308,10 @@ def race(
     plants: Sequence[str] | None = None,
     attacks: Sequence[str] | None = None,
     runs: int | None = None,
-    horizon: int | None = None,
+    horizon: int | str | None = None,
     seed: int | None = None,
     out: str | Path | None = None,
+    short: bool = False,
 ) -> matrix.Matrix:
     """Race ``methods`` on the scenarios of ``cards``; with ``out``, write the matrix there.
 
@@ -314,11 +329,16 @@ def race(
     attacks : list of str, optional
         The attack cards to cross; default the ``[matrix]`` attacks.
     runs, horizon, seed : int, optional
-        Monte Carlo runs (>= 2), steps (>= 1) and root seed of every scenario; default the
-        ``[matrix]`` values (40, 200, 2026 in the package's cards).
+        Monte Carlo runs (>= 2), steps (>= 1, or ``"auto"``: 20 time constants of each plant)
+        and root seed of every scenario; default the ``[matrix]`` values (40, "auto", 2026 in
+        the package's cards).
     out : path, optional
         Folder to write ``matrix.csv``, ``matrix.json``, ``heatmap.png`` and
         ``tables/<plant>.md`` into (created if missing): :func:`write`.
+    short : bool
+        Allow horizons shorter than 20 time constants (a smoke test: the windows are then
+        halves of the horizon and say nothing of a steady state); otherwise such a horizon is
+        refused (:func:`secest.arena.estimators.settle_steps`).
 
     Returns
     -------
@@ -337,7 +357,7 @@ def race(
                                   f"{sorted(known[kind])}")
     grid = scenarios.matrix(networks=plants, attacks=attacks, extra=cards, runs=runs,
                             horizon=horizon, seed=seed)
-    m = matrix.run_matrix(grid, names)
+    m = matrix.run_matrix(grid, names, short=short)
     if out is not None:
         write(m, out)
     return m
@@ -396,7 +416,7 @@ def write(m: matrix.Matrix, out: str | Path) -> list[Path]:
     png = folder / "heatmap.png"
     png.unlink(missing_ok=True)  # never a stale heatmap next to a new matrix
     if can_plot() and any(c.status == "ok" for c in m.cells.values()):
-        fig = heatmap(m, title=f"Arena: network-mean RMSE relative to the oracle "
+        fig = heatmap(m, title=f"Arena: steady-window score, oracle = 1 "
                                f"({', '.join(map(str, record['runs']))} runs, "
                                f"{', '.join(map(str, record['horizon']))} steps, seed "
                                f"{', '.join(map(str, record['seed']))})")
