@@ -282,7 +282,7 @@ def _old_wrapper_loop(trial: scenarios.Trial) -> tuple[np.ndarray, np.ndarray, n
     for k in range(K1 - 1):
         st = ding2020.secure_filter_step(
             x, Pi, Gam, trial.link[:, k], trial.y[:, k + 1], A=sc.plant.A, BBt=sc.plant.Q, C=sc.C, DDt=sc.R[0],
-            adj=adj, weights=H, kappa=0.004, threshold=25.0, received=trial.received(k, x, sc.plant.x0_std),
+            adj=adj, weights=H, kappa=0.004, threshold=25.0, received=trial.received(k, x),
             validate=k == 0)
         x, Pi, Gam = st.x_post, st.Pi_post, st.Gamma_post
         out[:, k + 1], bound[:, k + 1], alarms[:, k + 1] = x, Pi, st.theta == 0

@@ -231,6 +231,7 @@ class LocalKF(Method):
     should beat.
     """
 
+    exchanges = False
     name = "local-kf"
     title = "local KF at every node, no communication"
     kind = "baseline"

@@ -101,6 +101,14 @@ class Method:
         How closely a re-run on another machine reproduces its estimates (and the scores
         made of them): :data:`~secest.repro.results.DETERMINISTIC` unless the method amplifies
         rounding (sign-driven dynamics, interior-point solves).
+    home : str
+        The network card of its paper's own example where the arena's cards host it (``""``
+        for a baseline, or where they cannot: ``home_note`` says why).
+    home_note : str
+        How the home card differs from the paper's example, or why there is none.
+    exchanges : bool
+        Whether its nodes send each other messages (False: falsified or lost messages cannot
+        reach it, so the message and DoS columns do not test it).
     """
 
     name: str = ""
@@ -108,6 +116,9 @@ class Method:
     kind: str = "baseline"
     reading: str = ""
     tolerance: Tolerance = DETERMINISTIC
+    home: str = ""
+    home_note: str = ""
+    exchanges: bool = True
 
     def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
         """The conditions of the method's theory on ``sc``: (statement, holds) pairs.
@@ -254,6 +265,7 @@ def _every_node(x: NDArray[np.float64], N: int) -> NDArray[np.float64]:
 class Oracle(Method):
     """Centralised Kalman filter on the clean measurements (the reference of every score)."""
 
+    exchanges = False
     name = "oracle"
     title = "oracle: centralised KF, clean data"
     reading = "sees every node's measurement without the attack"
@@ -267,6 +279,7 @@ class Oracle(Method):
 class UndefendedKF(Method):
     """Centralised Kalman filter on the delivered (attacked) measurements, no defence."""
 
+    exchanges = False
     name = "kf"
     title = "centralised KF, no defence"
     reading = "no inter-node links: message and DoS attacks do not reach it"
@@ -280,6 +293,7 @@ class UndefendedKF(Method):
 class Chi2KF(Method):
     """Centralised Kalman filter with a chi-square bad-data test on every node's innovation."""
 
+    exchanges = False
     name = "chi2-kf"
     title = "centralised KF + chi-square bad-data detector"
     reading = "drops node i's data when its normalised innovation exceeds chi2(1 - 1e-3, ny)"

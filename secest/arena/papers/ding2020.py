@@ -48,6 +48,12 @@ class Ding2020(Method):
     name = "ding2020"
     title = "ding2020: secure consensus filter, chi-square inspection"
     kind = "paper"
+    home = "target20"
+    home_note = (
+        "its Sec. V plant (A, B, D, C_i as printed) and 20 sensors with its two sensor types; the "
+        "graph is a random geometric stand-in for its Fig. 1, its noise and attacks are the arena's"
+        " cards"
+    )
     reading = "kappa = 0.004 and threshold 25 of the paper's example; Pi_0 = Gamma_0 = prior covariance"
 
     def __init__(self, kappa: float = 0.004, threshold: float = 25.0) -> None:

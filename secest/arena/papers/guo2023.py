@@ -125,6 +125,11 @@ class Guo2023(Method):
     name = "guo2023"
     title = "guo2023: SVD input decoupling, K U1 = 0 gain, CI fusion"
     kind = "paper"
+    home = ""
+    home_note = (
+        "its Sec. V example is time-varying (A_k, C_k) with an unknown input d_k; the arena's "
+        "plants are time-invariant and have no unknown input, so no card hosts it"
+    )
     reading = (
         "H^i = I on the sensors the attack card names (the paper's known attack channels), no d; "
         "nodes send x^{i,i} once per step (bounds are data-independent, not sent); a lost message "

@@ -68,6 +68,11 @@ class Lee2020(Method):
     name = "lee2020"
     title = "lee2020: partial observers + distributed median (sign) correction"
     kind = "paper"
+    home = "inertia5"
+    home_note = (
+        "its Sec. IV plant (matrices (1)) and ring of five sensor banks; sampled at 0.02 s with "
+        "process and sensor noise (its model is noise-free), the arena's attack cards"
+    )
     tolerance = SIGN_DRIVEN  # sign-driven (Filippov) correction: last bits flip a sgn elsewhere
     reading = (
         "(5)+(6) in continuous time on Ac (exponential Euler, sub-steps by the chattering rule), y_k "

@@ -84,6 +84,11 @@ class Li2025(Method):
     name = "li2025"
     title = "li2025: bound-minimising gain under Bernoulli replacement"
     kind = "paper"
+    home = ""
+    home_note = (
+        "its Sec. IV example is a singularly perturbed sequential system under a round-robin-like "
+        "multichannel schedule; the arena's cards have neither two time scales nor a schedule"
+    )
     reading = (
         "each node runs the paper's estimator (K_i empty, H_eps = I, m = n_y) on its own and its "
         "neighbours' raw measurements (the sensor-to-estimator packets); a lost packet is not used; "

@@ -72,6 +72,11 @@ class Ma2021(Method):
     name = "ma2021"
     title = "ma2021: recursive-LMI probability-guaranteed estimator (8)"
     kind = "paper"
+    home = ""
+    home_note = (
+        "its Sec. V example is nonlinear (sin terms, Taylor remainders); the arena's plants are "
+        "linear"
+    )
     tolerance = Tolerance(
         rtol=0.03,
         atol=5e-3,
