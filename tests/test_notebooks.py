@@ -63,7 +63,7 @@ def test_committed_claims_are_well_formed(key: str) -> None:
     for cid, entry in claims.items():
         assert cid[0] in "CX" and cid[1:].replace("_", "").isalnum()
         assert set(REQUIRED_KEYS) <= set(entry)
-        assert isinstance(entry["holds"], bool)
+        assert isinstance(entry["holds"], bool) or (entry["holds"] is None and entry["not_checked"])
         assert entry["verdict"] in VERDICTS
 
 
@@ -155,7 +155,8 @@ def test_notebook_runs_off_its_default_point(key: str, index: int, run_notebook)
     assert claims
     for cid, entry in claims.items():
         assert set(REQUIRED_KEYS) <= set(entry), cid
-        assert entry["verdict"] in VERDICTS and isinstance(entry["holds"], bool), cid
+        assert entry["verdict"] in VERDICTS, cid
+        assert isinstance(entry["holds"], bool) or (entry["holds"] is None and entry["not_checked"]), cid
     manifest = tomllib.loads((ROOT / "figures" / "manifest.toml").read_text())
     expected = {Path(n).name for fig in manifest[key].get("figures", []) for n in fig["files"]}
     made = {p.name for p in fig_dir.iterdir()} if fig_dir.exists() else set()

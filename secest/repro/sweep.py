@@ -778,9 +778,11 @@ def _print_summary(key: str, outcome: Mapping[str, Any]) -> None:
     print(f"{key}: {len(outcome['rows'])} points, {outcome['failed']} failed")
     for cid, s in sorted(outcome["summary"].items(), key=lambda kv: _cid_key(kv[0])):
         ci = s["interval"]
+        share = ("no decided point" if s["fraction_holds"] is None else
+                 f"{s['fraction_holds']:.0%} of {s['decided']} decided, 95 % CI "
+                 f"[{ci['low']:.2f}, {ci['high']:.2f}]")
         print(
-            f"  {cid:6s} {s['verdict']:13s} holds at {s['outcomes']['holds']}/{s['points']} "
-            f"({s['fraction_holds']:.0%}, 95 % CI [{ci['low']:.2f}, {ci['high']:.2f}])"
+            f"  {cid:6s} {s['verdict']:13s} holds at {s['outcomes']['holds']}/{s['points']} ({share})"
             + (f": {s['region']}" if s["verdict"] == "undetermined" else "")
         )
 
