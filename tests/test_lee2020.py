@@ -20,7 +20,7 @@ from papermill.exceptions import PapermillExecutionError
 
 from secest.core.validation import ValidationError
 from secest.repro import spaces
-from secest.repro.results import VERDICTS, repo_root
+from secest.repro.results import VERDICTS, repo_root, rescience_verdict
 from secest.repro.run import execute_notebook
 
 SQRT3 = np.sqrt(3.0)
@@ -65,6 +65,7 @@ def test_claims_are_consistent(which: str, request) -> None:
     for cid, c in ((k, v) for k, v in data.items() if not k.startswith("_")):
         assert c["source"] and c["section"], cid
         assert c["verdict"] in VERDICTS, cid
+        assert c["holds"] is None or isinstance(c["holds"], bool), cid
         if "robustness" in c:  # the committed sweep's verdict over the declared space
             assert c["verdict"] == c["robustness"]["verdict"], cid
         elif "premise" in c and not c["premise"]["holds"]:
@@ -154,10 +155,18 @@ def test_agent1_alone_is_fooled(claims) -> None:
     m = c3["measured"]
     assert m["resilient_to_own_ratio"] == pytest.approx(m["resilient_sum_error_max"]
                                                         / m["own_sum_error"])
-    expected = (abs(m["own_sum_error"] - c3["threshold"]["own_sum_error"]) <= 0.01
-                and abs(m["own_inf_error"] - c3["threshold"]["own_inf_error"]) <= 0.01
-                and m["resilient_to_own_ratio"] <= 0.5)
+    # the own error grows as 3a (exact: -F^-1 L a = a W_1 v); the resilient offset is the law's,
+    # sqrt(3) * 3/(4 gamma) for agent 1 at every attack size (measured)
+    np.testing.assert_allclose(m["own_sum_error_by_attack"], 3 * np.array(m["attack_sizes"]),
+                               atol=0.01)
+    assert m["resilient_sum_error_max"] == pytest.approx(SQRT3 * 0.75 / 2.0, abs=10 * 0.5 * DT * SQRT3)
+    tol_sum = 10 * 0.5 * DT * SQRT3
+    assert c3["threshold"]["resilient_spread_over_attacks"] == pytest.approx(2 * tol_sum)
+    expected = bool(abs(m["own_sum_error"] - c3["threshold"]["own_sum_error"]) <= 0.01
+                    and abs(m["own_inf_error"] - c3["threshold"]["own_inf_error"]) <= 0.01
+                    and m["resilient_spread_over_attacks"] <= 2 * tol_sum)
     assert c3["holds"] is expected
+    assert c3["decides"] is True
 
 
 def test_network_before_the_attack_ours(claims) -> None:
@@ -204,7 +213,7 @@ def test_offset_law_off_default(alt) -> None:
     np.testing.assert_allclose(c4["measured"]["offsets"]["3"], 3 * _law_c(3.0),
                                atol=c4["threshold"]["max_offset_deviation"])
     # identification residual of agent 1: a w_1'v - 3/(4 gamma), w_1'v = 1 for the integer basis
-    assert alt["C7"]["measured"]["predicted"][0] == pytest.approx(A_PAPER - 0.75 / 3, abs=1e-6)
+    assert alt["X7"]["measured"]["predicted"][0] == pytest.approx(A_PAPER - 0.75 / 3, abs=1e-6)
 
 
 def test_no_attack_convergence(claims, alt) -> None:
@@ -217,25 +226,55 @@ def test_no_attack_convergence(claims, alt) -> None:
 
 def test_steady_state_error_and_kappa(claims, alt) -> None:
     for data in (claims, alt):
+        # the paper's usage (the bound): by construction, kept and never deciding
         c6 = data["C6"]
-        m, t = c6["measured"], c6["threshold"]
+        assert c6["basis"] == "by-construction" and not c6.get("decides", False)
+        assert c6["measured"]["bound"] == pytest.approx(data["C8"]["threshold"]["bound"])
+        # the literal reading (ours)
+        x6 = data["X6"]
+        m, t = x6["measured"], x6["threshold"]
         assert m["(6)"] <= t["(6)"]  # (6): the offset law has no kappa in it
         assert m["max_excess"] == pytest.approx(max(m["(6)"] / t["(6)"], m["(11)"] / t["(11)"]))
-        assert c6["holds"] is (m["(6)"] <= t["(6)"] and m["(11)"] <= t["(11)"])
+        assert x6["holds"] is (m["(6)"] <= t["(6)"] and m["(11)"] <= t["(11)"])
 
 
 def test_identification_residual(claims) -> None:
-    c7 = claims["C7"]
-    resid, pred = np.array(c7["measured"]["residual"]), np.array(c7["measured"]["predicted"])
+    x7 = claims["X7"]
+    resid, pred = np.array(x7["measured"]["residual"]), np.array(x7["measured"]["predicted"])
     assert pred[0] == pytest.approx(A_PAPER * SQRT3 - 3 / (4 * 2.0), abs=1e-6)
     np.testing.assert_allclose(pred[1:], 0.0, atol=1e-9)
     assert resid[0] == pytest.approx(pred[0], abs=10 * 0.5 * DT)
-    assert c7["measured"]["margin"] == pytest.approx(resid[0] - resid[1:].max())
-    eta = 2 * np.sqrt(5) / (2.0 * LAM2_RING5)
-    assert c7["threshold"]["theorem1_threshold"] == pytest.approx(eta)
-    assert c7["measured"]["above_theorem1_threshold"] is bool(resid[0] > eta)
-    assert c7["holds"] is (int(np.argmax(resid)) == 0
-                           and c7["measured"]["max_deviation"] <= c7["threshold"]["max_deviation"])
+    assert x7["measured"]["margin"] == pytest.approx(resid[0] - resid[1:].max())
+    assert x7["holds"] is (int(np.argmax(resid)) == 0
+                           and x7["measured"]["max_deviation"] <= x7["threshold"]["max_deviation"])
+
+
+def test_identification_agent_local_rules(claims) -> None:
+    c7 = claims["C7"]
+    m, t = c7["measured"], c7["threshold"]
+    n, big_n = 6, 5
+    theta = (big_n * n**2 + np.sqrt(n)) * np.sqrt(big_n) / (2.0 * LAM2_RING5)  # Theorem 3's proof
+    assert t["theta_11"] == pytest.approx(theta)
+    resid_11 = np.array(m["residual_11"])
+    assert m["flagged_11"] == [i + 1 for i in np.nonzero(resid_11 > theta)[0]]
+    assert m["attacked_over_threshold"] == pytest.approx(resid_11[0] / theta)
+    assert c7["holds"] is (m["flagged_11"] == t["flagged"] == [1])
+    # the (6) rule (ours): eta(gamma) = 2 sqrt(N) / (gamma lambda_2), same residuals as X7 at gamma_ex
+    assert t["eta_6"] == pytest.approx(2 * np.sqrt(big_n) / (2.0 * LAM2_RING5))
+    np.testing.assert_allclose(m["residual_6"], claims["X7"]["measured"]["residual"])
+    assert m["flagged_6"]["2"] == [i + 1 for i in np.nonzero(np.array(m["residual_6"]) > t["eta_6"])[0]]
+    assert m["gammas_identified_6"] == sorted(float(g) for g, f in m["flagged_6"].items() if f == [1])
+    assert c7["decides"] is True
+
+
+def test_verdict_is_computed_from_the_deciding_claims(claims) -> None:
+    verdict = rescience_verdict({k: v for k, v in claims.items() if not k.startswith("_")})
+    assert set(verdict["deciding"]) == {"C1", "C3", "C4", "C5", "C7", "C8"}
+    outcomes = [d["example"] for d in verdict["deciding"].values()]
+    spaces_ = [d["space"] for d in verdict["deciding"].values()]
+    expected = ("[Re]" if all(o == "holds" for o in outcomes) and all(v == "holds" for v in spaces_)
+                else "[¬Re]" if not any(o == "holds" for o in outcomes) else "[Re, partial]")
+    assert verdict["verdict"] == expected
 
 
 def _three_inertia_a(J: float = 0.01, b: float = 0.007, k: float = 1.37) -> np.ndarray:
@@ -397,3 +436,15 @@ def test_committed_claims_agree_with_the_sweep() -> None:
             assert c["holds"] is False and fraction == 0.0
         elif c["verdict"] == "undetermined":
             assert 0.0 < fraction < 1.0 and summary[cid]["region"]
+
+
+def test_sweep_evaluations_count_distinct_values() -> None:
+    """``evaluations`` of the committed sweep = distinct (outcome, value) pairs of its table; the
+    claims that the swept axes do not enter (Section II, structure) are one evaluation."""
+    summary = json.loads((FIG / "robustness.json").read_text())
+    rows = _robustness_rows()
+    for cid, entry in summary.items():
+        pairs = {(r[f"{cid}.outcome"], r[f"{cid}.value"]) for r in rows}
+        assert entry["evaluations"] == len(pairs), cid
+    for cid in ("C1", "C2", "C9", "X2", "X3"):
+        assert summary[cid]["evaluations"] == 1, cid
