@@ -917,6 +917,33 @@ def boot(samples: np.ndarray, statistic: str = "median") -> dict:
     return results.interval(lo, hi, method=f"bootstrap ({what})")
 
 
+MC_UNDECIDED = (f"the 95 % interval straddles the level at {R_MC} runs: too few Monte Carlo runs (ours) to decide "
+                "either way")
+
+
+def decide(ci: dict, level: float, side: str) -> bool | None:
+    """Three-way rule on a 95 % interval, the same at any run count (ours).
+
+    ``side="above"``: the quantity is at least ``level`` (holds if ``ci["low"] >= level``, fails if
+    ``ci["high"] < level``); ``side="below"``: it is at most ``level`` (holds if ``ci["high"] <= level``,
+    fails if ``ci["low"] > level``). None when the interval contains the level: the run count, not the
+    claim, is then what decides, and the claim is recorded as not checked.
+    """
+    if side not in ("above", "below"):
+        raise ValidationError(f"side: expected 'above' or 'below', found {side!r}")
+    lo, hi = ci["low"], ci["high"]
+    if side == "above":
+        return True if lo >= level else (False if hi < level else None)
+    return True if hi <= level else (False if lo > level else None)
+
+
+def all3(*parts: bool | None) -> bool | None:
+    """Three-valued 'and': False if any part is False, else None if any is None, else True."""
+    if any(v is False for v in parts):
+        return False
+    return None if any(v is None for v in parts) else True
+
+
 mc_stats = {}
 for node, ks in windows.items():
     i = node - 1
@@ -1243,12 +1270,53 @@ print(f"max |vectorised - per-node| after {steps_c10} steps: x {np.abs(x_vec[0] 
 #
 # RMSE means position RMSE; a window is the attacked sensor's attack window; the overall RMSE is over
 # $k=1,\dots,150$. Each claim carries the paper's place (`source`), the rule (`check`), and, for Monte
-# Carlo values, a 95 % interval (Wilson for fractions, bootstrap for medians and ratios) on which the rule
-# decides. A claim about the detector has the premise that the inspection (25) is applied. Thresholds
-# not in the paper are marked as ours or as the reproduction brief's.
+# Carlo values, a 95 % interval (Wilson for fractions, bootstrap for medians and ratios) and the run count
+# (`runs`). Thresholds not in the paper are marked as ours or as the reproduction brief's.
+#
+# **Outcomes.** `holds`, `fails`, `fails-premise` (the paper's premise, or a stated precondition of our
+# measurement, fails at this point) and `not-checked` (a limit of ours, here: too few Monte Carlo runs).
+# A claim that holds because of how we built it has basis `by-construction` (C10): shown, never counted.
+#
+# **One rule at every run count (ours).** A Monte Carlo claim states a level once and decides on its
+# 95 % interval: it holds if the interval lies on the claimed side of the level, fails if it lies wholly
+# on the other side, and is `not-checked` if the interval contains the level (`decide` above). The
+# meaning of `holds` and `fails` is then the same at 300 runs (paper mode) and at 100 (fast mode, the
+# sweep): only the share of undecided points changes with the run count. An earlier rule ("holds if the
+# lower bound is >= 0.95, else fails") needed 100/100 at 100 runs, but allowed 7 misses at 300, and so
+# counted a rate of 0.99 as a failure in the sweep.
+#
+# **A working attack-free case (precondition, ours).** The claims about the attack's effect with and
+# without the detector (C1, C2a, C2b, C3, C4, C9) compare Case B with the attack-free Case A, or rely on
+# the detector passing clean data. Where nearly every attack-free run already has a node locked out by
+# the χ² test (X3's measure; at small $\Gamma_0$ or large $\sigma_0$ this reaches 92–100 % of runs), the
+# attack moves no curve, because the locked sensors reject everything anyway: a "no obvious effect" there says
+# nothing about the detector. These claims therefore carry the precondition that the lower 95 % Wilson bound
+# of X3's rate is below 0.8 (level ours); where it fails, their outcome is `fails-premise`.
+#
+# **Which claims decide the verdict (`decides`).** The paper's contributions (Sec. I, abstract, Sec. VI)
+# are (1) a distributed filter with an embedded χ² detector that excludes attacked measurements,
+# shown effective and secure in Sec. V: C1 (the detector removes the injected data), C2a (Fig. 4(b):
+# "no obvious effect") and C4 (Fig. 4(c): degraded without the inspection); (2) gains from a Riccati-like
+# recursion that minimise an upper bound of the error covariance (Theorems 1-3): C5, the order
+# $\Gamma^+\preceq P^+\preceq\Pi^+$ against the exact covariance; its second half, the cost
+# unrelated to the network size (Remark 4), is a timing claim left to `make bench`; and (3) the
+# boundedness of the covariance under the condition on the failure and recovery rates (Theorem 4): C8b,
+# its conclusion (C8a, the condition, is not a claim of the paper about its example: the paper never
+# evaluates it). C3 and C9 are further readings of the same figures; X-claims and C2b are ours.
 
 # %%
 INSPECTION_PREMISE = ("the chi-square inspection (25) is applied (inspection = true)", inspection)
+# A claim about the attack's effect needs a working attack-free case (a precondition of the measurement,
+# ours): where nearly every attack-free run already has a node locked out (X3's measure), Case A is no
+# reference and the attack cannot show. Level 0.8 and the interval are ours.
+AF_LEVEL = 0.8
+runs_locked_a = int(locked_a.any(axis=1).sum())
+x3_ci = wilson(runs_locked_a, R_MC)
+attack_free_works = bool(x3_ci["low"] < AF_LEVEL)
+ATTACK_PREMISE = (
+    "the chi-square inspection (25) is applied, and the attack-free Case A works (precondition of the "
+    f"measurement, ours): the lower 95 % Wilson bound of the fraction of attack-free runs with a node locked "
+    f"out at k = N is below {AF_LEVEL}", bool(inspection and attack_free_works))
 claims = {}
 att_names = [f"sensor{node}" for node in windows]
 
@@ -1262,9 +1330,10 @@ claims["C1"] = results.claim(
     paper="Sec. V, Fig. 4(b): the chi-square inspection (25) removes the injected data ('benefiting from "
     "the capability of designed detection scheme')",
     check="default seed: every attacked (k, sensor) sample is rejected in Case B; Monte Carlo: fraction of "
-    "runs in which every attacked sample of a sensor is rejected, holds if the lower 95 % Wilson bound of "
-    "the worse sensor is >= 0.95 (threshold ours); per-sample rates and rejections outside the windows "
-    "are reported",
+    "runs in which every attacked sample of a sensor is rejected at the worse sensor, against the level 0.95 "
+    "(ours) on its 95 % Wilson interval: holds if the lower bound is >= 0.95, fails if the upper bound is "
+    "< 0.95, not checked if the interval contains 0.95 (too few runs); per-sample rates and rejections "
+    "outside the windows are reported",
     measured={"default_rejected_in_windows": len(rejected_b & expected_b),
               "default_attacked_samples": len(expected_b),
               "default_rejections_elsewhere": len(rejected_b - expected_b) + int(rej_a.shape[0]),
@@ -1272,9 +1341,10 @@ claims["C1"] = results.claim(
               "mc_reject_rate_window": {f"sensor{n}": mc_stats[n]["reject_rate_window"] for n in windows},
               "mc_runs": R_MC},
     threshold={"mc_runs_all_rejected_lower_bound": 0.95},
-    holds=bool(expected_b <= rejected_b and c1_ci["low"] >= 0.95),
-    source="Sec. V, Fig. 4(b); test (25)", interval=c1_ci, premise=INSPECTION_PREMISE,
-    key="mc_runs_all_rejected_min", tolerance=MC_TOL,
+    holds=(c1_holds := all3(expected_b <= rejected_b, decide(c1_ci, 0.95, "above"))),
+    not_checked=None if c1_holds is not None else MC_UNDECIDED,
+    source="Sec. V, Fig. 4(b); test (25)", interval=c1_ci, premise=ATTACK_PREMISE,
+    key="mc_runs_all_rejected_min", tolerance=MC_TOL, decides=True, runs=R_MC,
     section="Monte Carlo: detection, degradation, comparison and the χ² lockout",
 )
 
@@ -1291,8 +1361,8 @@ claims["C2a"] = results.claim(
     measured={**c2a, "axis_range": axis_range, "max_shift_over_case_a_error": c2a_ratio},
     threshold={"max_shift_over_case_a_error": 1.0},
     holds=bool(c2a_ratio <= 1.0),
-    source="Sec. V, Figs. 4(a)-(b)", premise=INSPECTION_PREMISE, key="max_shift_over_case_a_error",
-    tolerance=RUN_TOL,
+    source="Sec. V, Figs. 4(a)-(b)", premise=ATTACK_PREMISE, key="max_shift_over_case_a_error",
+    tolerance=RUN_TOL, decides=True,
     section='"No obvious effect" between Figs. 4(a) and 4(b) (claim C2a) and the leak by hop (C2b)',
 )
 
@@ -1313,7 +1383,7 @@ claims["C2b"] = results.claim(
               "min_median_ratio_per_hop": min(finite) if finite else None},
     threshold={"median_ratio_per_hop": 10.0},
     holds=bool(decays and all(decays)),
-    source="ours", key="min_median_ratio_per_hop", tolerance=RUN_TOL,
+    source="ours", key="min_median_ratio_per_hop", tolerance=RUN_TOL, premise=ATTACK_PREMISE,
     section='"No obvious effect" between Figs. 4(a) and 4(b) (claim C2a) and the leak by hop (C2b)',
 )
 
@@ -1325,17 +1395,20 @@ med_ratio = {f"sensor{node}": mc_stats[node]["median_B_over_A"] for node in wind
 claims["C3"] = results.claim(
     paper="Sec. V, Figs. 4(a)-(b): with detection the attacked sensors are only mildly affected "
     "('no obvious effect')",
-    check="Monte Carlo median over runs of RMSE_B(window)/RMSE_A(window), holds if the upper 95 % bootstrap "
-    "bound is <= 3 at each attacked sensor, and default seed: max |position error| in the window <= 2 "
-    "(thresholds of the reproduction brief)",
+    check="Monte Carlo median over runs of RMSE_B(window)/RMSE_A(window) at each attacked sensor against 3 "
+    "on its 95 % bootstrap interval (holds if the upper bound is <= 3, fails if the lower bound is > 3, "
+    "else not checked), and default seed: max |position error| in the window <= 2 (thresholds of the "
+    "reproduction brief)",
     measured={"mc_median_ratio": med_ratio, "mc_median_ratio_max": max(med_ratio.values()),
               "mc_ci_upper": {f"sensor{n}": mc_stats[n]["ci_B_over_A"]["high"] for n in windows},
+              "mc_ci_lower": {f"sensor{n}": mc_stats[n]["ci_B_over_A"]["low"] for n in windows},
               "default_max_abs_error": max_err_b},
     threshold={"mc_median_ratio_upper_bound": 3.0, "default_max_abs_error": 2.0},
-    holds=bool(max(mc_stats[n]["ci_B_over_A"]["high"] for n in windows) <= 3.0
-               and max(max_err_b.values()) <= 2.0),
-    source="Sec. V, Figs. 4(a)-(b)", interval=c3_ci, premise=INSPECTION_PREMISE, key="mc_median_ratio_max",
-    tolerance=MC_TOL, section="Monte Carlo: detection, degradation, comparison and the χ² lockout",
+    holds=(c3_holds := all3(*(decide(mc_stats[n]["ci_B_over_A"], 3.0, "below") for n in windows),
+                            max(max_err_b.values()) <= 2.0)),
+    not_checked=None if c3_holds is not None else MC_UNDECIDED,
+    source="Sec. V, Figs. 4(a)-(b)", interval=c3_ci, premise=ATTACK_PREMISE, key="mc_median_ratio_max",
+    tolerance=MC_TOL, runs=R_MC, section="Monte Carlo: detection, degradation, comparison and the χ² lockout",
 )
 
 # C4: degradation without inspection
@@ -1346,17 +1419,20 @@ med_nb = {f"sensor{n}": mc_stats[n]["median_noinsp_over_B"] for n in windows}
 claims["C4"] = results.claim(
     paper="Sec. V, Fig. 4(c): without the inspection 'the filtering performance is degraded at attack "
     "instants' (in comparison with Fig. 4(b))",
-    check="Monte Carlo median over runs of RMSE_noinsp(window)/RMSE_B(window), holds if the lower 95 % "
-    "bootstrap bound is >= 2.5 at each attacked sensor (the brief's 2.5); the default run's ratio to "
-    "Case A and the 5th percentiles are reported",
+    check="Monte Carlo median over runs of RMSE_noinsp(window)/RMSE_B(window) at each attacked sensor "
+    "against 2.5 (the brief's) on its 95 % bootstrap interval: holds if the lower bound is >= 2.5, fails "
+    "if the upper bound is < 2.5, else not checked; the default run's ratio to Case A and the 5th "
+    "percentiles are reported",
     measured={"mc_median_ratio_vs_B": med_nb, "mc_median_ratio_vs_B_min": min(med_nb.values()),
               "mc_ci_lower": {f"sensor{n}": mc_stats[n]["ci_noinsp_over_B"]["low"] for n in windows},
+              "mc_ci_upper": {f"sensor{n}": mc_stats[n]["ci_noinsp_over_B"]["high"] for n in windows},
               "mc_p05_ratio_vs_B": {f"sensor{n}": mc_stats[n]["p05_noinsp_over_B"] for n in windows},
               "default_ratio_vs_A": ratio_na},
     threshold={"mc_median_ratio_lower_bound": 2.5},
-    holds=bool(min(mc_stats[n]["ci_noinsp_over_B"]["low"] for n in windows) >= 2.5),
-    source="Sec. V, Fig. 4(c)", interval=mc_stats[c4_worst]["ci_noinsp_over_B"], premise=INSPECTION_PREMISE,
-    key="mc_median_ratio_vs_B_min", tolerance=MC_TOL,
+    holds=(c4_holds := all3(*(decide(mc_stats[n]["ci_noinsp_over_B"], 2.5, "above") for n in windows))),
+    not_checked=None if c4_holds is not None else MC_UNDECIDED,
+    source="Sec. V, Fig. 4(c)", interval=mc_stats[c4_worst]["ci_noinsp_over_B"], premise=ATTACK_PREMISE,
+    key="mc_median_ratio_vs_B_min", tolerance=MC_TOL, decides=True, runs=R_MC,
     section="Monte Carlo: detection, degradation, comparison and the χ² lockout",
 )
 
@@ -1383,9 +1459,11 @@ claims["C5"] = results.claim(
     threshold={"min_eig_rel": -1e-9, "mc_median_rel_frobenius_error": mc_thr},
     holds=bool(min_gap >= -1e-9 and (mc_err_med is None or mc_err_med <= mc_thr)),
     source="(8); Theorems 1-3, (17)-(18), (26), (35)", key="min_eig_rel",
-    premise=("Gamma_0 <= P_0 <= Pi_0 (gamma0_scale <= 2 <= pi0_scale) and every update of the default "
-             "Case A run accepted (Lemma 1 without conditioning on the test, E12)",
+    premise=("the paper's premise Gamma_0 <= P_0 <= Pi_0 (gamma0_scale <= 2 <= pi0_scale), and a "
+             "precondition of the measurement (ours): every update of the default Case A run accepted, so "
+             "that the exact covariance of Lemma 1 is not conditioned on the test (E12)",
              initial_order and all_accepted_a),
+    decides=True, runs=R_MC,
     section="Exact covariance against the bounds (claim C5, extra figure)",
 )
 
@@ -1431,7 +1509,7 @@ claims["C8b"] = results.claim(
     holds=bool(late <= 1.5 * early),
     source="Theorem 4, (41)", key="growth", tolerance=MC_TOL,
     premise=("(42)-(43) hold for the example (printed form, C8a)", thm4_holds),
-    section="Theorem 4 for the example",
+    section="Theorem 4 for the example", decides=True,
 )
 
 # C9: comparison with the constant-gain filter, both readings of its structure
@@ -1447,8 +1525,9 @@ for form in CMP_FORMS:
                 "no_attack_ci": {k: [v["low"], v["high"]] for k, v in no_att_ci.items()},
                 "attack_window_ratio": under,
                 "attack_window_ci": {k: [v["low"], v["high"]] for k, v in under_ci.items()},
-                "similar": bool(all(0.8 <= v["low"] and v["high"] <= 1.6 for v in no_att_ci.values())),
-                "more_reliable": bool(all(v["low"] > 1.0 for v in under_ci.values()))}
+                "similar": all3(*(all3(decide(v, 0.8, "above"), decide(v, 1.6, "below"))
+                                  for v in no_att_ci.values())),
+                "more_reliable": all3(*(decide(v, 1.0, "above") for v in under_ci.values()))}
 c9_form, c9_node = min(((f, n) for f in CMP_FORMS for n in windows),
                        key=lambda fn: mc_stats[fn[1]][f"const_{fn[0]}_over_B"])
 claims["C9"] = results.claim(
@@ -1456,27 +1535,32 @@ claims["C9"] = results.claim(
     "attacks. Furthermore, the reliability of developed scheme is clearly verified' (under attack)",
     check="Monte Carlo, for each reading of the comparison filter (corrector, predictor): (i) no attack: "
     "median over runs of RMSE_const,A/RMSE_A over k = 1..N at each plotted sensor, 95 % bootstrap "
-    "interval inside [0.8, 1.6] (the brief's 'similar'); (ii) under attack: RMSE_const,B/RMSE_B over "
-    "each attack window (ratio of mean RMSEs, paired bootstrap), lower 95 % bound > 1 at each attacked "
-    "sensor; holds if (i) and (ii) hold in both readings",
+    "interval inside [0.8, 1.6] (the brief's 'similar'; fails if it lies wholly outside); (ii) under "
+    "attack: RMSE_const,B/RMSE_B over each attack window (ratio of mean RMSEs, paired bootstrap), lower 95 % "
+    "bound >= 1 at each attacked sensor (fails if the upper bound is < 1); holds if (i) and (ii) hold in "
+    "both readings, not checked if an interval contains its level and none fails",
     measured={**c9, "attack_window_ratio_min": min(v for f in CMP_FORMS for v in c9[f]["attack_window_ratio"].values())},
     threshold={"no_attack_ratio": [0.8, 1.6], "attack_window_ratio_lower_bound": 1.0},
-    holds=bool(all(c9[f]["similar"] and c9[f]["more_reliable"] for f in CMP_FORMS)),
+    holds=(c9_holds := all3(*(all3(c9[f]["similar"], c9[f]["more_reliable"]) for f in CMP_FORMS))),
+    not_checked=None if c9_holds is not None else MC_UNDECIDED,
     source="Sec. V, Figs. 5-6", interval=mc_stats[c9_node][f"ci_const_{c9_form}_over_B"],
-    premise=INSPECTION_PREMISE, key="attack_window_ratio_min", tolerance=MC_TOL,
+    premise=ATTACK_PREMISE, key="attack_window_ratio_min", tolerance=MC_TOL, runs=R_MC,
     section="Monte Carlo: detection, degradation, comparison and the χ² lockout",
 )
 
 # C10: vectorised against per-node
 claims["C10"] = results.claim(
-    paper="Remark 4: the filter is computed node by node from neighbour data only",
+    paper="(ours, a check of our code) our vectorised step and our per-node step, which receives only the "
+    "node's own data and its neighbours' packets, compute the same filter; Remark 4's own claim, the cost "
+    "per node independent of the network size, is a timing claim measured by make bench, not here",
     check=f"after {steps_c10} steps of Case B: max of |x_vec - x_loop|, |Pi_vec - Pi_loop|/max|Pi| "
-    "and |Gamma_vec - Gamma_loop|/max|Gamma| <= 1e-10",
+    "and |Gamma_vec - Gamma_loop|/max|Gamma| <= 1e-10 (two implementations of ours of one recursion: an "
+    "identity of our code, by construction)",
     measured=c10_diff,
     threshold=1e-10,
     holds=c10_diff <= 1e-10,
-    source="Remark 4", section="Vectorised against per-node implementation (C10) and Remark 4 (C7)",
-    tolerance=results.ROUNDING_RESIDUAL,
+    source="ours (Remark 4 context)", section="Vectorised against per-node implementation (C10) and Remark 4 (C7)",
+    tolerance=results.ROUNDING_RESIDUAL, basis="by-construction",
 )
 
 # X1: lockout after the attack (ours)
@@ -1487,17 +1571,19 @@ claims["X1"] = results.claim(
     paper="(implied by Fig. 4(b), not stated) after its attack window an attacked sensor resumes normal "
     "filtering",
     check=f"Monte Carlo: fraction of runs in which the attacked sensor is locked out at k = {N} (rejected "
-    f"each of its last {LOCK_STEPS} measurements); holds if the upper 95 % Wilson bound of the worse sensor "
-    f"is <= 0.05 (ours); reported: runs with any rejection after the window, recovery of the locked runs "
+    f"each of its last {LOCK_STEPS} measurements), worse sensor, against the level 0.05 (ours) on its 95 % "
+    f"Wilson interval: holds if the upper bound is <= 0.05, fails if the lower bound is > 0.05, else not "
+    f"checked; reported: runs with any rejection after the window, recovery of the locked runs "
     f"by k = {recovery_steps}, Case A runs with a rejection",
     measured={"locked_fraction": x1_frac, "locked_fraction_max": max(x1_frac.values()),
               "any_reject_after_window": {f"sensor{n}": mc_stats[n]["any_reject_after"] for n in windows},
               "recovery": recovery, "recovery_resumed_fraction": resumed / locked_pairs if locked_pairs else None,
               "case_a_runs_with_rejection": runs_alarm_a / R_MC, "mc_runs": R_MC},
     threshold={"locked_fraction_upper_bound": 0.05},
-    holds=bool(x1_ci["high"] <= 0.05),
+    holds=(x1_holds := decide(x1_ci, 0.05, "below")),
+    not_checked=None if x1_holds is not None else MC_UNDECIDED,
     source="ours (Sec. V, Fig. 4(b))", interval=x1_ci, premise=INSPECTION_PREMISE, key="locked_fraction_max",
-    tolerance=MC_TOL, section="Monte Carlo: detection, degradation, comparison and the χ² lockout",
+    tolerance=MC_TOL, runs=R_MC, section="Monte Carlo: detection, degradation, comparison and the χ² lockout",
 )
 
 # X2: ablation with Pi_eta (ours)
@@ -1507,36 +1593,38 @@ x2_lock_ci, x2_det_ci = wilson(x2_lock_n, R_MC), wilson(x2_det_n, R_MC)
 claims["X2"] = results.claim(
     paper="(ours, no paper statement) question: does normalising the test by Pi_eta instead of Gamma_eta fix "
     "the lockout (X1) without giving up detection?",
-    check="criterion (ours): at both attacked sensors, (i) lockout as in X1: upper 95 % Wilson bound <= 0.05, "
-    "and (ii) detection as in C1: lower 95 % Wilson bound of the runs rejecting every attacked sample "
-    ">= 0.95; holds = (i) and (ii)",
+    check="criterion (ours): at both attacked sensors, (i) lockout decided as in X1 (level 0.05) and (ii) "
+    "detection decided as in C1 (level 0.95), each on its 95 % Wilson interval; holds = (i) and (ii), "
+    "fails if either fails, else not checked",
     measured={**{f"sensor{n}": {"runs_all_window_rejected": mc_stats[n]["Pi_test_runs_all_window_rejected"] / R_MC,
                                 "reject_rate_window": mc_stats[n]["Pi_test_reject_rate_window"],
                                 "locked_fraction": mc_stats[n]["Pi_test_locked"] / R_MC} for n in windows},
               "locked_fraction_max": x2_lock_n / R_MC, "runs_all_rejected_min": x2_det_n / R_MC,
-              "removes_lockout": bool(x2_lock_ci["high"] <= 0.05), "keeps_detection": bool(x2_det_ci["low"] >= 0.95),
+              "removes_lockout": decide(x2_lock_ci, 0.05, "below"), "keeps_detection": decide(x2_det_ci, 0.95, "above"),
               "mc_runs": R_MC},
     threshold={"locked_fraction_upper_bound": 0.05, "runs_all_rejected_lower_bound": 0.95},
-    holds=bool(x2_lock_ci["high"] <= 0.05 and x2_det_ci["low"] >= 0.95),
+    holds=(x2_holds := all3(decide(x2_lock_ci, 0.05, "below"), decide(x2_det_ci, 0.95, "above"))),
+    not_checked=None if x2_holds is not None else MC_UNDECIDED,
     source="ours", interval=x2_det_ci, premise=INSPECTION_PREMISE, key="runs_all_rejected_min", tolerance=MC_TOL,
+    runs=R_MC,
     section="Monte Carlo: detection, degradation, comparison and the χ² lockout",
 )
 
 # X3: lockout without attack (ours)
-runs_locked_a = int(locked_a.any(axis=1).sum())
-x3_ci = wilson(runs_locked_a, R_MC)
 claims["X3"] = results.claim(
     paper="(implied by Fig. 4(a), not stated) without attacks every node keeps filtering",
     check=f"Monte Carlo, Case A at this Gamma_0: fraction of runs with at least one node locked out at k = {N}; "
-    "holds if its upper 95 % Wilson bound is <= 0.05 (ours); reported: the node-run fraction locked out and "
-    "the fraction of nodes rejecting y_1",
+    "against the level 0.05 (ours) on its 95 % Wilson interval: holds if the upper bound is <= 0.05, fails "
+    "if the lower bound is > 0.05, else not checked; reported: the node-run fraction locked out and the "
+    "fraction of nodes rejecting y_1",
     measured={"runs_with_a_locked_node": runs_locked_a / R_MC, "node_runs_locked": float(locked_a.mean()),
               "nodes_rejecting_y1": float(np.mean(mc["A"]["theta"][:, 1] == 0)),
               "gamma0_scale": gamma0_scale, "mc_runs": R_MC},
     threshold={"runs_with_a_locked_node_upper_bound": 0.05},
-    holds=bool(x3_ci["high"] <= 0.05),
+    holds=(x3_holds := decide(x3_ci, 0.05, "below")),
+    not_checked=None if x3_holds is not None else MC_UNDECIDED,
     source="ours (Sec. V, Fig. 4(a))", interval=x3_ci, premise=INSPECTION_PREMISE, key="runs_with_a_locked_node",
-    tolerance=MC_TOL, section="Monte Carlo: detection, degradation, comparison and the χ² lockout",
+    tolerance=MC_TOL, runs=R_MC, section="Monte Carlo: detection, degradation, comparison and the χ² lockout",
 )
 
 # X4: exact decoupling at kappa = 0 (ours)
@@ -1561,19 +1649,23 @@ claims["X5"] = results.claim(
     "let Gamma grow while updates are skipped",
     check="kappa = 0 control (Pi_0 = Gamma_0 = P_0): Gamma+ = Pi+ before each node's first rejection in the "
     "default Case B run (relative difference <= 1e-9, exact), and the attacked sensors still lock out: the "
-    "lower 95 % Wilson bound of the worse sensor's locked fraction at k = N is > 0",
+    "lower 95 % Wilson bound of the worse sensor's locked fraction at k = N is > 0 (not checked when no run "
+    "locks out: a rate > 0 cannot then be shown, nor refuted)",
     measured={"locked_fraction": x5_frac, "locked_fraction_max": max(x5_frac.values()),
               "gamma_vs_pi_before_first_rejection": gam_pi_before, "mc_runs": R_MC},
     threshold={"gamma_vs_pi_before_first_rejection": 1e-9, "locked_fraction_lower_bound": 0.0},
-    holds=bool(gam_pi_before <= 1e-9 and x5_ci["low"] > 0.0),
+    holds=(x5_holds := all3(gam_pi_before <= 1e-9, True if x5_ci["low"] > 0.0 else None)),
+    not_checked=None if x5_holds is not None else (
+        "no Monte Carlo run locks out: a locked fraction > 0 can be neither shown nor refuted at this run count"),
     source="ours", interval=x5_ci, premise=INSPECTION_PREMISE, key="locked_fraction_max", tolerance=MC_TOL,
+    runs=R_MC,
     section="Monte Carlo: detection, degradation, comparison and the χ² lockout",
 )
 
 written = results.write_claims(results_path, claims, robustness="figures/ding2020/robustness.json")
 merged = json.loads(written.read_text())
 for cid, c in claims.items():
-    print(f"{cid:4s} {'holds' if c['holds'] else 'does not hold'} here; verdict {merged[cid]['verdict']}")
+    print(f"{cid:4s} {c['verdict']} here ({c['basis']}); over the declared space {merged[cid]['verdict']}")
 
 # %% [markdown]
 # The claims with their verdicts, read back from the claims file (over the declared space when the
@@ -1587,6 +1679,30 @@ for cid, c in merged.items():
     where = (f"{rob['outcomes']['holds']}/{rob['points']} points; {rob['region']}" if rob else "(no sweep)")
     lines.append(f"| {cid} | {c.get('source', '')} | {c['holds']} | **{c['verdict']}** | {where} |")
 display(Markdown("\n".join(lines)))
+
+# %% [markdown]
+# ## Verdict
+#
+# By the project's one written rule (`results.rescience_verdict`): `[Re]` if every deciding claim holds
+# at the paper's example and over the declared space, `[¬Re]` if none holds at the example, `[Re, partial]`
+# otherwise. Computed from the claims file just written:
+
+# %%
+verdict = results.rescience_verdict(json.loads(written.read_text()))
+print(verdict["line"])
+
+# %% [markdown]
+# At the paper's example the detector claims and the bounds hold (C1, C2a, C4, C5), and Theorem 4's
+# conclusion fails its premise (C8b): its condition (42)–(43) cannot hold for this plant. Over the declared
+# space the detector claims hold only in part. That space sweeps, besides our own choices (seeds,
+# topology, $\Gamma_0$, $\Pi_0$, $\sigma_0$, $\delta_0$, $\nu$), three values the paper prints (the threshold,
+# $p$, $q$), so its counts map the sensitivity to those values: they are not verdicts on the paper's
+# example, which is the default point. C5 never fails where its premise holds; its fails-premise points
+# come from our precondition (every Case-A update accepted), not from the paper's $\Gamma_0\preceq
+# P_0\preceq\Pi_0$. C8b: $\Pi$ stays bounded in the 2000-step run at the default (growth 1.004), but that is
+# the default only: in the sweep the growth exceeds 1.5 at 15 of 33 points, up to $4.7\cdot10^{10}$ (all of
+# them with small $\Gamma_0$ or large $\sigma_0$, where nodes lock out); the empirical boundedness is a
+# measurement at the default point, not a property of the scheme.
 
 # %% [markdown]
 # ## Deviations from the paper
