@@ -320,18 +320,24 @@ def test_robustness_table_shape_and_columns() -> None:
 
 
 def test_robustness_summary_matches_the_table_and_the_claims() -> None:
+    """The space verdict is decided on the points where the claim was checked and its premise holds."""
     rows, summary, committed = _sweep()
     for cid, s in summary.items():
         outcomes = [r[f"{cid}.outcome"] for r in rows]
-        held = outcomes.count("holds")
-        assert s["points"] == len(rows) and s["outcomes"]["holds"] == held
-        assert s["fraction_holds"] == pytest.approx(held / len(rows))
+        counts = {o: outcomes.count(o) for o in ("holds", "fails", "fails-premise", "not-checked")}
+        assert s["points"] == len(rows), cid
+        assert {o: s["outcomes"].get(o, 0) for o in counts} == counts, cid
+        decided = counts["holds"] + counts["fails"]
+        if decided:
+            assert s["fraction_holds"] == pytest.approx(counts["holds"] / decided), cid
+        else:
+            assert s["fraction_holds"] is None, cid
         assert committed[cid]["verdict"] == s["verdict"]
         if s["verdict"] == "undetermined":
-            assert 0.0 < s["fraction_holds"] < 1.0
+            assert counts["holds"] > 0 and counts["fails"] > 0, cid
             assert (FIG / f"robustness_{cid}.png").exists()
-        else:
-            assert set(outcomes) == {s["verdict"]}
+        elif s["verdict"] in ("holds", "fails"):
+            assert counts["holds" if s["verdict"] == "fails" else "fails"] == 0, cid
         if s["verdict"] == "holds":
             assert committed[cid]["holds"] is True
 
