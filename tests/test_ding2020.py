@@ -50,6 +50,19 @@ def _inside(value: float, interval: dict) -> bool:
     return interval["low"] - 1e-12 <= value <= interval["high"] + 1e-12
 
 
+def _decide(lo: float, hi: float, level: float, side: str) -> bool | None:
+    """The notebook's three-way interval rule, restated: None when the interval contains the level."""
+    if side == "above":
+        return True if lo >= level else (False if hi < level else None)
+    return True if hi <= level else (False if lo > level else None)
+
+
+def _and3(*parts: bool | None) -> bool | None:
+    if any(v is False for v in parts):
+        return False
+    return None if any(v is None for v in parts) else True
+
+
 def test_every_claim_is_complete_and_its_verdict_follows_holds_and_premise(claims) -> None:
     for cid, c in claims.items():
         if cid.startswith("_"):
@@ -57,8 +70,14 @@ def test_every_claim_is_complete_and_its_verdict_follows_holds_and_premise(claim
         assert c.get("source"), cid
         assert c.get("section"), cid
         premise = c.get("premise")
+        assert c["basis"] in ("measured", "by-construction"), cid
+        assert (c["holds"] is None) == ("not_checked" in c), cid
+        if c.get("interval") is not None and cid not in ("C6",):  # Monte Carlo claims record their runs
+            assert c.get("runs") == MC_RUNS, cid
         if "robustness" in c:  # the committed sweep's verdict over the declared space
             assert c["verdict"] == c["robustness"]["verdict"], cid
+        elif c["holds"] is None:
+            assert c["verdict"] == "not-checked", cid
         elif premise is not None and not premise["holds"]:
             assert c["verdict"] == "fails-premise", cid
         else:
@@ -77,7 +96,8 @@ def test_c1_detection_rule(claims) -> None:
     for s in ATTACKED:  # a run rejecting every attacked sample contributes rate 1: rate >= runs fraction
         assert m["mc_reject_rate_window"][s] >= m["mc_runs_all_rejected"][s] - 1e-12
     assert _inside(m["mc_runs_all_rejected_min"], c["interval"])
-    assert c["holds"] is (m["default_rejected_in_windows"] == 12 and c["interval"]["low"] >= 0.95)
+    iv = c["interval"]
+    assert c["holds"] is _and3(m["default_rejected_in_windows"] == 12, _decide(iv["low"], iv["high"], 0.95, "above"))
 
 
 def test_c2a_shift_against_own_error(claims) -> None:
@@ -127,10 +147,12 @@ def test_c3_c4_monte_carlo_ratios(claims) -> None:
         assert c4["measured"]["mc_median_ratio_vs_B"][s] > c4["measured"]["mc_p05_ratio_vs_B"][s] > 0
     assert c3["measured"]["mc_median_ratio_max"] == max(c3["measured"]["mc_median_ratio"].values())
     assert _inside(c3["measured"]["mc_median_ratio_max"], c3["interval"])
-    assert c3["holds"] is (max(c3["measured"]["mc_ci_upper"].values()) <= 3.0
-                           and max(c3["measured"]["default_max_abs_error"].values()) <= 2.0)
+    m3 = c3["measured"]
+    assert c3["holds"] is _and3(*(_decide(m3["mc_ci_lower"][s], m3["mc_ci_upper"][s], 3.0, "below") for s in ATTACKED),
+                                max(m3["default_max_abs_error"].values()) <= 2.0)
     assert _inside(c4["measured"]["mc_median_ratio_vs_B_min"], c4["interval"])
-    assert c4["holds"] is (min(c4["measured"]["mc_ci_lower"].values()) >= 2.5)
+    m4 = c4["measured"]
+    assert c4["holds"] is _and3(*(_decide(m4["mc_ci_lower"][s], m4["mc_ci_upper"][s], 2.5, "above") for s in ATTACKED))
 
 
 def test_c5_bounds_against_exact_covariance(claims) -> None:
@@ -188,17 +210,20 @@ def test_c9_both_readings_of_the_comparison_filter(claims) -> None:
     for form in ("corrector", "predictor"):
         f = m[form]
         assert set(f["no_attack_median_ratio"]) == {"sensor4", "sensor12", "sensor20"}
-        assert f["similar"] is all(0.8 <= lo and hi <= 1.6 for lo, hi in f["no_attack_ci"].values())
-        assert f["more_reliable"] is all(lo > 1.0 for lo, _ in f["attack_window_ci"].values())
+        assert f["similar"] is _and3(*(_and3(_decide(lo, hi, 0.8, "above"), _decide(lo, hi, 1.6, "below"))
+                                       for lo, hi in f["no_attack_ci"].values()))
+        assert f["more_reliable"] is _and3(*(_decide(lo, hi, 1.0, "above")
+                                             for lo, hi in f["attack_window_ci"].values()))
     assert m["attack_window_ratio_min"] == min(v for f in ("corrector", "predictor")
                                                for v in m[f]["attack_window_ratio"].values())
     assert _inside(m["attack_window_ratio_min"], c["interval"])
-    assert c["holds"] is all(m[f]["similar"] and m[f]["more_reliable"] for f in ("corrector", "predictor"))
+    assert c["holds"] is _and3(*(_and3(m[f]["similar"], m[f]["more_reliable"]) for f in ("corrector", "predictor")))
 
 
 def test_c10_vectorised_equals_per_node(claims) -> None:
     assert claims["C10"]["measured"] <= 1e-10
     assert claims["C10"]["holds"] is True
+    assert claims["C10"]["basis"] == "by-construction"  # two implementations of ours: never evidence
 
 
 def test_lockout_claims_are_consistent(claims) -> None:
@@ -214,13 +239,29 @@ def test_lockout_claims_are_consistent(claims) -> None:
             assert 0 <= rec["resumed"] <= rec["locked_runs"]
             assert 0 <= rec["locked_at_end"] <= rec["locked_runs"]
     assert _inside(x1["measured"]["locked_fraction_max"], x1["interval"])
-    assert x1["holds"] is (x1["interval"]["high"] <= 0.05)
-    assert x2["holds"] is (x2["measured"]["removes_lockout"] and x2["measured"]["keeps_detection"])
+    assert x1["holds"] is _decide(x1["interval"]["low"], x1["interval"]["high"], 0.05, "below")
+    assert x2["holds"] is _and3(x2["measured"]["removes_lockout"], x2["measured"]["keeps_detection"])
     assert _inside(x3["measured"]["runs_with_a_locked_node"], x3["interval"])
     assert x3["measured"]["node_runs_locked"] <= x3["measured"]["runs_with_a_locked_node"]
-    assert x3["holds"] is (x3["interval"]["high"] <= 0.05)
-    assert x5["holds"] is (x5["measured"]["gamma_vs_pi_before_first_rejection"] <= 1e-9
-                           and x5["interval"]["low"] > 0.0)
+    assert x3["holds"] is _decide(x3["interval"]["low"], x3["interval"]["high"], 0.05, "below")
+    assert x5["holds"] is _and3(x5["measured"]["gamma_vs_pi_before_first_rejection"] <= 1e-9,
+                                True if x5["interval"]["low"] > 0.0 else None)
+
+
+def test_attack_claims_need_a_working_attack_free_case(claims) -> None:
+    """The precondition of the attack-effect claims is X3's measure: lower Wilson bound < 0.8."""
+    works = claims["X3"]["interval"]["low"] < 0.8
+    for cid in ("C1", "C2a", "C2b", "C3", "C4", "C9"):
+        assert claims[cid]["premise"]["holds"] is works, cid
+
+
+def test_verdict_is_computed_from_the_deciding_claims(claims) -> None:
+    from secest.repro.results import rescience_verdict
+
+    entries = {k: v for k, v in claims.items() if not k.startswith("_")}
+    v = rescience_verdict(entries)
+    assert set(v["deciding"]) == {"C1", "C2a", "C4", "C5", "C8b"}
+    assert v["deciding"]["C8b"]["example"] == "fails-premise"  # Theorem 4's condition cannot hold
 
 
 def test_x4_kappa0_control_is_exact(claims) -> None:
@@ -279,18 +320,24 @@ def test_robustness_table_shape_and_columns() -> None:
 
 
 def test_robustness_summary_matches_the_table_and_the_claims() -> None:
+    """The space verdict is decided on the points where the claim was checked and its premise holds."""
     rows, summary, committed = _sweep()
     for cid, s in summary.items():
         outcomes = [r[f"{cid}.outcome"] for r in rows]
-        held = outcomes.count("holds")
-        assert s["points"] == len(rows) and s["outcomes"]["holds"] == held
-        assert s["fraction_holds"] == pytest.approx(held / len(rows))
+        counts = {o: outcomes.count(o) for o in ("holds", "fails", "fails-premise", "not-checked")}
+        assert s["points"] == len(rows), cid
+        assert {o: s["outcomes"].get(o, 0) for o in counts} == counts, cid
+        decided = counts["holds"] + counts["fails"]
+        if decided:
+            assert s["fraction_holds"] == pytest.approx(counts["holds"] / decided), cid
+        else:
+            assert s["fraction_holds"] is None, cid
         assert committed[cid]["verdict"] == s["verdict"]
         if s["verdict"] == "undetermined":
-            assert 0.0 < s["fraction_holds"] < 1.0
+            assert counts["holds"] > 0 and counts["fails"] > 0, cid
             assert (FIG / f"robustness_{cid}.png").exists()
-        else:
-            assert set(outcomes) == {s["verdict"]}
+        elif s["verdict"] in ("holds", "fails"):
+            assert counts["holds" if s["verdict"] == "fails" else "fails"] == 0, cid
         if s["verdict"] == "holds":
             assert committed[cid]["holds"] is True
 
