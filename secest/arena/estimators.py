@@ -424,6 +424,9 @@ def normalised_errors(
 ) -> NDArray[np.float64]:
     """``q = e^T Sigma_o^{-1} e / n`` per (run, step, node), ``Sigma_o`` pooled over the given steps.
 
+    ``Sigma_o`` is the oracle's error second moment ``mean(e_o e_o^T)`` over the runs and steps
+    (uncentred, so that the oracle's mean ``q`` is exactly 1; its error has mean about zero).
+
     Parameters
     ----------
     xhat : (runs, k, N, n) array

@@ -350,7 +350,7 @@ def tabulate(space: spaces.Space, swept: Sequence[tuple[str, Mapping]], results:
             row[f"{cid}.outcome"] = (
                 point_verdict(entry) if entry else ("" if res["status"] == "ok" else "error")
             )
-            row[f"{cid}.holds"] = "" if entry is None else bool(entry["holds"])
+            row[f"{cid}.holds"] = "" if entry is None or entry["holds"] is None else bool(entry["holds"])
             value = headline_value(entry) if entry else None
             row[f"{cid}.value"] = "" if value is None else float(format(value, ".7g"))
         rows.append(row)
