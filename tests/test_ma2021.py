@@ -69,8 +69,17 @@ def check_c3(c3: dict) -> None:
     margin = 1.0 - c3["threshold"]
     assert 0.0 <= margin < 1.0
     assert m["nodes_nn_better"] == [i + 1 for i in range(3) if ratio[i] < 1.0 - margin]
-    assert c3["holds"] is (len(m["nodes_nn_better"]) == 3)
+    check_holds(c3, len(m["nodes_nn_better"]) == 3)
     assert c3["key"] == "worst_node_ratio"
+    assert c3["decides"] is True
+
+
+def check_holds(entry: dict, rule: bool) -> None:
+    """holds follows the rule, or is None with the reason (our fallback or certificate)."""
+    if entry["holds"] is None:
+        assert entry["not_checked"] and point_verdict(entry) == "not-checked"
+    else:
+        assert entry["holds"] is rule and "not_checked" not in entry
 
 
 def check_c2(c2: dict, p: float = 0.8) -> None:
@@ -79,8 +88,10 @@ def check_c2(c2: dict, p: float = 0.8) -> None:
     lo, hi = wilson_interval(m["inside"], m["pairs"])
     assert c2["interval"]["low"] == pytest.approx(lo) and c2["interval"]["high"] == pytest.approx(hi)
     assert c2["threshold"] == p
-    assert c2["holds"] is (lo >= p)
+    check_holds(c2, lo >= p)
+    assert c2["decides"] is True
     assert 0.0 <= m["max_quadratic_form"]
+    assert 0.0 <= m["max_quadratic_form_k0"]
     assert (m["max_quadratic_form"] <= 1.0) is (m["inside"] == m["pairs"])
     assert "Assumption 3" in c2["premise"]["statement"]
 
@@ -113,6 +124,8 @@ def test_assumption3_and_the_premise_at_the_default(claims) -> None:
     assert c2["premise"]["holds"] is True  # x0 = [2, 2]: forms 0.443, 0.152, 0.422 (exact arithmetic)
     assert "[0.443, 0.152, 0.422]" in c2["premise"]["statement"]
     assert point_verdict(c2) == ("holds" if c2["holds"] else "fails")
+    # k = 0 is left out of C2: B_0 = P0 / (1 - p), so its forms are (1 - p) times Assumption 3's
+    assert c2["measured"]["max_quadratic_form_k0"] == pytest.approx((1 - 0.8) * 0.443, abs=1e-3)
 
 
 def test_c5_every_accepted_solution_is_certified(claims) -> None:
@@ -121,7 +134,19 @@ def test_c5_every_accepted_solution_is_certified(claims) -> None:
     assert m["max_eigenvalue"] <= -CERT_TOL  # the strict certificate of every accepted solve
     assert claims["C5"]["threshold"]["max_eigenvalue"] == -CERT_TOL
     assert m["max_asymmetry"] == 0.0  # every LMI block is built symmetric
-    assert claims["C5"]["holds"] is (m["uncertified_steps"] == 0 and m["max_eigenvalue"] <= -CERT_TOL)
+    certified = m["uncertified_steps"] == 0 and m["max_eigenvalue"] <= -CERT_TOL
+    assert set(m["first_failure"].values()) <= {"none", "infeasible", "numerical"}
+    assert (m["uncertified_steps"] == 0) is (set(m["first_failure"].values()) == {"none"})
+    if certified or "infeasible" in m["first_failure"].values():
+        assert claims["C5"]["holds"] is certified  # a solver's infeasibility report decides
+    else:
+        assert claims["C5"]["holds"] is None and claims["C5"]["not_checked"]  # our certificate
+
+
+def test_c4_is_marked_by_construction(claims) -> None:
+    c4 = claims["C4"]
+    assert c4["basis"] == "by-construction" and not c4.get("decides")
+    assert c4["holds"] is (c4["measured"] <= 1.0)
 
 
 def test_x1_error_dynamics_table_is_exact(claims) -> None:
@@ -163,8 +188,8 @@ def test_x4_x7_theorem2_on_certified_steps(claims) -> None:
     assert m["steps_checked"] <= m["steps"]
     if m["steps_checked"]:
         assert m["max_conditional_expectation"] <= 1.0 + 1e-6
-    assert claims["X7"]["holds"] is (m["max_conditional_expectation"] is not None
-                                     and m["max_conditional_expectation"] <= 1.0)
+    check_holds(claims["X7"], m["max_conditional_expectation"] is not None
+                and m["max_conditional_expectation"] <= 1.0)
 
 
 def test_x6_shared_multipliers_never_less_conservative(claims) -> None:
@@ -172,8 +197,10 @@ def test_x6_shared_multipliers_never_less_conservative(claims) -> None:
     shared, node = np.asarray(m["trB_shared"]), np.asarray(m["trB_per_node"])
     assert shared.shape == node.shape and shared.size >= 2
     assert shared[0] == pytest.approx(node[0])  # the same B_0 = P0 / (1 - p)
-    if m["uncertified_steps_shared"] == 0:
+    if m["uncertified_steps_shared"] == 0 and claims["X6"]["holds"] is not None:
         assert np.all(shared >= node - 1e-6)  # a special case of per-node multipliers
+    if m["uncertified_steps_shared"]:
+        assert claims["X6"]["holds"] is None and claims["X6"]["not_checked"]
     assert m["min_excess"] == pytest.approx(np.min(shared - node))
 
 
@@ -237,8 +264,12 @@ def test_verdicts_agree_with_the_sweep(committed, sweep_rows) -> None:
         claim = committed[cid]
         assert claim["verdict"] == entry["verdict"], cid
         outcomes = [r[f"{cid}.outcome"] for r in sweep_rows]
-        assert entry["outcomes"]["holds"] == outcomes.count("holds"), cid
-        assert entry["fraction_holds"] == pytest.approx(outcomes.count("holds") / len(outcomes))
+        for outcome in ("holds", "fails", "fails-premise", "not-checked"):
+            assert entry["outcomes"][outcome] == outcomes.count(outcome), (cid, outcome)
+        decided = outcomes.count("holds") + outcomes.count("fails")
+        assert entry["decided"] == decided, cid
+        if decided:
+            assert entry["fraction_holds"] == pytest.approx(outcomes.count("holds") / decided)
         if entry["verdict"] == "undetermined":
             assert 0.0 < entry["fraction_holds"] < 1.0, cid
         elif entry["verdict"] == "holds":
@@ -256,8 +287,9 @@ def test_default_point_row_agrees_with_the_committed_claims(committed, sweep_row
     for cid, claim in committed.items():
         if f"{cid}.holds" not in default:
             continue  # the extras (X5, X8) are not swept
-        assert default[f"{cid}.holds"] == str(claim["holds"]), cid
         assert default[f"{cid}.outcome"] == point_verdict(claim), cid
+        if claim["holds"] is not None:
+            assert default[f"{cid}.holds"] == str(claim["holds"]), cid
         value = headline_value(claim)
         if value is not None:
             # the sweep and the committed claims may come from two machines: the claim's declared

@@ -836,6 +836,10 @@ class Algorithm1Run:
         The :class:`secest.core.lmi.LMISolveReport` of every certified solve.
     failures : list of str
         The message of every solve no solver certified (OP2/OP3 and OP1).
+    failure_outcomes : list of dict
+        Per entry of ``failures``, solver name -> outcome of its attempt (``"infeasible"``,
+        ``"inaccurate"``, ``"not certified"``, ``"solver error"``;
+        :class:`secest.core.lmi.LMISolveError`).
     """
 
     links: list[tuple[int, int]]
@@ -858,6 +862,7 @@ class Algorithm1Run:
     rows: list = field(default_factory=list)
     reports: list = field(default_factory=list)
     failures: list = field(default_factory=list)
+    failure_outcomes: list = field(default_factory=list)
 
 
 def step_problems(
@@ -1095,6 +1100,7 @@ def _design_step(run: Algorithm1Run, k: int, model: Model, Y: Array, received: C
                              for Xi, Xit in (sp.rows[i] for i in range(n_nodes))])
     except slmi.InfeasibleLMIError as err:  # keep the previous gains, double P (brief §7)
         run.failures.append(str(err))
+        run.failure_outcomes.append(dict(err.outcomes))
         P_next = 2.0 * P
         if keep_rows:
             run.rows.append(None)
@@ -1133,6 +1139,7 @@ def _weight_step(run: Algorithm1Run, k: int, model: Model, Y: Array, op1: StepPr
         W_hat, Q = W_new, Q_new
     except slmi.InfeasibleLMIError as err:  # keep W^ and Q
         run.failures.append(str(err))
+        run.failure_outcomes.append(dict(err.outcomes))
     run.W_hat.append(W_hat)
     run.Q.append(Q)
 
