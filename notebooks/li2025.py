@@ -26,23 +26,29 @@
 # Theorem 3 claims exponential mean-square boundedness. The example tracks three 2-D
 # coordinated-turn targets.
 #
-# **Verdict: [Re, partial]** — the corrected bound holds exactly, the printed one, Theorem 3 and the
-# tracking claim do not; "ZOH is not better" is undetermined.
+# **Verdict: [Re, partial]** (by the one rule, computed in the verdict section; decided by C1b, C3a, C4,
+# C7) — of the paper's main claims only RRL-MAP's fairness holds (C4); the bound as printed (C1b),
+# Theorem 3 on the example (C3a) and the tracking of Figs. 2–4 (C7) do not. Our corrected bound holds
+# exactly (C1), but it is our statement and does not decide.
 #
-# * **Reproduced after correction.** With the coefficients re-derived from the paper's own proof, the
-#   bound is certified exactly: the exact error covariance never exceeds it (C1, at all 65 points of
-#   the declared space and for $\check\psi$ from 0.3 to 1). Fig. 7's Monte Carlo comparison holds (C1c), and
-#   so do RRL-MAP fairness and the attack statistics (C4, C5).
-# * **Not reproduced.** The printed coefficients are not a bound (C1b: an exact counterexample from
-#   $k=2$ on, at every point). Theorem 3's conditions fail on the example (C3a), so Fig. 8's comparison
-#   fails its premise (C3b). The tracking claim of Figs. 2–4 fails at every point (C7: relative RMS
-#   error 0.25–0.66 against our 0.1 threshold; 0.34 / 0.32 / 0.21 at the default). The failure is
-#   intrinsic to (8) under the replacement attack (X4): even the per-step optimal gain gives 0.14–0.22,
-#   while an oracle that drops attacked packets stays at or below 0.022.
-# * **Undetermined.** "ZOH is not better" (C2) holds at 63 of 65 points (97 %, Wilson 95 % interval
-#   [0.89, 0.99]). It fails at the two points with $T=147$, the grid weights, the ensemble surrogate
-#   and the sin/cos attack, where ZOH is significantly better for target 1 (ratio 0.98 [0.97, 0.996]).
-#   Under the grid weights target 1 is the only informative target.
+# * **Holds.** RRL-MAP is fair and collision-free (C4, exact, a deciding claim). With the coefficients
+#   re-derived from the paper's own proof, the bound is certified exactly: the exact error covariance never
+#   exceeds it (C1, ours, at all 65 points of the declared space and for $\check\psi$ from 0.3 to 1), and
+#   Fig. 7's Monte Carlo comparison holds for that corrected design (C1c).
+# * **Not reproduced.** The printed coefficients are not a bound at the weights Remark 4's minimisation
+#   picks (C1b: an exact counterexample from $k=2$ on, at every point); at the $\alpha_2>\alpha_3$ weights
+#   that Theorem 3 requires, the printed recursion does bound (largest share 0.9997 / 0.91 / 0.59), but
+#   Remark 4 lets the weights "be changed arbitrarily", so one counterexample refutes the statement.
+#   Theorem 3's conditions cannot be met on the example at any weights (C3a: provably for every weight
+#   set with $\kappa_x\ge0$, and at none of 4096 searched ones otherwise), so Fig. 8's comparison fails its
+#   premise (C3b). The tracking claim of Figs. 2–4 fails at every point (C7: relative RMS error
+#   0.25–0.66 against our 0.1 threshold; 0.34 / 0.32 / 0.21 at the default). The failure is intrinsic
+#   to (8) under the replacement attack (X4): even the per-step optimal gain gives 0.14–0.22, while an
+#   oracle that drops attacked packets stays at or below 0.022.
+# * **Undetermined.** "ZOH is not better" (C2, not deciding) holds at every reading cell of 4 of the 5
+#   independent draws of the declared space; it fails at 2 of the 16 cells of the one draw with $T=147$
+#   (grid weights, ensemble surrogate, sin/cos attack: ZOH significantly better for target 1, ratio 0.98
+#   [0.97, 0.996]). The sweep's "63 of 65 points" counts correlated cells of one draw as samples.
 
 # %% tags=["parameters"]
 mode = "paper"  # "paper": full run incl. the Remark-4 grid check; "fast": the grid is skipped (ours)
@@ -1114,10 +1120,18 @@ print("time-averaged tr S / E||e||^2 (exact, printed):",
 # predict with target 1's estimate (7), so their ratios move with target 1's estimator even when their
 # own gain is ≈ 0. Rule: C2 fails if for some informative target the whole interval lies below 1 (ZOH
 # significantly better); it holds otherwise, provided at least one target is informative (the
-# premise). Over the declared space it holds at 63 of 65 points, but its margin shrinks with the
-# horizon (decisive ratios 1.08–1.26 at $T=40$, 0.98–1.04 at $T=147$); at $T=147$ with the grid weights,
-# the ensemble surrogate and the sin/cos attack, target 1's ratio is 0.98 [0.97, 0.996]: ZOH is better
-# there (the sweep's figure below and `robustness_C2.png`).
+# premise). The rule decides on an interval, so its meaning does not change with $F$ (recorded as
+# `runs`). Over the declared space the sweep counts 63 of 65 points, but those 65 points are **not 65
+# samples**: they are five independent random draws — the four Sobol $(T,$ `mc_seed`$)$ pairs, each
+# run under all 16 combinations of the four readings, and the default point — and the 16 cells of
+# one draw share its noise and attack realisation. Both failures are cells of the one draw with
+# $T=147$ (grid weights, ensemble surrogate, sin/cos attack: target 1's ratio 0.98 [0.97, 0.996], ZOH
+# better). Counted by independent draws, C2 holds at every cell of 4 of the 5 draws; with one draw at
+# each horizon we cannot tell whether the failure belongs to $T=147$ or to that seed. The sweep's
+# Wilson interval over 65 points and its region rule "mc_seed ≥ 6820" treat correlated cells as
+# independent samples: they are artefacts of the design, not findings (the per-draw table is printed
+# in the robustness section below). The margin shrinks with the horizon (decisive ratios 1.08–1.26 at
+# $T=40$, 0.98–1.04 at $T=147$; the sweep's figure below and `robustness_C2.png`).
 
 # %%
 GAIN_SHARE = np.linalg.norm(out["L"][:, 1:] @ CH, ord=2, axis=(-2, -1)).mean(axis=(0, 1))
@@ -1173,69 +1187,125 @@ for i in range(N):
 # $(e^*)^2=\max_k\|E_i(k)\|^2$, $b_*,b^*$ from $\sum_jB_{i,j}$, $q=\mathcal W$, $r=\mathcal V$,
 # $\wp_i=\lambda_{\min}(H_\epsilon C_i^TC_iH_\epsilon)=\epsilon^2$; $(X^*)^2$ the smallest admissible value,
 # $\max_k\lambda_{\max}$ of the Monte Carlo $\mathbb E\{x_ix_i^T\}$; "tr" in $\Gamma^*$ read as the
-# scalar itself. Weights: those in use, once with the printed coefficients (the theorem as stated)
-# and once with the corrected ones substituted; and the $\alpha_2>\alpha_3$ weights (`paper_thm3`),
-# the only grid result for which (a) can hold with the printed $c_0$. (b) and (c) are evaluated
-# at the data-driven $(\phi_*,\phi^*)$ of the envelope below and on a log grid of all pairs
-# $\phi_*\le1\le\phi^*$ (`phi_scan`). Independently, (36) claims $\Gamma_*I\le L_i\Phi_{o(k)}C_iH_\epsilon$
-# with $\Gamma_*>0$; that matrix has rank at most $m=2<4$, so this lower bound cannot hold (the
-# rank is recorded).
+# scalar itself. The formulas live once, in `secest.methods.li2025.theorem3_eta` (shown below).
+#
+# The paper leaves $\lambda,\alpha_1,\dots,\alpha_7$ free ("with the given positive scalars"; Fig. 8's text:
+# "select eligible parameters as claimed in Theorem 3"), so "the conditions fail" needs more than the
+# weights we happen to use. Two arguments, both recorded in C3a:
+#
+# * **A weight-free floor (ours, a proof).** On the example $e_*=0$, $c_*=c^*=h^*=1$, $r_*=r^*$,
+#   $\xi^*\le1$ and $h_*=\epsilon$. For every $\lambda>0$ and $\alpha_1..\alpha_4>0$ with $\kappa_x\ge0$ and
+#   $c_0\ge1$, and every $\phi_*\le\phi^*$: $\eta^*/\phi^*\ge\big(1-\frac1{4(1-\epsilon^2)}\big)c_0(1+\lambda)(h^*a^*)^2$
+#   (`theorem3_c_floor`, proof in its docstring). On the example $(a^*)^2=2.17$, so the floor is
+#   $1.63>1$: condition (c) fails for **every** such weight set, and (a) needs $c_0>1$. This covers all
+#   weights with the corrected coefficients ($\kappa_x\ge0$ always) and, with the printed ones, every
+#   weight set with $\check\psi+\alpha_3^{-1}+\alpha_4\ge1$.
+# * **A declared search (ours)** for the rest (printed $\kappa_x<0$): 4096 scrambled Sobol weight sets,
+#   log-uniform in $\lambda\in[10^{-6},10^3]$, $\alpha_1..\alpha_4\in[10^{-6},10^6]$, each against every pair of a
+#   49-point log grid $\phi_*\le1\le\phi^*$ over `phi_scan`'s range. A candidate meets Theorem 3 if (a), (b)
+#   and (c) hold at one pair **and** $\pi_*>0$, $\pi^*>0$: the proof inverts (35),
+#   $\pi_*I\le\Pi\le\pi^*I$ ("$(1/\pi^*)I\le\Pi^{-1}\le(1/\pi_*)I$"), which is meaningless otherwise. The
+#   count without that requirement is reported too.
+#
+# Also evaluated: the weights in use (printed and corrected coefficients) and the $\alpha_2>\alpha_3$
+# weights (`paper_thm3`), at the data-driven $(\phi_*,\phi^*)$ of the envelope below and on the
+# `phi_scan` grid. Independently of all weights, (36) claims $\Gamma_*I\le L_i\Phi_{o(k)}C_iH_\epsilon$ with
+# $\Gamma_*>0$; that matrix has rank at most $m=2<4$ for **any** gain ($\Phi_{o(k)}$ has rank $m$), so this
+# step of the proof cannot hold (the rank is recorded); it breaks the proof, not the conditions, so
+# C3a is decided by the conditions.
 
 
 # %%
-def theorem3_conditions(o, weights, variant):
-    """Theorem 3's conditions (a)-(c) with the printed eta_*, eta^* and literal Assumption-1
-    constants; `variant` selects the coefficients c0, kappa_x substituted into them."""
+show_source(M.theorem3_eta, after="    c0, kx, *_ = bound_coefficients(")
+show_source(M.theorem3_c_floor, after="    rho = (const[")
+THM3_SEARCH_POINTS = 2**12  # scrambled Sobol points of the weight search (ours)
+THM3_SEARCH_LOG10 = np.array([[-6.0, 3.0]] + [[-6.0, 6.0]] * 4)  # log10 box of lambda, alpha1..4 (ours)
+THM3_SEARCH_GRID = 49  # (phi_*, phi^*) log grid of the search, same range as phi_scan (ours)
+
+
+def thm3_constants(o, i: int) -> dict[str, float]:
+    """Literal Assumption-1 constants of target i on the example; (X*)^2 from the runs o."""
     aat = np.linalg.eigvalsh(A_ALL[:T] @ np.swapaxes(A_ALL[:T], -1, -2))
-    a_lo2, a_hi2 = aat.min(), aat.max()
-    h_lo, h_hi, c2 = epsilon, 1.0, np.linalg.eigvalsh(C_MAT @ C_MAT.T)  # c2 = [1, 1, 1, 1]
+    c2 = np.linalg.eigvalsh(C_MAT @ C_MAT.T)  # [1, 1, 1, 1]
     ee = np.linalg.eigvalsh(E_ALL[:T, :, None] * E_ALL[:T, None, :])
-    e_lo2, e_hi2 = max(ee.min(), 0.0), ee.max()
-    wp = np.linalg.eigvalsh(H_EPS @ C_MAT.T @ C_MAT @ H_EPS).min()
-    axis = np.logspace(phi_scan[0], phi_scan[1], int(phi_scan[2]))
+    bsum = sum((B_MAT[(i, j)] for j in K_SETS[i]), np.zeros((NX, NX)))
+    bb = np.linalg.eigvalsh(bsum @ bsum.T)
+    exx = np.einsum("fkr,fkc->krc", o["x"][:, 1:, i], o["x"][:, 1:, i]) / o["x"].shape[0]
+    return {"a_lo2": aat.min(), "a_hi2": aat.max(), "h_lo": epsilon, "h_hi": 1.0,
+            "c_lo2": c2.min(), "c_hi2": c2.max(), "e_lo2": max(ee.min(), 0.0), "e_hi2": ee.max(),
+            "b_lo2": max(bb.min(), 0.0), "b_hi2": bb.max(), "q_lo": W, "q_hi": W, "r_lo": V,
+            "r_hi": V, "wp": np.linalg.eigvalsh(H_EPS @ C_MAT.T @ C_MAT @ H_EPS).min(),
+            "x2": np.linalg.eigvalsh(exx).max(), "xi_star": xi_star}
+
+
+def phi_pairs(size: int) -> tuple[np.ndarray, np.ndarray]:
+    """All pairs phi_* <= 1 <= phi^* of a log grid over phi_scan's range, flattened."""
+    axis = np.logspace(phi_scan[0], phi_scan[1], size)
     lo_g, hi_g = np.meshgrid(axis[axis <= 1], axis[axis >= 1], indexing="ij")
+    return lo_g.ravel(), hi_g.ravel()
+
+
+def theorem3_conditions(o, weights, variant):
+    """Theorem 3's conditions (a)-(c) at the given weights, per target: at the data-driven
+    (phi_*, phi^*) and on the phi_scan grid; `variant` selects the coefficients c0, kappa_x."""
+    lo_g, hi_g = phi_pairs(int(phi_scan[2]))
     rows = []
     for i in range(N):
-        lam_, a1_, a2_, a3_, a4_ = weights[i]
-        ps = PSI[i]
-        c0_, kx_, *_ = bound_coefficients(ps, a2_, a3_, a4_, variant)
-        tail = (1 + 1 / a2_ + 1 / a4_) * (1 - ps)  # printed factor of xi^* (and of Gamma^2)
-        bsum = sum((B_MAT[(i, j)] for j in K_SETS[i]), np.zeros((NX, NX)))
-        bb = np.linalg.eigvalsh(bsum @ bsum.T)
-        b_lo2, b_hi2 = max(bb.min(), 0.0), bb.max()
-        exx = np.einsum("fkr,fkc->krc", o["x"][:, 1:, i], o["x"][:, 1:, i]) / o["x"].shape[0]
-        x2 = np.linalg.eigvalsh(exx).max()
-
-        def eta(p_lo, p_hi, lam_=lam_, a1_=a1_, c0_=c0_, kx_=kx_, tail=tail, ps=ps,
-                b_lo2=b_lo2, b_hi2=b_hi2, x2=x2):
-            w_lo = ((1 + lam_) * h_lo**2 * a_lo2 + (1 + 1 / lam_) * h_lo**2 * b_lo2) * p_lo + e_lo2 * W
-            w_hi = ((1 + lam_) * h_hi**2 * a_hi2 + (1 + 1 / lam_) * h_hi**2 * b_hi2) * p_hi + e_hi2 * W
-            pi_lo = (c0_ + (1 + a1_) * kx_) * c2.min() * w_lo + tail * xi_star + ps * V
-            pi_hi = ((c0_ + (1 + a1_) * kx_ + kx_ * (1 + 1 / a1_) ** 2) * c2.max() * w_hi
-                     + kx_ * (1 + 1 / a1_) * (1 + a1_) * x2 * c2.max() + tail * xi_star + ps * V)
-            g_lo = c0_ * w_lo * wp / pi_hi  # Gamma_*
-            g_hi = c0_ * w_hi * h_hi**2 * c2.max() / pi_lo  # Gamma^*
-            eta_lo = (c0_ * w_lo * (1 - g_hi) ** 2 + (1 + a1_) * kx_ * w_lo * g_lo**2
-                      + (tail + ps * V) * g_lo**2)
-            eta_hi = (c0_ * w_hi * (1 - g_hi) ** 2 + (1 + a1_) * kx_ * w_hi * g_hi**2
-                      + (1 + 1 / a1_) * kx_ * ((1 + a1_) * x2 + (1 + 1 / a1_) * w_hi) * g_hi**2
-                      + (tail + ps * V) * g_hi**2)
-            return eta_lo, eta_hi
-
+        const = thm3_constants(o, i)
         ev = np.linalg.eigvalsh(o["S"][:, :, i])
         phi_lo, phi_hi = float(ev.min()), float(ev.max())
-        eta_lo, eta_hi = eta(phi_lo, phi_hi)
-        eta_lo_g, eta_hi_g = eta(lo_g, hi_g)
+        at_data = M.theorem3_eta(phi_lo, phi_hi, PSI[i], weights[i], const, variant)
+        grid = M.theorem3_eta(lo_g, hi_g, PSI[i], weights[i], const, variant)
         rows.append({
-            "c0": float(c0_), "a_alpha56_exist": bool(c0_ > 1), "X_star_sq": float(x2),
-            "phi_lower": phi_lo, "phi_upper": phi_hi, "eta_lower": float(eta_lo),
-            "eta_upper": float(eta_hi), "b_at_data": bool(eta_lo >= phi_lo),
-            "c_at_data": bool(eta_hi <= phi_hi),
-            "b_any_on_grid": bool(np.any(eta_lo_g >= lo_g)),
-            "c_any_on_grid": bool(np.any(eta_hi_g <= hi_g)),
-            "bc_pair_on_grid": bool(np.any((eta_lo_g >= lo_g) & (eta_hi_g <= hi_g))),
-            "min_eta_upper_over_phi_upper": float(np.min(eta_hi_g / hi_g)),
+            "c0": float(at_data["c0"]), "a_alpha56_exist": bool(at_data["c0"] > 1),
+            "X_star_sq": float(const["x2"]), "phi_lower": phi_lo, "phi_upper": phi_hi,
+            "eta_lower": float(at_data["eta_lo"]), "eta_upper": float(at_data["eta_hi"]),
+            "b_at_data": bool(at_data["eta_lo"] >= phi_lo),
+            "c_at_data": bool(at_data["eta_hi"] <= phi_hi),
+            "b_any_on_grid": bool(np.any(grid["eta_lo"] >= lo_g)),
+            "c_any_on_grid": bool(np.any(grid["eta_hi"] <= hi_g)),
+            "bc_pair_on_grid": bool(np.any((grid["eta_lo"] >= lo_g) & (grid["eta_hi"] <= hi_g))),
+            "min_eta_upper_over_phi_upper": float(np.min(grid["eta_hi"] / hi_g)),
         })
+    return rows
+
+
+def finite_or_none(value) -> float | None:
+    """float(value), or None where it is not finite (JSON has no infinity)."""
+    return float(value) if np.isfinite(value) else None
+
+
+def theorem3_search(o) -> list[dict]:
+    """Declared search over the free weights (printed coefficients), per target.
+
+    THM3_SEARCH_POINTS scrambled Sobol points, log-uniform in THM3_SEARCH_LOG10, each against
+    every (phi_*, phi^*) pair of a THM3_SEARCH_GRID log grid. A candidate meets Theorem 3 if
+    (a) c0 > 1, (b) eta_* >= phi_*, (c) eta^* <= phi^* at some pair with pi_* > 0 and
+    pi^* > 0 (the proof inverts (35)). Also the weight-free floor of eta^*/phi^* for
+    kappa_x >= 0 (theorem3_c_floor).
+    """
+    unit = stats.qmc.Sobol(5, scramble=True, seed=0).random_base2(int(np.log2(THM3_SEARCH_POINTS)))
+    cand = 10 ** (THM3_SEARCH_LOG10[:, 0] + unit * np.diff(THM3_SEARCH_LOG10, axis=1)[:, 0])
+    lo_g, hi_g = phi_pairs(THM3_SEARCH_GRID)
+    rows = []
+    for i in range(N):
+        const = thm3_constants(o, i)
+        r = M.theorem3_eta(lo_g[None], hi_g[None], PSI[i], [cand[:, q, None] for q in range(5)],
+                           const, "paper")
+        a_ok = np.broadcast_to(r["c0"] > 1, r["eta_hi"].shape)
+        invertible = (r["pi_lo"] > 0) & (r["pi_hi"] > 0)
+        bc = (r["eta_lo"] >= lo_g) & (r["eta_hi"] <= hi_g)
+        kx_neg = np.broadcast_to(r["kappa_x"] < 0, a_ok.shape)
+        ratio = np.where(a_ok & invertible, r["eta_hi"] / hi_g, np.inf)
+        rows.append({
+            "candidates": len(cand), "a_holds": int(a_ok[:, 0].sum()),
+            "a_and_kappa_x_negative": int((a_ok & kx_neg)[:, 0].sum()),
+            "all_conditions": int(np.any(a_ok & invertible & bc, axis=1).sum()),
+            "all_conditions_pi_ignored": int(np.any(a_ok & bc, axis=1).sum()),
+            # None: no candidate meets (a) with pi_*, pi^* > 0 (e.g. psi_check = 1, where c0 = 1)
+            "min_eta_upper_over_phi_upper": finite_or_none(ratio.min()),
+            "min_ratio_kappa_x_nonnegative": finite_or_none(np.where(kx_neg, np.inf, ratio).min()),
+            "floor_kappa_x_nonnegative": M.theorem3_c_floor(const) if xi_star <= 1 else None})
     return rows
 
 
@@ -1245,6 +1315,7 @@ THM3_COND = {
     "printed, alpha2 > alpha3 weights": theorem3_conditions(out_printed_thm3,
                                                             WEIGHTS["paper_thm3"], "paper"),
 }
+THM3_SEARCH = theorem3_search(out_corr)
 THM3_RANK = int(np.linalg.matrix_rank(out_corr["L"][:, 1:] @ CH).max())
 for name, rows_ in THM3_COND.items():
     for i, r in enumerate(rows_):
@@ -1254,17 +1325,26 @@ for name, rows_ in THM3_COND.items():
               f"(c) {r['c_at_data']}; grid: (b) {r['b_any_on_grid']}, (c) {r['c_any_on_grid']}, "
               f"both {r['bc_pair_on_grid']}, min eta^*/phi^* = "
               f"{r['min_eta_upper_over_phi_upper']:.3g}")
-print(f"max rank of L_i(k) Phi C_i H_eps over runs, k, i: {THM3_RANK} (n_x = {NX})")
+for i, r in enumerate(THM3_SEARCH):
+    print(f"search target {i + 1}: {r['candidates']} weight sets, (a) at {r['a_holds']} "
+          f"({r['a_and_kappa_x_negative']} with kappa_x < 0); (a)-(c) with pi_*, pi^* > 0 at "
+          f"{r['all_conditions']} ({r['all_conditions_pi_ignored']} if pi_* <= 0 were allowed); "
+          f"min eta^*/phi^* = {r['min_eta_upper_over_phi_upper']} "
+          f"(kappa_x >= 0: {r['min_ratio_kappa_x_nonnegative']}, floor "
+          f"{r['floor_kappa_x_nonnegative']})")
+print(f"max rank of L_i(k) Phi C_i H_eps over runs, k, i: {THM3_RANK} (n_x = {NX}; at most m = {m} "
+      "for any gain, since Phi_o(k) has rank m)")
 
 
 # %% [markdown]
-# Condition (c) fails at the default point: $\eta^*$ grows like $(\phi^*)^3$ for large $\phi^*$ (through
-# $\varpi^*\Gamma^{*2}$) and carries $(X^*)^2\Gamma^{*2}$ with $(X^*)^2$ in the hundreds to tens of thousands, so no pair
-# $\phi_*\le1\le\phi^*$ on the grid satisfies $\eta^*\le\phi^*$ (the smallest ratio $\eta^*/\phi^*$ is
-# printed above), with the printed or the corrected coefficients, and (a) fails for the weights
-# in use with the printed $c_0\le1$. **Theorem 3's premise is not met on the paper's own example**,
-# so the theorem supplies no envelope there (C3a), and Fig. 8's comparison is recorded with its failed
-# premise (C3b). The $UB_i(k)$ below is the data-driven one; where the recipe has no admissible
+# Condition (c) fails at the default point for the weights in use ($\eta^*$ grows like $(\phi^*)^3$ for large
+# $\phi^*$ through $\varpi^*\Gamma^{*2}$ and carries $(X^*)^2\Gamma^{*2}$), and it fails for every weight set: the floor
+# covers all weights with $\kappa_x\ge0$, and the search finds no weight set with $\kappa_x<0$ that meets
+# (a)–(c) with $\pi_*,\pi^*>0$ (the candidates that meet (a)–(c) all have $\pi_*\le0$ or $\pi^*\le0$, i.e. a
+# "bound" of $\Pi$ that is not positive; counts printed above). **Theorem 3's premise is not met on the
+# paper's own example at any weights we can find, and provably at none with $\kappa_x\ge0$**, so the
+# theorem supplies no envelope there (C3a), and Fig. 8's comparison is recorded with its failed premise
+# (C3b). The $UB_i(k)$ below is the data-driven one; where the recipe has no admissible
 # $\alpha_5,\alpha_6>0$ ($c_0\le1$, e.g. at $\check\psi=1$) it is undefined and not drawn.
 
 
@@ -1521,11 +1601,20 @@ print(f"target 1: time-averaged E||e||^2 reduced by {X1_REDUCTION:.3f}; mean X^p
 # zero-input MSE of the informative target) with its outcome; right: the outcome of every claim at every
 # point. The figure is drawn from the committed `figures/li2025/robustness.csv`.
 #
-# Cost: a point is one kernel start (~3.5 s) plus this notebook with figures off (~3 s at $T=100$);
-# the sweep used 470 s of CPU for 65 points, i.e. about 4 minutes on two idle cores. A denser design
-# costs proportionally: $n=8$ Sobol pairs (129 points) about 8 minutes, a third level of one reading
-# about 6 minutes, the full factorial of the four readings with eight horizons and two seeds (256
-# points) about 16 minutes.
+# Cost: a point is one kernel start (~3.5 s) plus this notebook with figures off (~3 s at $T=100$,
+# the Theorem 3 weight search included); the committed sweep used 490 s of user and 130 s of system
+# CPU for 65 points (28 minutes of wall time on a shared, heavily loaded 2-core machine; about 5
+# minutes on two idle cores). A denser design costs proportionally: $n=8$ Sobol pairs (129 points)
+# about twice as much, the full factorial of the four readings with eight horizons and two seeds (256
+# points) about four times.
+#
+# **Samples, not points.** The 65 points are 5 independent random draws (4 Sobol $(T,$ `mc_seed`$)$ pairs
+# × 16 reading cells, plus the default point): cells of one draw share its noise and attacks, so
+# fractions and Wilson intervals over the 65 points overstate the evidence; C2 is read per draw (printed
+# below). The sweep's `evaluations` (distinct outcome/value pairs) is 1 for C1 (its headline is the
+# attack-free scenario's share $1-4\cdot10^{-9}$, the same everywhere), C3a and C3b (no headline number;
+# decided by the conditions), C4, C6 and X2 (exact, the swept axes do not enter): "one evaluation", not
+# "holds everywhere".
 
 # %%
 ROBUSTNESS_CSV = results.resolve("figures/li2025/robustness.csv")
@@ -1566,6 +1655,16 @@ if ROBUSTNESS_CSV.exists():
     axes[2].grid(False)
     axes[2].set_xlabel("design point, sorted by T [–]")
     axes[2].set_title("blue: holds, red: fails, grey: premise fails", fontsize=8)
+    c2_draws: dict[tuple[int, int], list[str]] = {}
+    for r in sweep_rows:  # the independent draws of the design: one (T, mc_seed) pair each
+        c2_draws.setdefault((int(float(r["T"])), int(float(r["mc_seed"]))), []).append(r["C2.outcome"])
+    c2_draw_holds = [all(o == "holds" for o in outs) for outs in c2_draws.values()]
+    for (t_, seed_), outs in sorted(c2_draws.items()):
+        print(f"C2 at the draw T = {t_}, mc_seed = {seed_}: {outs.count('holds')} of {len(outs)} "
+              "reading cells hold")
+    c2_lo, c2_hi = montecarlo.wilson_interval(sum(c2_draw_holds), len(c2_draw_holds))
+    print(f"C2 holds at every cell of {sum(c2_draw_holds)} of {len(c2_draw_holds)} independent draws "
+          f"(Wilson 95 % [{c2_lo:.2f}, {c2_hi:.2f}]: five draws decide nothing)")
     robustness_data = {"T": [float(r["T"]) for r in sweep_rows]} | {
         f"{cid}_value": [float(r[f"{cid}.value"]) if r[f"{cid}.value"] else np.nan for r in sweep_rows]
         for cid in ("C2", "C7")}
@@ -1580,21 +1679,22 @@ _ = plotting.save_figure(fig, FIG_DIR, "extra_robustness_map", data=robustness_d
 # %% [markdown]
 # ## Claims
 #
-# Verdicts over the declared space (65 points, `figures/li2025/robustness.json`); the point values
-# are those of the default run.
+# Verdicts over the declared space (65 points = 5 independent draws, `figures/li2025/robustness.json`);
+# the point values are those of the default run. **D**: decides the ReScience verdict; **BC**: true by
+# construction (shown, not evidence).
 #
 # | id | paper (source) | what we measure | verdict |
 # |---|---|---|---|
-# | C1 | the bound $\mathfrak S_i(k\|k)$ holds at every $k$ (Theorems 1–2, Fig. 7) | exact: $\max_{k,i}\lambda_{\max}(\mathfrak S^{-1/2}P\,\mathfrak S^{-1/2})\le1+10^{-9}$, corrected coefficients, deterministic gains with the exact $\mathbb E\{\hat x\hat x^T\}$, paper $\check\psi$ and $\check\psi\in\{1,0.99,0.9,0.5,0.3\}$; default: 1 − 4·10⁻⁹ (tight at $\check\psi=1$), 0.97 / 0.89 / 0.56 at the paper's $\check\psi$ | **holds** (65/65) |
-# | C1c | Fig. 7: MSE always below the bound (Section IV) | Monte Carlo as the paper runs it: at no $k$ is the upper end of the Bonferroni $t$-interval of mean(tr $\mathfrak S$ − $\|e\|^2$) below 0; default: smallest relative margin 0.79 [0.69, 0.90] | **holds** (65/65) |
-# | C1b | the same with the printed coefficients (Theorem 2) | the certificate of C1: largest share 2.9·10³ / 1.8·10⁴ / 3.4·10⁵, first violation at $k=2$ | **fails** (65/65) |
-# | C2 | ZOH does not improve on zero-input (Remark 2, Fig. 6) | MSE ratio ZOH / zero-input with paired bootstrap 95 % intervals, judged on informative targets (mean $\|L\Gamma\|\ge0.01$); default: target 1 only, 1.07 [1.04, 1.11] | **undetermined**: 63/65 (97 %, [0.89, 0.99]); fails at $T=147$, grid weights, ensemble surrogate, sin/cos attack |
-# | C3a | Theorem 3's conditions (a)–(c) | literal Assumption-1 constants, data-driven $\phi$'s and a $(\phi_*,\phi^*)$ grid; (c) $\eta^*\le\phi^*$ never holds (min $\eta^*/\phi^*\ge146$) | **fails** (65/65) |
+# | C1 | ours: the *corrected* bound $\mathfrak S_i(k\|k)$ holds at every $k$ (Theorems 1–2 re-derived) | exact: $\max_{k,i}\lambda_{\max}(\mathfrak S^{-1/2}P\,\mathfrak S^{-1/2})\le1+10^{-9}$, corrected coefficients, deterministic gains with the exact $\mathbb E\{\hat x\hat x^T\}$, paper $\check\psi$ and $\check\psi\in\{1,0.99,0.9,0.5,0.3\}$; default: 1 − 4·10⁻⁹ (tight at $\check\psi=1$), 0.97 / 0.89 / 0.56 at the paper's $\check\psi$ | **holds** (65/65) |
+# | C1c | Fig. 7: MSE always below the bound (Section IV), on our corrected design | Monte Carlo as the paper runs it, corrected coefficients: at no $k$ is the upper end of the Bonferroni $t$-interval of mean(tr $\mathfrak S$ − $\|e\|^2$) below 0; default: smallest relative margin 0.79 [0.69, 0.90] | **holds** (65/65) |
+# | C1b (D) | the bound with the printed coefficients, for any positive weights (Theorems 1–2, Remark 4) | the certificate of C1 at the Remark-4 weights: largest share 2.9·10³ / 1.8·10⁴ / 3.4·10⁵, first violation at $k=2$; at the $\alpha_2>\alpha_3$ weights it bounds (0.9997 / 0.91 / 0.59) | **fails** (65/65) |
+# | C2 | ZOH does not improve on zero-input (Remark 2, Fig. 6) | MSE ratio ZOH / zero-input with paired bootstrap 95 % intervals, judged on informative targets (mean $\|L\Gamma\|\ge0.01$); default: target 1 only, 1.07 [1.04, 1.11] | **undetermined**: holds at all cells of 4 of 5 independent draws; fails at 2 of 16 cells of the $T=147$ draw (grid weights, ensemble surrogate, sin/cos attack) |
+# | C3a (D) | Theorem 3's conditions (a)–(c) can be met on the example (Fig. 8: "select eligible parameters") | literal Assumption-1 constants over the free weights: a weight-free floor $\eta^*/\phi^*\ge1.63$ for $\kappa_x\ge0$ (proved) and a declared 4096-point search for $\kappa_x<0$ (none meets (a)–(c) with $\pi_*,\pi^*>0$) | **fails** (65/65) |
 # | C3b | Fig. 8: $\|e_i\|^2\le UB_i$ confirms Theorem 3 | data-driven envelope ($10^{13}$–$10^{17}$, vacuous); premise C3a | **fails-premise** (65/65) |
-# | C4 | RRL-MAP fairness (Remark 1) | counts per $U$-window, exact | **holds** |
-# | C5 | $\Pr\{\psi_i=0\}=1-\check\psi_i$ (6) | attack frequency in the 99.99 % Wilson interval | **holds** |
+# | C4 (D) | RRL-MAP fairness (Remark 1) | counts per $U$-window, exact | **holds** |
+# | C5 (BC) | $\Pr\{\psi_i=0\}=1-\check\psi_i$ (6), our draws | attack frequency in the 99.99 % Wilson interval | **holds** |
 # | C6 | (sanity, ours) Kalman limit of (17)–(18)–(28) | deviation from the Riccati recursion ≤ 1e−10 | **holds** |
-# | C7 | Figs. 2–4: estimates "well match" | exact relative RMS $\rho_i(T)\le0.1$ (our threshold) for every target; default 0.34 / 0.32 / 0.21 | **fails** (65/65; 0.25–0.66) |
+# | C7 (D) | Figs. 2–4: estimates "well match" | exact relative RMS $\rho_i(T)\le0.1$ (our threshold) for every target; default 0.34 / 0.32 / 0.21 | **fails** (65/65; 0.25–0.66) |
 # | X1 | ours: debiased innovation removes the bias | exact: target-1 $\mathbb E\|e\|^2$ −53 %, mean $X^p$ error 6.5 → 0.02 m | **holds** |
 # | X2 | ours: vectorised = loop over runs | relative deviation ≤ 1e−9 | **holds** |
 # | X3 | ours: the exact recursion is right | Monte Carlo of the same gains (2000 runs) covers the exact value (99.9 % $t$-interval) | **holds** |
@@ -1650,19 +1750,22 @@ claims["C1c"] = results.claim(
     interval=results.interval(d_lo[c1c_worst] / TRS_C[1:][c1c_worst], c1c_rel_hi[c1c_worst],
                               level=C1C_LEVEL, method="t over runs, Bonferroni over 3T cells"),
     threshold=0.0, holds=bool(c1c_rel_hi.min() >= 0), key="worst_cell_relative_margin",
-    tolerance=MC_TOL,
+    tolerance=MC_TOL, runs=F,
     section="Fig. 7 — $\\mathrm{MSE}_i(k)$ over $F$ runs and the minimum upper bound (C1c)",
 )
 C1B_MAX = C1B_SHARE.max(axis=0)
 claims["C1b"] = results.claim(
-    paper="Theorems 1-2 with the coefficients as printed: S_i(k|k) bounds the error covariance",
-    source="Theorem 2, (18), (28)",
+    paper="Theorems 1-2 with the coefficients as printed: S_i(k|k) bounds the error covariance "
+    "for given positive scalars lambda, alpha_1..alpha_4, which 'can be changed arbitrarily' "
+    "(Remark 4)",
+    source="Theorems 1-2, (18), (28); Remark 4",
     check="EXACT, printed coefficients, the weights our Remark-4 grid picks for them (weights_paper; "
     "weights_interior under weight_rule 'interior'): the certificate of C1, max over k and targets of "
     "lambda_max(S^-1/2 P S^-1/2) <= 1 + 1e-9; a larger value is an exact counterexample (None: S "
     "not positive definite). Reported: first violating k per target (0: none), the same for the "
-    "alpha2 > alpha3 weights (Theorem 3's condition), time-averaged tr S / E||e||^2 (exact), the "
-    "Monte Carlo fraction of k with MSE <= mean tr S",
+    "alpha2 > alpha3 weights (Theorem 3's condition; there the printed recursion does bound: "
+    "max share < 1), time-averaged tr S / E||e||^2 (exact), the Monte Carlo fraction of k with "
+    "MSE <= mean tr S (Fig. 7 with the printed coefficients)",
     measured={"max_share": float(C1B_MAX.max()) if np.all(np.isfinite(C1B_MAX)) else None,
               "max_share_per_target": [float(v) if np.isfinite(v) else None for v in C1B_MAX],
               "first_violating_k": C1B_FIRST_K,
@@ -1674,7 +1777,7 @@ claims["C1b"] = results.claim(
               "fraction_monte_carlo_alpha2_gt_alpha3": np.mean(
                   mse(out_printed_thm3)[1:] <= mean_trace(out_printed_thm3)[1:], axis=0)},
     threshold=1 + 1e-9, holds=bool(C1B_MAX.max() <= 1 + 1e-9), key="max_share", tolerance=CERT_TOL,
-    section="The printed coefficients are not a bound (C1b)",
+    decides=True, section="The printed coefficients are not a bound (C1b)",
 )
 informative = [i for i in range(N) if INFORMATIVE[i]]
 decisive = min(informative, key=lambda i: C2_CI[i, 1]) if informative else None
@@ -1697,7 +1800,8 @@ claims["C2"] = results.claim(
     threshold=1.0, holds=bool(informative) and all(C2_CI[i, 1] >= 1 for i in informative),
     premise=("at least one target is informative (mean ||L_i Gamma_i|| >= gain_negligible)",
              bool(informative)),
-    key="decisive_ratio", tolerance=MC_TOL, section="Fig. 6 against Fig. 5 — ZOH is not better (C2)",
+    key="decisive_ratio", tolerance=MC_TOL, runs=F,
+    section="Fig. 6 against Fig. 5 — ZOH is not better (C2)",
 )
 
 
@@ -1706,25 +1810,35 @@ def cond_summary(rows_):
 
 
 cond_main = THM3_COND["printed, weights in use"]
-C3A_HOLDS = bool(all(r["a_alpha56_exist"] and r["bc_pair_on_grid"] for r in cond_main))
+C3A_MET = [r["a_alpha56_exist"] and r["bc_pair_on_grid"] for r in cond_main]  # weights in use
+C3A_SEARCH_MET = [r["all_conditions"] > 0 for r in THM3_SEARCH]  # some searched weight set
+C3A_HOLDS = bool(all(a or b for a, b in zip(C3A_MET, C3A_SEARCH_MET, strict=True)))
 claims["C3a"] = results.claim(
     paper="Theorem 3: if 1 + alpha5 + alpha6 <= 1 - (alpha3 - alpha2)(1 - psi_check), "
     "eta_* >= phi_*, eta^* <= phi^* (phi_* I <= S(0|0) <= phi^* I) and E[x x^T] <= X*^2 I, the "
-    "error is exponentially bounded in mean square",
-    source="Theorem 3, (34)-(38), Assumption 1",
+    "error is exponentially bounded in mean square; Fig. 8: 'select eligible parameters as "
+    "claimed in Theorem 3' (the paper asserts that the example admits such parameters)",
+    source="Theorem 3, (34)-(38), Assumption 1; Section IV, Fig. 8 text",
     check="conditions with the literal Assumption-1 constants of the example, X*^2 = max_k "
-    "lambda_max(MC E[x x^T]), weights in use, printed coefficients: (a) c0 > 1 (positive "
-    "alpha5, alpha6 exist); (b), (c) at the data-driven (phi_*, phi^*) and for some pair "
-    "phi_* <= 1 <= phi^* on a log grid (phi_scan). holds if (a) and a grid pair meeting (b) "
-    "and (c) exist for every target. Reported: the same with the corrected coefficients and "
-    "with the alpha2 > alpha3 weights; max rank of L Phi C H ((36) needs full rank 4)",
-    measured={"printed_weights_in_use": cond_summary(cond_main),
+    "lambda_max(MC E[x x^T]), printed coefficients, over the free weights: (1) a weight-free floor "
+    "of eta^*/phi^* (ours, proved: theorem3_c_floor) for every weight set with kappa_x >= 0, "
+    "(2) a declared search, 4096 scrambled Sobol weight sets log-uniform in lambda in [1e-6, 1e3], "
+    "alpha1..alpha4 in [1e-6, 1e6], against a 49-point log grid of pairs phi_* <= 1 <= phi^*, "
+    "(3) the weights in use on the phi_scan grid. A weight set meets the theorem if (a) c0 > 1, "
+    "(b) eta_* >= phi_*, (c) eta^* <= phi^* at one pair with pi_* > 0 and pi^* > 0 (the proof "
+    "inverts (35)). holds if for every target some searched weight set or the weights in use "
+    "meet it. Reported: the same with the corrected coefficients and with the alpha2 > alpha3 "
+    "weights; max rank of L Phi C H ((36) needs full rank 4; at most m for any gain)",
+    measured={"search_weight_sets_meeting_all": [r["all_conditions"] for r in THM3_SEARCH],
+              "search": cond_summary(THM3_SEARCH),
+              "printed_weights_in_use": cond_summary(cond_main),
               "corrected_weights_in_use": cond_summary(THM3_COND["corrected, weights in use"]),
               "printed_alpha2_gt_alpha3_weights": cond_summary(
                   THM3_COND["printed, alpha2 > alpha3 weights"]),
               "max_rank_L_Phi_C_H": THM3_RANK},
-    threshold={"c0": 1.0, "grid_log10": phi_scan, "rank_needed": NX},
-    holds=C3A_HOLDS, tolerance=EIG_TOL,
+    threshold={"c0": 1.0, "eta_upper_over_phi_upper": 1.0, "grid_log10": phi_scan,
+               "rank_needed": NX},
+    holds=C3A_HOLDS, tolerance=EIG_TOL, decides=True, runs=F,
     section="Theorem 3's own conditions on the example (C3a)",
 )
 UB_DEFINED = [bool(UB_INFO[i]["defined"]) for i in range(N)]
@@ -1748,7 +1862,7 @@ claims["C3b"] = results.claim(
               "phi_upper": [UB_INFO[i]["phi_upper"] for i in range(N)],
               "rho": [UB_INFO[i]["rho"] for i in range(N)]},
     threshold=1.0, holds=bool(all(UB_DEFINED) and all(f == 1.0 for f in frac_ub_err + frac_ub_mse)),
-    premise=("Theorem 3's conditions hold on the example (C3a)", C3A_HOLDS), tolerance=EIG_TOL,
+    premise=("Theorem 3's conditions hold on the example (C3a)", C3A_HOLDS), tolerance=EIG_TOL, runs=F,
     section="Fig. 8 — $\\|e_i(k|k)\\|^2$ and $UB_i(k)$ (Theorem 3, made consistent)",
 )
 set_sizes = np.array([len(set(row.tolist())) for row in SETS])
@@ -1763,7 +1877,7 @@ claims["C4"] = results.claim(
               "window_counts_max": window_counts.max(axis=0), "U": U,
               "distinct_per_step_min": set_sizes.min(), "distinct_per_step_max": set_sizes.max()},
     threshold={"per_window": per_window, "m": m},
-    holds=bool(np.all(window_counts == per_window) and np.all(set_sizes == m)),
+    holds=bool(np.all(window_counts == per_window) and np.all(set_sizes == m)), decides=True,
     section="RRL-MAP (2)–(5)",
 )
 C5_LEVEL = 0.9999
@@ -1775,14 +1889,17 @@ c5_worst = int(np.argmax(np.abs(c5_freq - c5_expected) / np.maximum(c5_ci[:, 1] 
 claims["C5"] = results.claim(
     paper="(6): Pr{psi_i(k) = 0} = 1 - psi_check_i (attack probabilities 0.3 / 0.5 / 0.7)",
     source="Section II-B, (6); Section IV",
-    check=f"empirical attack frequency over F x T = {F * T} draws per target; holds if 1 - psi_check_i "
+    check=f"BY CONSTRUCTION (our draws are Bernoulli with these probabilities: a check of our "
+    f"sampling, not evidence about the paper): empirical attack frequency over F x T = {F * T} "
+    "draws per target; holds if 1 - psi_check_i "
     f"lies in the {C5_LEVEL:.2%} Wilson interval for every target (family false-alarm rate "
     "< 0.03 %). Headline: the target farthest from its expected value, relative to its interval",
     measured={"worst_frequency": c5_freq[c5_worst], "worst_target": c5_worst + 1,
               "frequency": c5_freq, "interval_low": c5_ci[:, 0], "interval_high": c5_ci[:, 1]},
     interval=results.interval(*c5_ci[c5_worst], level=C5_LEVEL, method="wilson"),
     threshold={"expected": c5_expected}, holds=bool(np.all(c5_inside)), key="worst_frequency",
-    tolerance=MC_TOL, section="Bernoulli replacement attack (6)",
+    tolerance=MC_TOL, runs=F * T, basis="by-construction",
+    section="Bernoulli replacement attack (6)",
 )
 claims["C6"] = results.claim(
     paper="(sanity) the bound recursion (17)-(18)-(28) reduces to the Kalman filter without "
@@ -1810,7 +1927,7 @@ claims["C7"] = results.claim(
               "monte_carlo_paper_design_interval": np.stack(C7_INTERVALS["paper design, Monte Carlo"]),
               "oracle_interval": np.stack(C7_INTERVALS["oracle Kalman filter"]),
               "horizon": T, "weight_rule": weight_rule},
-    threshold=0.1, holds=bool(C7_MAX <= 0.1), key="max_relative_rms", tolerance=MC_TOL,
+    threshold=0.1, holds=bool(C7_MAX <= 0.1), key="max_relative_rms", tolerance=MC_TOL, decides=True,
     section="Tracking (Figs. 2–4, C7): the paper's design against its baselines",
 )
 claims["X1"] = results.claim(
@@ -1852,7 +1969,7 @@ claims["X3"] = results.claim(
                               (x3_hi[x3_worst] - x3_exact[x3_worst]) / x3_exact[x3_worst],
                               level=X3_LEVEL, method="t over runs, relative to the exact value"),
     threshold=0.0, holds=bool(np.all(x3_inside)), key="worst_relative_difference",
-    tolerance=MC_TOL, section="The exact recursion agrees with Monte Carlo (X3)",
+    tolerance=MC_TOL, runs=x3_runs, section="The exact recursion agrees with Monte Carlo (X3)",
 )
 X4_OPT = C7_TABLE["per-step optimal gain for (8)"]
 X4_ORACLE_HI = C7_INTERVALS["oracle Kalman filter"][1]
@@ -1866,7 +1983,7 @@ claims["X4"] = results.claim(
               "relative_rms_optimal_gain": X4_OPT, "oracle_upper": X4_ORACLE_HI,
               "relative_rms_debiased_optimal": C7_TABLE["debiased innovation, optimal gain"]},
     threshold=0.1, holds=bool(X4_OPT.max() > 0.1 and X4_ORACLE_HI.max() <= 0.1),
-    key="max_relative_rms_optimal_gain", tolerance=MC_TOL,
+    key="max_relative_rms_optimal_gain", tolerance=MC_TOL, runs=F,
     section="Tracking (Figs. 2–4, C7): the paper's design against its baselines",
 )
 written = results.write_claims(results_path, claims, robustness="figures/li2025/robustness.json")
@@ -1875,6 +1992,44 @@ for cid, entry in json.loads(written.read_text()).items():
     share = entry.get("robustness", {}).get("fraction_holds")
     print(f"{cid:>4}: {entry['verdict']}" + ("" if share is None else f" over the declared space "
           f"(holds at {share:.0%} of its points)") + f"; at this run: {here}")
+
+# %% [markdown]
+# ## ReScience verdict
+#
+# The verdict follows the one written rule of `secest.repro.results.rescience_verdict` (the same for
+# all five papers): [Re] if every deciding claim holds at the paper's example and over the declared
+# space, [¬Re] if none holds at the example, [Re, partial] otherwise. The deciding claims are the
+# paper's own main contributions, as its introduction lists them ("The major contributions...") and
+# its conclusion repeats them:
+#
+# * "the RRL-MAP is presented to realize non-collision and efficient transmission" — **C4** (Remark 1's
+#   fairness and $m$ distinct channels per step, on the printed index formula (2));
+# * "an upper-bound for each estimation error covariance is derived" — **C1b**, the bound *as printed*
+#   (Theorems 1–2 "for given positive scalars", which Remark 4 says "can be changed arbitrarily"). Our
+#   corrected bound (C1) holds, but it is our statement, not the paper's, so it does not decide;
+#   neither does C1c, measured on that corrected design (Fig. 7 with the printed coefficients is part of
+#   C1b's record);
+# * "the effectiveness analysis of the algorithm" / "validated by showing that the corresponding
+#   estimation errors are exponentially bounded in the mean square" — **C3a**, Theorem 3 applied to the
+#   example (Fig. 8's text: "select eligible parameters as claimed in Theorem 3"); C3b (Fig. 8) rests on it;
+# * "the performance of the developed state estimation method has been further demonstrated" by the
+#   simulation — **C7**, the tracking of Figs. 2–4.
+#
+# C2 (Remark 2, a side remark), C5 (true by construction of our draws), C6 and the X claims (ours) do
+# not decide. Computed from the claims just written:
+
+# %%
+VERDICT = results.rescience_verdict(json.loads(written.read_text()))
+print(VERDICT["line"])
+
+# %% [markdown]
+# So **[Re, partial]**, and narrowly: of the paper's four main claims only the scheduling property holds
+# (C4, exact). The bound as printed is not a bound at the weights Remark 4's minimisation picks (C1b: an
+# exact counterexample from $k=2$ on), although it does bound at the $\alpha_2>\alpha_3$ weights that Theorem 3
+# requires (largest share 0.9997 / 0.91 / 0.59); Theorem 3's conditions cannot be met on the example
+# (C3a: provably for every weight set with $\kappa_x\ge0$, and at none of the searched ones otherwise);
+# the estimates do not "well match" (C7). The paper's method, with the bound re-derived from its own
+# proof, does give a valid bound (C1) — that is our correction, and it does not raise the verdict.
 
 # %% [markdown]
 # ## Deviations from the paper

@@ -20,7 +20,7 @@ from conftest import perturbation_point
 from papermill.exceptions import PapermillExecutionError
 
 from secest.core.validation import ValidationError
-from secest.repro.results import repo_root
+from secest.repro.results import point_verdict, repo_root, rescience_verdict
 from secest.repro.run import execute_notebook
 
 ROOT = repo_root()
@@ -43,9 +43,8 @@ def no_attack(run_notebook):
 
 
 def _consistent(entry: dict) -> None:
-    premise = entry.get("premise")
-    point = "fails-premise" if premise and not premise["holds"] else (
-        "holds" if entry["holds"] else "fails")
+    assert entry["holds"] is None or isinstance(entry["holds"], bool)
+    point = point_verdict(entry)
     rob = entry.get("robustness")
     if rob is None:
         assert entry["verdict"] == point
@@ -56,6 +55,8 @@ def _consistent(entry: dict) -> None:
             assert 0.0 < frac < 1.0 or len({k for k, v in rob["outcomes"].items() if v}) > 1
         elif rob["verdict"] == "holds":
             assert frac == 1.0 and entry["holds"] is True
+        elif rob["verdict"] == "fails-premise":  # no point decided: no fraction
+            assert frac is None and point == rob["verdict"]
         else:
             assert frac == 0.0 and point == rob["verdict"]
 
@@ -132,14 +133,35 @@ def test_c3_theorem3_premise_and_vacuous_envelope(claims) -> None:
     # (36) asks Gamma_* I <= L Phi C H with Gamma_* > 0: the rank is at most m = 2 < 4
     assert a["measured"]["max_rank_L_Phi_C_H"] <= 2
     rows = a["measured"]["printed_weights_in_use"]
-    assert a["holds"] is all(x and y for x, y in zip(rows["a_alpha56_exist"],
-                                                     rows["bc_pair_on_grid"], strict=True))
+    search = a["measured"]["search"]
+    met_in_use = [x and y for x, y in zip(rows["a_alpha56_exist"], rows["bc_pair_on_grid"], strict=True)]
+    assert a["holds"] is all(u or n > 0 for u, n in zip(met_in_use, search["all_conditions"], strict=True))
+    assert search["all_conditions"] == a["measured"]["search_weight_sets_meeting_all"]
+    assert all(n <= m for n, m in zip(search["all_conditions"], search["all_conditions_pi_ignored"],
+                                      strict=True))
+    # the weight-free floor (a proof): no searched weight set with kappa_x >= 0 gets below it
+    for floor, ratio in zip(search["floor_kappa_x_nonnegative"],
+                            search["min_ratio_kappa_x_nonnegative"], strict=True):
+        assert floor is not None and (ratio is None or ratio >= floor)
     assert b["premise"]["holds"] is a["holds"]
     m = b["measured"]
     ratios = [r for r in m["UB_T_over_max_mse"] if r is not None]
     assert ratios and min(ratios) > 1e9  # the data-driven envelope is vacuous where defined
     lam = np.array([1e-3, 1e-2, 1e-2])
     np.testing.assert_allclose(m["rho"], lam / (1 + lam), rtol=1e-10)  # claims carry 11 digits
+
+
+def test_deciding_claims_and_verdict_line(claims) -> None:
+    """The main claims chosen in the notebook decide; the verdict line names exactly them."""
+    claims = {cid: e for cid, e in claims.items() if not cid.startswith("_")}
+    deciding = {cid for cid, e in claims.items() if e.get("decides")}
+    assert deciding == {"C1b", "C3a", "C4", "C7"}
+    assert all(claims[cid]["basis"] == "measured" for cid in deciding)
+    assert claims["C5"]["basis"] == "by-construction" and not claims["C5"].get("decides")
+    line = rescience_verdict(claims)["line"]
+    assert all(f"{cid} " in line for cid in deciding)
+    for cid in ("C1c", "C2", "C3b", "X3", "X4"):
+        assert isinstance(claims[cid]["runs"], int) and claims[cid]["runs"] >= 2, cid
 
 
 def test_c4_rrl_map_fairness(claims) -> None:

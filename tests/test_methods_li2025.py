@@ -248,6 +248,44 @@ def test_prediction_7_and_update_8_of_target_3() -> None:
     assert np.array_equal(li2025.correct(xp, y, G, np.zeros_like(L)), xp)
 
 
+def _theorem3_example_constants(x2: float = 1000.0) -> dict[str, float]:
+    """Assumption-1 constants of the Section IV example (target 3), as the notebook computes them."""
+    a, e = li2025.turn_model(100)
+    aat = np.linalg.eigvalsh(a[:100] @ np.swapaxes(a[:100], -1, -2))
+    ee = np.linalg.eigvalsh(e[:100, :, None] * e[:100, None, :])
+    bsum = li2025.EXAMPLE_B[(2, 0)] + li2025.EXAMPLE_B[(2, 1)]
+    bb = np.linalg.eigvalsh(bsum @ bsum.T)
+    return {"a_lo2": aat.min(), "a_hi2": aat.max(), "h_lo": 0.05, "h_hi": 1.0, "c_lo2": 1.0,
+            "c_hi2": 1.0, "e_lo2": 0.0, "e_hi2": ee.max(), "b_lo2": max(bb.min(), 0.0),
+            "b_hi2": bb.max(), "q_lo": 0.03, "q_hi": 0.03, "r_lo": 0.03, "r_hi": 0.03,
+            "wp": 0.05**2, "x2": x2, "xi_star": 0.3}
+
+
+def test_theorem3_floor_bounds_eta_upper_for_every_weight_set_with_nonnegative_kappa_x() -> None:
+    """theorem3_c_floor is a lower bound of eta^*/phi^* (a proof): check it on random weights."""
+    const = _theorem3_example_constants()
+    floor = li2025.theorem3_c_floor(const)
+    assert floor == pytest.approx((1 - 1 / (4 * (1 - 0.05**2))) * const["a_hi2"], rel=1e-12)
+    rng = np.random.default_rng(3)
+    w = 10 ** rng.uniform(-6, 6, size=(5, 20000))
+    phi_lo, phi_hi = 10 ** rng.uniform(-12, 0, 20000), 10 ** rng.uniform(0, 12, 20000)
+    for variant in ("paper", "corrected"):
+        r = li2025.theorem3_eta(phi_lo, phi_hi, 0.3, list(w), const, variant)
+        keep = (r["kappa_x"] >= 0) & (r["c0"] >= 1)
+        assert keep.sum() > 1000
+        assert np.all(r["eta_hi"][keep] / phi_hi[keep] >= floor * (1 - 1e-12))
+
+
+def test_theorem3_refuses_bad_constants_and_weights() -> None:
+    const = _theorem3_example_constants()
+    with pytest.raises(ValidationError, match="missing"):
+        li2025.theorem3_eta(1.0, 1.0, 0.3, [1.0] * 5, {"a_lo2": 1.0})
+    with pytest.raises(ValidationError, match="weights"):
+        li2025.theorem3_eta(1.0, 1.0, 0.3, [1.0, -1.0, 1.0, 1.0, 1.0], const)
+    with pytest.raises(ValidationError, match="xi"):
+        li2025.theorem3_c_floor(const | {"xi_star": 2.0})
+
+
 def test_bad_input_is_refused_with_the_argument_named() -> None:
     with pytest.raises(ValidationError, match="variant must be one of"):
         li2025.bound_coefficients(0.5, 0.1, 0.1, 0.1, "printed")

@@ -52,6 +52,7 @@ __all__ = [
     "EXAMPLE_C",
     "EXAMPLE_PARENTS",
     "EXAMPLE_X0",
+    "THEOREM3_CONSTANTS",
     "UPDATES",
     "VARIANTS",
     "bound_coefficients",
@@ -62,6 +63,8 @@ __all__ = [
     "predicted_bound",
     "turn_model",
     "sym",
+    "theorem3_c_floor",
+    "theorem3_eta",
 ]
 
 Array = NDArray[np.float64]
@@ -308,6 +311,149 @@ def gain_and_bound(
     Mm = np.eye(n) - L @ G
     S_new = c0 * (Mm @ S_pred @ _t(Mm)) + L @ R @ _t(L)  # (18)
     return L, sym(S_new), R
+
+
+# ------------------------------------------------------------------ Theorem 3, as printed
+THEOREM3_CONSTANTS = ("a_lo2", "a_hi2", "h_lo", "h_hi", "c_lo2", "c_hi2", "e_lo2", "e_hi2",
+                      "b_lo2", "b_hi2", "q_lo", "q_hi", "r_lo", "r_hi", "wp", "x2", "xi_star")
+"""Keys of the ``const`` mapping of :func:`theorem3_eta`: Assumption 1's bounds (squares where
+the paper squares them: ``a_lo2`` is ``a_*^2``), ``wp`` the ``\\wp_i`` of Theorem 3, ``x2``
+``(X^*)^2`` and ``xi_star`` the attack-energy bound ``xi_i^*``."""
+
+
+def theorem3_eta(
+    phi_lo: ArrayLike,
+    phi_hi: ArrayLike,
+    psi_bar: float,
+    weights: Sequence[ArrayLike],
+    const: Mapping[str, float],
+    variant: str = "paper",
+) -> dict[str, Array]:
+    """``eta_*``, ``eta^*`` of Theorem 3 and the constants they are built from, as printed.
+
+    With ``c0``, ``kappa_x`` of :func:`bound_coefficients` (the printed ones for
+    ``variant="paper"``: Theorem 3 writes ``1 - (a3 - a2)(1 - psi)`` and ``psi + 1/a3 + a4 - 1``)
+    and ``tail = (1 + 1/a2 + 1/a4)(1 - psi)``:
+
+    .. math::
+       \\varpi_* &= (1+\\lambda)(h_*a_*)^2\\phi_* + (1+\\lambda^{-1})(h_*b_*)^2\\phi_* + e_*^2q_*,\\quad
+       \\varpi^* \\text{ alike with upper constants},\\\\
+       \\pi_* &= (c_0+(1+\\alpha_1)\\kappa_x)c_*^2\\varpi_* + \\mathrm{tail}\\,\\xi^*
+               + \\check\\psi r_*,\\\\
+       \\pi^* &= (c_0+(1+\\alpha_1)\\kappa_x+\\kappa_x(1+\\alpha_1^{-1})^2)(c^*)^2\\varpi^*
+               + \\kappa_x(1+\\alpha_1^{-1})(1+\\alpha_1)(X^*)^2(c^*)^2
+               + \\mathrm{tail}\\,\\xi^* + \\check\\psi r^*,\\\\
+       \\Gamma_* &= c_0\\varpi_*\\wp_i/\\pi^*,\\quad \\Gamma^* = c_0\\varpi^*(h^*c^*)^2/\\pi_*,\\\\
+       \\eta_* &= c_0\\varpi_*(1-\\Gamma^*)^2 + (1+\\alpha_1)\\kappa_x\\varpi_*\\Gamma_*^2
+               + (\\mathrm{tail}+\\check\\psi r_*)\\Gamma_*^2,\\\\
+       \\eta^* &= c_0\\varpi^*(1-\\Gamma^*)^2 + (1+\\alpha_1)\\kappa_x\\varpi^*(\\Gamma^*)^2
+               + (1+\\alpha_1^{-1})\\kappa_x((1+\\alpha_1)(X^*)^2
+               +(1+\\alpha_1^{-1})\\varpi^*)(\\Gamma^*)^2
+               + (\\mathrm{tail}+\\check\\psi r^*)(\\Gamma^*)^2
+
+    ("tr" in the printed ``Gamma^*`` is read as the scalar itself). Theorem 3's conditions are
+    (a) ``1 + a5 + a6 <= c0`` for some positive ``a5, a6`` (``c0 > 1``), (b) ``eta_* >= phi_*``,
+    (c) ``eta^* <= phi^*``; the proof inverts (35), ``pi_* I <= Pi <= pi^* I``, which needs
+    ``pi_* > 0``.
+
+    Parameters
+    ----------
+    phi_lo, phi_hi : float or array
+        ``phi_*`` and ``phi^*`` (broadcast with each other and with the weights).
+    psi_bar : float
+        ``psi_check_i``, the probability of no attack.
+    weights : sequence of 5 floats or arrays
+        ``(lambda, alpha_1, alpha_2, alpha_3, alpha_4)``, positive.
+    const : mapping
+        The constants named in :data:`THEOREM3_CONSTANTS`.
+    variant : {"paper", "corrected"}
+        Coefficients substituted for ``c0`` and ``kappa_x``.
+
+    Returns
+    -------
+    dict
+        ``c0``, ``kappa_x``, ``varpi_lo``, ``varpi_hi``, ``pi_lo``, ``pi_hi``, ``gamma_lo``,
+        ``gamma_hi``, ``eta_lo``, ``eta_hi`` (arrays, broadcast).
+
+    Raises
+    ------
+    ValidationError
+        Missing constants, or not five positive weights.
+    """
+    missing = [name for name in THEOREM3_CONSTANTS if name not in const]
+    if missing:
+        raise ValidationError(f"const: missing Theorem 3 constants {missing}")
+    if len(weights) != 5 or not all(np.all(np.asarray(w) > 0) for w in weights):
+        raise ValidationError("weights must be 5 positive (lambda, alpha1..alpha4) values or arrays")
+    lam, a1, a2, a3, a4 = (np.asarray(w, float) for w in weights)
+    k = {name: float(const[name]) for name in THEOREM3_CONSTANTS}
+    c0, kx, *_ = bound_coefficients(psi_bar, a2, a3, a4, variant)
+    tail = (1 + 1 / a2 + 1 / a4) * (1 - psi_bar)  # printed factor of xi^* and of Gamma^2
+    varpi_lo = ((1 + lam) * k["h_lo"] ** 2 * k["a_lo2"]
+                + (1 + 1 / lam) * k["h_lo"] ** 2 * k["b_lo2"]) * phi_lo + k["e_lo2"] * k["q_lo"]
+    varpi_hi = ((1 + lam) * k["h_hi"] ** 2 * k["a_hi2"]
+                + (1 + 1 / lam) * k["h_hi"] ** 2 * k["b_hi2"]) * phi_hi + k["e_hi2"] * k["q_hi"]
+    pi_lo = ((c0 + (1 + a1) * kx) * k["c_lo2"] * varpi_lo + tail * k["xi_star"]
+             + psi_bar * k["r_lo"])  # (35), lower
+    pi_hi = ((c0 + (1 + a1) * kx + kx * (1 + 1 / a1) ** 2) * k["c_hi2"] * varpi_hi
+             + kx * (1 + 1 / a1) * (1 + a1) * k["x2"] * k["c_hi2"] + tail * k["xi_star"]
+             + psi_bar * k["r_hi"])  # (35), upper
+    with np.errstate(divide="ignore", invalid="ignore"):
+        gamma_lo = c0 * varpi_lo * k["wp"] / pi_hi  # (36), Gamma_*
+        gamma_hi = c0 * varpi_hi * k["h_hi"] ** 2 * k["c_hi2"] / pi_lo  # (36), Gamma^*
+    eta_lo = (c0 * varpi_lo * (1 - gamma_hi) ** 2 + (1 + a1) * kx * varpi_lo * gamma_lo ** 2
+              + (tail + psi_bar * k["r_lo"]) * gamma_lo ** 2)
+    eta_hi = (c0 * varpi_hi * (1 - gamma_hi) ** 2 + (1 + a1) * kx * varpi_hi * gamma_hi ** 2
+              + (1 + 1 / a1) * kx * ((1 + a1) * k["x2"] + (1 + 1 / a1) * varpi_hi) * gamma_hi ** 2
+              + (tail + psi_bar * k["r_hi"]) * gamma_hi ** 2)
+    return {"c0": c0, "kappa_x": kx, "varpi_lo": varpi_lo, "varpi_hi": varpi_hi, "pi_lo": pi_lo,
+            "pi_hi": pi_hi, "gamma_lo": gamma_lo, "gamma_hi": gamma_hi, "eta_lo": eta_lo,
+            "eta_hi": eta_hi}
+
+
+def theorem3_c_floor(const: Mapping[str, float]) -> float:
+    """A weight-free lower bound of ``eta^* / phi^*`` (ours): ``(1 - 1/(4(1 - rho))) (h^* a^*)^2``.
+
+    Valid for every ``lambda > 0`` and ``alpha_1..alpha_4 > 0`` with ``kappa_x >= 0`` and
+    ``c0 >= 1`` (condition (a) needs ``c0 > 1``) and every ``phi_* <= phi^*``, when
+    ``e_* = 0``, ``c_* = c^* = h^* = 1``, ``r_* = r^*`` and ``xi^* <= 1`` (the example's
+    constants). Proof: with ``A = c0 varpi^*`` and
+    ``Q = (1+alpha_1) kappa_x varpi^* + tail + psi r``, every dropped term of
+    :func:`theorem3_eta` is >= 0, ``varpi_* <= rho varpi^*`` with ``rho = (h_*/h^*)^2``, so
+    ``pi_* <= rho A + Q`` and ``Gamma^* = A / pi_* >= G_0 = A / (rho A + Q)``;
+    ``eta^* >= A (1 - G)^2 + Q G^2`` at ``G = Gamma^*``, a convex function of ``G`` whose
+    minimiser ``A / (A + Q)`` lies below ``G_0``, so ``eta^* >= A f(u)`` with
+    ``u = rho + Q/A`` and ``f(u) = 1 - 1/u + (1 - rho)/u^2 >= 1 - 1/(4(1 - rho))``
+    (minimum at ``u = 2(1 - rho)``). Finally ``A >= c0 (1 + lambda)(h^* a^*)^2 phi^*`` and
+    ``c0 (1 + lambda) > 1``. If the floor is >= 1, conditions (a) and (c) never hold together
+    for such weights.
+
+    Parameters
+    ----------
+    const : mapping
+        The constants of :data:`THEOREM3_CONSTANTS`.
+
+    Returns
+    -------
+    float
+        The floor.
+
+    Raises
+    ------
+    ValidationError
+        If the constants are not of the kind the bound needs (``e_* > 0``, ``c_* != c^*``,
+        ``c^* != 1``, ``h^* != 1``, ``r_* != r^*``, ``xi^* > 1``, or ``h_* >= h^*``).
+    """
+    missing = [name for name in THEOREM3_CONSTANTS if name not in const]
+    if missing:
+        raise ValidationError(f"const: missing Theorem 3 constants {missing}")
+    if not (const["e_lo2"] == 0 and const["c_lo2"] == const["c_hi2"] == 1 and const["h_hi"] == 1
+            and const["r_lo"] == const["r_hi"] and const["xi_star"] <= 1
+            and 0 < const["h_lo"] < const["h_hi"]):
+        raise ValidationError("const: the floor needs e_* = 0, c_* = c^* = h^* = 1, r_* = r^*, "
+                              f"xi^* <= 1 and 0 < h_* < 1, found {dict(const)}")
+    rho = (const["h_lo"] / const["h_hi"]) ** 2
+    return float((1 - 1 / (4 * (1 - rho))) * const["h_hi"] ** 2 * const["a_hi2"])
 
 
 def predict(xh_own: Array, xh_parents: Sequence[Array], ah: Array, bh_list: Sequence[Array]) -> Array:
