@@ -55,9 +55,9 @@
 # counts map the sensitivity to our choices and to three printed values; they are not verdicts on the
 # paper's example, which is the default point. C6, X4, X5 hold everywhere (X4: one evaluation, the swept
 # axes do not enter it), C10 too (by construction); C8a, X1, X2 fail wherever decided; C8b fails its
-# premise everywhere. C1 holds at all 10 decided points (23 not checked: at 100 runs a rate of 0.96–0.99
-# has a Wilson interval containing the level 0.95); C4 holds at all 23 decided points (5 fail the
-# attack-free precondition, 5 not checked); C5 holds at all 8 points where its premise holds (the 25
+# premise everywhere. C1 holds at all 10 decided points (9 fail the attack-free precondition, 14 not
+# checked: at 100 runs a rate of 0.96–0.99 has a Wilson interval containing the level 0.95); C4 holds
+# at all 23 decided points (9 fail the attack-free precondition, 1 not checked); C5 holds at all 8 points where its premise holds (the 25
 # others fail our precondition "every Case-A update accepted", not the paper's $\Gamma_0\preceq P_0\preceq
 # \Pi_0$). **Undetermined**: C2a holds at 8, fails at 16, fails the attack-free precondition at 9 (where
 # 92–100 % of attack-free runs already lock a node out); C2b 7 / 17 / 9; C3 18 / 6 / 9; C9 13 holds, 5

@@ -60,7 +60,8 @@
 # with its premise holding, of 70): C1 holds, 60/60 (not checked at the 10 points at $s=0.34$,
 # where our fallback drove the NN run; at 0.284 only the conventional run was rejected); C2 holds,
 # 58/58 (its premise fails at the 2 points $s=0.116$ under the $g_1$ reading; not checked at the
-# 10 points at 0.34; its fraction is 1 at every checked point); X7 holds, 58/58 (likewise); X2 undetermined, 68/70 (not at the 2
+# 10 points at 0.34; its fraction is 1 at every checked point); X7 holds, 58/58 (its premise fails at
+# the same 2 points and at the 10 at 0.34); X2 undetermined, 68/70 (not at the 2
 # points where C2's premise fails); X6 holds, 58/58 (not checked at the 12 points where the
 # printed shared-multiplier LMI is not certified at $k=1$, under the readings of $E_1$, $f$,
 # $g_1$); X9 undetermined, 22/70 (at $s\le0.139$, and at 0.166 under the $g_1$ reading); X1,
@@ -1339,7 +1340,8 @@ if extras:
 # and with $\bar\alpha=0.6$, seed 0: our strict certificate, no solver reports infeasibility);
 # C1 holds at 60, not checked at the 10 at $s=0.34$ (our fallback drove the NN run; at 0.284
 # only the conventional run was rejected); C2 and X7 hold at 58, fail their premise at 2
-# ($s=0.116$ under the $g_1$ reading), not checked at the 10 at 0.34; X2 undetermined, 68 (not where C2's premise
+# ($s=0.116$ under the $g_1$ reading), C2 not checked at the 10 at 0.34, where X7's premise fails
+# (a failed premise decides before a check that could not be made); X2 undetermined, 68 (not where C2's premise
 # fails); X6 holds at 58, not checked at 12 (the shared LMI is not certified at $k=1$ under the
 # readings of $E_1$, $f$, $g_1$); X9 undetermined, 22 (at $s\le0.139$, and at 0.166 under the
 # $g_1$ reading); C4 (by construction), X1, X3, X4 hold at all 70. The cell below prints each
@@ -1825,8 +1827,8 @@ elif plotting.figures_enabled():
 #   further (largest eigenvalues up to $4\cdot10^{-2}$). So these 13 points are **not checked**
 #   for C5 (an earlier version recorded them as C5 "fails", and C1 "fails" at 2 of them, from the
 #   stale gains: our limits, recorded as the paper's failures), and the claims measured on runs
-#   our fallback drove are not checked there either: C3 at all 13, C1, C2 and X7 at the 10 at
-#   $s=0.34$ (at 0.284 only the conventional run was rejected).
+#   our fallback drove are not checked there either: C3 at all 13, C1 and C2 at the 10 at
+#   $s=0.34$ (at 0.284 only the conventional run was rejected; X7's premise fails there).
 # * **Shared multipliers (X6).** The printed (22) with one $\Gamma_k$ roughly doubles
 #   $\mathrm{tr}\,\mathfrak B_k$ per step over the two steps run, while per-node multipliers keep
 #   it near 6–7. The shared LMI is not certified at $k=1$ at 12 of the 70 points (under the

@@ -446,7 +446,7 @@ def claim(
 
 
 def point_verdict(entry: Mapping[str, Any]) -> str:
-    """``not-checked``, else ``fails-premise`` if the premise fails, else ``holds`` or ``fails``.
+    """``fails-premise`` if the premise fails, else ``not-checked``, else ``holds`` or ``fails``.
 
     Parameters
     ----------
@@ -459,11 +459,11 @@ def point_verdict(entry: Mapping[str, Any]) -> str:
     str
         The outcome at this run's parameters, one of :data:`POINT_OUTCOMES`.
     """
-    if entry["holds"] is None:
-        return "not-checked"
     premise = entry.get("premise")
     if premise is not None and not premise["holds"]:
-        return "fails-premise"
+        return "fails-premise"  # whatever was (or could not be) measured
+    if entry["holds"] is None:
+        return "not-checked"
     return "holds" if entry["holds"] else "fails"
 
 

@@ -373,8 +373,11 @@ def summarise(space: spaces.Space, rows: Sequence[Mapping[str, Any]], points: Se
     the premise fails somewhere, else ``not-checked``. Points where the premise fails or
     that were not checked are counted and shown, never counted as failures. The fraction
     holding and its Wilson interval are over the decided points, treated as a sample of
-    the declared space. ``evaluations`` counts the distinct (outcome, value) pairs: 1 means
-    the swept axes do not enter the claim, and "holds everywhere" is one evaluation.
+    the declared space, but the interval counts each distinct (outcome, value) pair of the
+    decided points once: points that reproduce one evaluation are not independent samples.
+    ``evaluations`` counts the distinct (outcome, value) pairs of all its points: 1 means every
+    point gave the same outcome and value (the swept axes do not change it, whether or not they
+    enter it), so "holds everywhere" is one evaluation.
 
     Parameters
     ----------
@@ -409,8 +412,11 @@ def summarise(space: spaces.Space, rows: Sequence[Mapping[str, Any]], points: Se
         if n == 0:
             continue
         verdict, decided = _space_verdict(counts)
-        lo, hi = wilson_interval(counts["holds"], decided) if decided else (0.0, 1.0)
         evaluations = len({(r[f"{cid}.outcome"], r.get(f"{cid}.value")) for r, _ in ok})
+        distinct = {(r[f"{cid}.outcome"], r.get(f"{cid}.value")) for r, _ in ok
+                    if r[f"{cid}.outcome"] in ("holds", "fails")}
+        held = sum(o == "holds" for o, _ in distinct)
+        lo, hi = wilson_interval(held, len(distinct)) if distinct else (0.0, 1.0)
         names = dict.fromkeys(name for _, p in ok for name in p)
         axes = {
             name: [p[name] for _, p in ok]
@@ -427,7 +433,8 @@ def summarise(space: spaces.Space, rows: Sequence[Mapping[str, Any]], points: Se
             "outcomes": counts,
             "fraction_holds": counts["holds"] / decided if decided else None,
             "interval": interval(
-                lo, hi, method="wilson, decided design points as a sample of the declared space"
+                lo, hi, method="wilson, distinct evaluations of the decided design points as a sample "
+                "of the declared space"
             ),
             "region": _region(space, axes, outcomes),
             "axes": list(axes),
