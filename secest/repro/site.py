@@ -202,7 +202,7 @@ def escape_md_keep_maths(text: str) -> str:
 
 _BRACED = r"\{((?:[^{}]|\{[^{}]*\})*)\}"
 _SUBSUP = re.compile(
-    r"(?<=[^\s_^\\`*<>(\[])([_^])(?:" + _BRACED + r"|([A-Za-z0-9\u0370-\u03ff])(?![\w{]))"
+    r"(?<=[^\s_^\\`*<(\[])([_^])(?:" + _BRACED + r"|([A-Za-z0-9\u0370-\u03ff])(?![\w{]))"
 )
 _GREEK = {
     name: chr(code)
@@ -215,7 +215,7 @@ _GREEK = {
         ("psi", 0x3C8), ("Psi", 0x3A8), ("omega", 0x3C9), ("Omega", 0x3A9),
     )
 }
-_GREEK_WORD = re.compile(r"(?<![\w`])(" + "|".join(_GREEK) + r")(?![A-Za-z0-9`])")
+_GREEK_WORD = re.compile(r"(?<![A-Za-z0-9`])(" + "|".join(_GREEK) + r")(?![A-Za-z0-9`])")
 _ASCII_OPS = (("+-", "±"), ("<=", "≤"), (">=", "≥"), ("!=", "≠"), ("sqrt(", "√("))
 _ACCENT = re.compile(r"(?<![\w`])([A-Za-z\u0370-\u03ff])_(hat|bar|tilde)(?![A-Za-z0-9])")
 _ACCENTS = {"hat": "\u0302", "bar": "\u0304", "tilde": "\u0303"}
@@ -273,6 +273,9 @@ def ascii_maths(text: str) -> str:
         t = _GREEK_WORD.sub(lambda m: _GREEK[m.group(1)], t)
         t = re.sub(r"(?<=[A-Za-z\u0370-\u03ff\u0300-\u036f])\+(?=[_\s),;.]|$)", "\u207a", t)
         t = re.sub(r"(?<=[A-Za-z\u0370-\u03ff\u0300-\u036f])-(?=_)", "\u207b", t)
+        t = re.sub(r"(?<=[A-Za-z])~(?![A-Za-z0-9])", "\u0303", t)  # x~ -> x̃
+        t = re.sub(r"(?<=\S)_(max|min|inf|sup|ij)(?![A-Za-z0-9])", r"<sub>\1</sub>", t)
+        t = re.sub(r"(?<=\S)\^(\([^()\s]*\)|-?\d+)", r"<sup>\1</sup>", t)  # x^(1), B^-1
         parts[i] = sub_sup(t)
     return "".join(parts)
 
