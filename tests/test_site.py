@@ -869,7 +869,7 @@ def layout(browser_context: Any, server: str, pages: list[Path]) -> dict[str, di
     lines = ["paper page heights at 1280 px (before issue #31 -> now, share):"]
     for key, before in HEIGHT_BEFORE.items():
         now = found[f"papers/{key}"]["desktop"]["height"]
-        lines.append(f"  {key}: {before} -> {now} px ({100 * now / before:.0f} %)")
+        lines.append(f"  {key}: {before} -> {now} px ({100 * now / before:.1f} %)")
     lines.append(f"largest page: {largest} ({(HTML / f'{largest}.html').stat().st_size / 1e3:.0f} kB "
                  f"of HTML, {found['_largest']['bytes'] / 1e6:.2f} MB loaded by its load event), "
                  f"load event {min(loads):.2f} s (best of {', '.join(f'{t:.2f}' for t in loads)})")
