@@ -24,12 +24,14 @@ sys.path.insert(0, str(DOCS / "_ext"))
 sys.path.insert(0, str(ROOT))
 
 from secest import __version__  # noqa: E402
-from secest.repro.site import mathjax_dir  # noqa: E402
+from secest.repro.site import build_commit, citation, mathjax_dir  # noqa: E402
 
+CITATION = citation(ROOT)  # CITATION.cff: the one place that names the authors and the repository
 project = "secest"
-author = "the secest authors"
-copyright = "the secest authors, BSD-3-Clause"  # noqa: A001
+author = CITATION["authors"]
+copyright = f"{author}, BSD-3-Clause"  # noqa: A001
 release = version = __version__
+BUILD = build_commit(ROOT)  # the commit this site is built from, on every page's footer
 
 extensions = [
     "myst_nb",
@@ -37,12 +39,13 @@ extensions = [
     "sphinx.ext.autosummary",
     "sphinx.ext.napoleon",
     "sphinx.ext.mathjax",
+    "sphinx.ext.viewcode",  # [source] links in the API pages
     "sphinxcontrib.bibtex",
     "secest_sphinx",
 ]
 
 exclude_patterns = ["_build", "**.ipynb_checkpoints", "_generated/*.md"]
-templates_path: list[str] = []
+templates_path = [str(DOCS / "_templates")]  # the theme's asset macros, without the icon JS
 root_doc = "index"
 source_suffix = {".rst": "restructuredtext", ".md": "myst-nb", ".ipynb": "myst-nb"}
 
@@ -63,6 +66,7 @@ bibtex_default_style = "plain"
 bibtex_reference_style = "author_year"
 
 # --- API reference (numpydoc docstrings through napoleon) ---------------------------------
+viewcode_follow_imported_members = False  # the source of secest's own modules only
 autosummary_generate = False
 autosummary_imported_members = False
 autodoc_member_order = "bysource"
@@ -78,7 +82,10 @@ napoleon_preprocess_types = False
 # SVG output needs no web fonts, so pages opened from disk (file://) typeset too.
 html_static_path = ["_static", str(mathjax_dir())]
 mathjax_path = "mathjax/tex-svg.js"
+# ui/lazy (shipped with it) typesets an equation when it comes near the view: a paper page holds
+# hundreds, and typesetting all of them first held its load event back by seconds.
 mathjax3_config = {
+    "loader": {"load": ["ui/lazy"]},
     "svg": {"fontCache": "global"},
     "options": {"enableMenu": True},
 }
@@ -88,6 +95,7 @@ html_theme = "sphinx_book_theme"
 html_title = "secest"
 html_short_title = "secest"
 html_css_files = ["secest.css"]
+html_favicon = str(DOCS / "_static" / "favicon.svg")
 html_last_updated_fmt = None
 html_copy_source = True
 html_show_sourcelink = False
@@ -100,9 +108,12 @@ html_theme_options = {
     "toc_title": "On this page",
     "navigation_with_keys": False,
     "extra_footer": (
-        "Rendered from the committed executed notebooks; nothing was re-run to build this site."
+        "Rendered from the committed executed notebooks; nothing was re-run to build this site. "
+        f"Built from commit <code>{BUILD}</code>."
     ),
 }
+if CITATION.get("repository"):  # the theme's repository button, once CITATION.cff names the URL
+    html_theme_options |= {"repository_url": CITATION["repository"], "use_repository_button": True}
 html_context = {"default_mode": "light"}
 
 # Types in numpydoc fields become cross-references word by word: a shape such as

@@ -7,8 +7,12 @@ through Playwright, never a browser that Playwright downloads. Without Chromium 
 are skipped with a loud reason, unless ``SECEST_REQUIRE_BROWSER=1`` (set by ``.ci/run``),
 where they fail. A screenshot of every page is saved under ``build/site-screenshots/`` for
 people to look at: what a reader sees on opening it (the first 1280 x 900 px), or the whole
-page with ``SECEST_SITE_SHOTS=full`` (``make shots``; a whole paper page, 40 000-60 000 px
-tall, takes 3-4 s to capture, two thirds of the browser's time in ``make test``).
+page with ``SECEST_SITE_SHOTS=full`` (``make shots``; a whole paper page is 21 000-26 000 px
+tall). Issue #31's checks open every page again at 1280 x 900 and 390 x 844 px: every display
+equation whole, no sideways scroll on a phone, menus that open and close, paper pages at most
+40 % of their former height and the largest page's load event under 3 s (printed with ``-s``
+and written to ``build/site-report.txt``), plus screenshots of each paper page's first two
+screens, claims table and a folded / unfolded cell in ``build/site-screenshots/reader/``.
 """
 
 from __future__ import annotations
@@ -432,10 +436,15 @@ def _check_figures(page: Any, key: str) -> list[str]:
     for fid, count, width in found:
         if count != 1:
             problems.append(f"{key}: figure#{fid} holds {count} images")
-        elif not width:
+        elif not width:  # a lazy image (loading="lazy") loads when it comes into view
             img = page.locator(f"figure[id='{fid}'] img")
             img.scroll_into_view_if_needed()
-            if not img.evaluate("i => i.complete ? i.naturalWidth : 0"):
+            from playwright.sync_api import TimeoutError as PlaywrightTimeout
+
+            try:
+                page.wait_for_function("i => i.complete && i.naturalWidth > 0", arg=img.element_handle(),
+                                       timeout=10_000)
+            except PlaywrightTimeout:
                 problems.append(f"{key}: figure#{fid}: image not loaded (naturalWidth 0)")
     return problems
 
@@ -572,7 +581,7 @@ def test_opens_from_disk_without_network(browser_context: Any, site: Path, name:
 
 
 def test_claim_row_shows_interval_premise_robustness_and_section() -> None:
-    from secest.repro.site import _claim_row
+    from secest.repro.site import CLAIM_COLUMNS, _claim_row
 
     heads = [
         (2, "Fig. 4 — position $x_{1,k}$ and its estimates", "fig-4--position--and-its-estimates"),
@@ -597,20 +606,30 @@ def test_claim_row_shows_interval_premise_robustness_and_section() -> None:
         },
         "section": "Fig. 4 — position $x_{1,k}$ and its estimates",
     }
-    text = "\n".join(_claim_row("ding2020", "C3", entry, heads, "claims"))
-    assert "(claim-ding2020-c3)=" in text
+    rows = _claim_row("ding2020", "C3", entry, heads, "claims")
+    text = "\n".join(rows)
+    assert rows[0] == "* - (claim-ding2020-c3)=" and len(CLAIM_COLUMNS) == 5
+    assert sum(r.startswith("  - ") for r in rows) == len(CLAIM_COLUMNS) - 1  # five cells
     assert "{badge}`undetermined`" in text
-    assert "holds in 40 % of the declared space" in text
+    assert "holds in 40 % of the declared space" in text and "holds at this run" in text
     assert "95 % interval \\[0.95, 0.985\\] (Wilson)" in text
     assert "**premise** (does not hold)" in text
     assert "source: Theorem 2, (34)" in text
     assert "the filter is \\*stable\\*" in text  # the paper's words are text, not markup
     assert "rate: 0.97" in text
-    assert "(papers/ding2020.ipynb#fig-4--position--and-its-estimates)" in text
+    assert "[**C3**](papers/ding2020.ipynb#fig-4--position--and-its-estimates)" in text
+    on_page = "\n".join(_claim_row("ding2020", "C3", entry, heads, "claims", on_page=True))
+    assert "(ding2020-claim-c3)=" in on_page
+    assert "[**C3**](ding2020.ipynb#fig-4--position--and-its-estimates)" in on_page
     no_section = {k: v for k, v in entry.items() if k not in ("section", "source")}
     text = "\n".join(_claim_row("ding2020", "C3", no_section, heads, "claims"))
-    assert "[§ Claims](papers/ding2020.ipynb#claims)" in text
+    assert "[**C3**](papers/ding2020.ipynb#claims)" in text
     assert "source: —" in text
+    optional = {**entry, "basis": "by-construction", "runs": 300, "decides": False,
+                "verdict": "not-checked"}
+    text = "\n".join(_claim_row("ding2020", "C3", optional, heads, "claims"))
+    assert "true by construction: not evidence" in text and "runs: 300" in text
+    assert "does not decide the verdict" in text and "{badge}`not-checked`" in text
 
 
 def test_claim_row_rejects_a_section_that_names_no_heading() -> None:
@@ -659,3 +678,351 @@ def test_heading_anchors_match_the_built_pages(site: Path) -> None:
         heads = notebook_headings(read_notebook(ROOT / "notebooks" / f"{key}.ipynb"))
         missing = [(title, slug) for level, title, slug in heads if level > 1 and slug not in ids]
         assert not missing, (key, missing)
+
+
+# ------------------------------------------------------------------------------------------
+# issue #31: folding, claim links, one claims table per page
+# ------------------------------------------------------------------------------------------
+
+
+def test_fold_tags_keep_the_algorithm_visible() -> None:
+    from secest.repro.site import fold_tags
+
+    def code(src: str, outputs: int = 1) -> dict:
+        return {"cell_type": "code", "source": src, "outputs": [{}] * outputs, "metadata": {}}
+
+    assert fold_tags(code("show_source(M.fuse)\nshow_source(M.gain, after='  x')")) == []
+    assert fold_tags(code("show_source(\n    M.fuse,\n    after='    N, n',\n)")) == []
+    assert fold_tags(code("x = 1\nshow_source(M.fuse)")) == ["hide-input"]  # mixed: folded
+    assert fold_tags(code("import numpy as np")) == ["hide-input"]
+    assert fold_tags(code("display(Markdown(spaces.provenance_markdown('lee2020')))")) == [
+        "hide-input",
+        "hide-output",
+    ]
+    assert fold_tags(code("results.write_claims(claims, results_path)")) == ["hide-input", "hide-output"]
+    assert fold_tags(code("results.write_claims(claims, results_path)", outputs=0)) == ["hide-input"]
+    assert fold_tags(code("%matplotlib inline")) == ["hide-input"]
+    assert fold_tags({"cell_type": "markdown", "source": "show_source(x)"}) == []
+
+
+def test_link_claim_ids_touches_prose_only() -> None:
+    from secest.repro.site import link_claim_ids
+
+    ids = ["C1", "C1_nd", "C2a", "X3"]
+    text = "\n".join(
+        [
+            "## C1 in a heading stays",
+            "C1 holds, C1_nd too, **C2a** fails; X3 (ours). C10 is not a claim, nor xC1.",
+            "Maths $C1 + C_1$, code `C1`, a [link C1](#x) and {ref}`C2a <y>` stay.",
+            "```",
+            "C1 in a fence",
+            "```",
+        ]
+    )
+    out = link_claim_ids(text, "guo2023", ids).split("\n")
+    assert out[0] == "## C1 in a heading stays"
+    assert out[1] == (
+        "{ref}`C1 <guo2023-claim-c1>` holds, {ref}`C1_nd <guo2023-claim-c1-nd>` too, "
+        "**{ref}`C2a <guo2023-claim-c2a>`** fails; {ref}`X3 <guo2023-claim-x3>` (ours). "
+        "C10 is not a claim, nor xC1."
+    )
+    assert out[2:] == text.split("\n")[2:]
+
+
+def test_every_notebook_page_has_one_claims_table_with_the_same_columns(site: Path) -> None:
+    from secest.repro.site import CLAIM_COLUMNS, page_claim_label
+
+    for key in notebook_keys(ROOT):
+        html = (site / f"{page_of(key)}.html").read_text()
+        tables = re.findall(r'<table class="[^"]*secest-claims[" ].*?</table>', html, flags=re.S)
+        assert len(tables) == 1, (key, len(tables))
+        heads = [re.sub(r"<[^>]+>", "", h).strip()
+                 for h in re.findall(r"<th[^>]*>(.*?)</th>", tables[0], flags=re.S)]
+        expected = list(CLAIM_COLUMNS)
+        if key == "arena":
+            expected[1] = "The finding (ours)"
+        assert heads == expected, (key, heads)
+        claims = json.loads((ROOT / "figures" / key / "claims.json").read_text())
+        ids = parsed(site / f"{page_of(key)}.html").ids
+        for cid, entry in claims.items():
+            assert page_claim_label(key, cid) in ids, (key, cid)
+            row = tables[0][tables[0].index(f'id="{page_claim_label(key, cid)}"'):]
+            row = row[: row.index("</tr>")]
+            assert f"secest-badge-{entry['verdict']}" in row, (key, cid)
+        # the claim ids of the prose link to the rows of this table
+        links = [h for h in parsed(site / f"{page_of(key)}.html").links if "-claim-" in h]
+        assert links and all(h.split("#")[-1] in ids for h in links), key
+
+
+def test_code_is_folded_by_the_stated_rule(site: Path) -> None:
+    """Every code cell's input is folded except the show_source-only cells; the listings that
+    show_source prints (the algorithm) are never folded; only the two outputs the rule names are."""
+    from secest.repro.site import fold_tags, read_notebook
+
+    for key in notebook_keys(ROOT):
+        nb = read_notebook(ROOT / "notebooks" / f"{key}.ipynb")
+        code = [c for c in nb["cells"] if c["cell_type"] == "code"]
+        tags = [fold_tags(c) for c in code]
+        html = (site / f"{page_of(key)}.html").read_text()
+        cells = re.findall(r'<div class="cell(?: [^"]*)? docutils container">', html)
+        assert len(cells) == len(code), (key, len(cells), len(code))
+        assert sum("tag_hide-input" in c for c in cells) == sum("hide-input" in t for t in tags)
+        assert sum("tag_hide-output" in c for c in cells) == sum("hide-output" in t for t in tags)
+        listings = [c for c, t in zip(code, tags, strict=True) if "show_source(" in "".join(c["source"])]
+        assert all(c.get("outputs") for c in listings), key
+        if key != "arena":
+            assert listings, f"{key}: no algorithm shown"
+            assert not any("hide-output" in fold_tags(c) for c in listings), key
+
+
+def test_every_page_names_its_build_commit_and_the_citation(site: Path) -> None:
+    from secest.repro.site import build_commit, citation
+
+    commit = build_commit(ROOT).split()[0]
+    for name in ("index", "papers/lee2020", "api/index"):
+        assert f"Built from commit <code>{commit}" in (site / f"{name}.html").read_text(), name
+    install = (site / "install.html").read_text()
+    assert citation(ROOT)["authors"] in install and "CITATION.cff" in install
+    assert "the secest authors" not in (site / "index.html").read_text()
+    assert (site / "_static" / "favicon.svg").is_file()
+    assert 'rel="icon"' in (site / "index.html").read_text()
+    assert "_modules/secest/methods/lee2020.html" in (site / "api" / "methods.lee2020.html").read_text()
+
+
+# ------------------------------------------------------------------------------------------
+# issue #31 in the browser: two widths, every equation, menus, page heights, load time
+# ------------------------------------------------------------------------------------------
+
+WIDTHS = {"desktop": (1280, 900), "phone": (390, 844)}
+REPORT = ROOT / "build" / "site-report.txt"
+# the paper pages' heights at 1280 px before issue #31 (commit 8dce945, measured by this test's
+# predecessor probe); the target is at most 40 % of each
+HEIGHT_BEFORE = {"ding2020": 58883, "guo2023": 54624, "lee2020": 63205, "li2025": 62568,
+                 "ma2021": 66693}
+
+_LAYOUT = """async () => {
+  if (window.MathJax && MathJax.startup && MathJax.startup.promise) {
+    await MathJax.startup.promise;
+    const doc = MathJax.startup.document;
+    if (doc && doc.lazyTypesetAll) await doc.lazyTypesetAll();  // ui/lazy: typeset every equation
+  }
+  const root = document.documentElement;
+  const article = document.querySelector('.bd-article') || document.body;
+  const col = article.getBoundingClientRect();
+  const boxOf = el => {
+    for (let a = el.parentElement; a && a !== document.body; a = a.parentElement) {
+      if (getComputedStyle(a).overflowX !== 'visible') return a;
+    }
+    return null;
+  };
+  const eqs = [...document.querySelectorAll('mjx-container[display="true"]')];
+  const clipped = [];
+  for (const c of eqs) {
+    const svg = c.querySelector('svg');
+    if (!svg) { clipped.push(['not typeset', (c.parentElement.id || '')]); continue; }
+    const s = svg.getBoundingClientRect();
+    const box = boxOf(svg);
+    const b = box ? box.getBoundingClientRect() : col;
+    const ox = box ? getComputedStyle(box).overflowX : 'visible';
+    const scrolls = box && (ox === 'auto' || ox === 'scroll') && box.scrollWidth > box.clientWidth;
+    const name = (c.closest('div.math') || c).id || (c.getAttribute('aria-label') || '').slice(0, 40);
+    if (s.left < b.left - 1) clipped.push(['left', name, Math.round(b.left - s.left)]);
+    else if (s.right > b.right + 1 && !scrolls) clipped.push(['right', name, Math.round(s.right - b.right)]);
+    if (!box && (s.left < col.left - 1 || s.right > col.right + 1)) clipped.push(['column', name]);
+  }
+  const nav = performance.getEntriesByType('navigation')[0];
+  const bytes = performance.getEntriesByType('resource').reduce((a, e) => a + (e.encodedBodySize || 0), 0)
+    + (nav ? nav.encodedBodySize : 0);
+  return {
+    sideways: root.scrollWidth - root.clientWidth,
+    height: root.scrollHeight,
+    equations: eqs.length,
+    displayed: document.querySelectorAll('div.math').length,
+    clipped,
+    load: nav ? nav.loadEventStart / 1000 : null,
+    bytes,
+  };
+}"""
+
+
+@pytest.fixture(scope="session")
+def layout(browser_context: Any, server: str, pages: list[Path]) -> dict[str, dict[str, Any]]:
+    """Every page at 1280 x 900 and at 390 x 844: sideways scroll, every display equation's box,
+    height, load event and bytes. A report of the paper pages goes to build/site-report.txt."""
+    found: dict[str, dict[str, Any]] = {}
+    for width, (w, h) in WIDTHS.items():
+        tab = browser_context.new_page()
+        tab.set_viewport_size({"width": w, "height": h})
+        for path in pages:
+            tab.goto(f"{server}/{path.relative_to(HTML).as_posix()}", wait_until="load")
+            found.setdefault(_name(path), {})[width] = tab.evaluate(_LAYOUT)
+        tab.close()
+    largest = max(found, key=lambda n: (HTML / f"{n}.html").stat().st_size)  # the largest document
+    tab = browser_context.new_page()
+    loads = []
+    for _ in range(3):  # the best of three: other processes on the machine add noise, not weight
+        tab.goto(f"{server}/{largest}.html", wait_until="load")
+        loads.append(tab.evaluate("performance.getEntriesByType('navigation')[0].loadEventStart / 1000"))
+    tab.close()
+    found["_largest"] = {"name": largest, "load": min(loads), "loads": loads,
+                         "bytes": found[largest]["desktop"]["bytes"]}
+    lines = ["paper page heights at 1280 px (before issue #31 -> now, share):"]
+    for key, before in HEIGHT_BEFORE.items():
+        now = found[f"papers/{key}"]["desktop"]["height"]
+        lines.append(f"  {key}: {before} -> {now} px ({100 * now / before:.1f} %)")
+    lines.append(f"largest page: {largest} ({(HTML / f'{largest}.html').stat().st_size / 1e3:.0f} kB "
+                 f"of HTML, {found['_largest']['bytes'] / 1e6:.2f} MB loaded by its load event), "
+                 f"load event {min(loads):.2f} s (best of {', '.join(f'{t:.2f}' for t in loads)})")
+    lines.append("paper pages' load events (one load each): " + ", ".join(
+        f"{key} {found[f'papers/{key}']['desktop']['load']:.2f} s" for key in HEIGHT_BEFORE))
+    eqs = {wd: sum(f[wd]["equations"] for n, f in found.items() if n != "_largest") for wd in WIDTHS}
+    lines.append(f"display equations measured: {eqs['desktop']} at 1280 px, {eqs['phone']} at 390 px")
+    REPORT.parent.mkdir(parents=True, exist_ok=True)
+    REPORT.write_text("\n".join(lines) + "\n")
+    print("\n" + "\n".join(lines))
+    return found
+
+
+def test_no_display_equation_is_clipped(layout: dict[str, Any]) -> None:
+    """Every display equation lies inside its column or scrolls in a box of its own, at both widths;
+    none overflows to the left, where it could not be scrolled to."""
+    problems = [f"{n} ({wd}): {c}" for n, f in layout.items() if n != "_largest"
+                for wd in WIDTHS for c in f[wd]["clipped"]]
+    for name, found in layout.items():  # every display equation of every page was measured
+        for wd in WIDTHS if name != "_largest" else ():
+            assert found[wd]["equations"] >= found[wd]["displayed"], (name, wd, found[wd])
+    assert sum(f["phone"]["equations"] for n, f in layout.items() if n != "_largest") > 30
+    assert not problems, "\n".join(problems[:40])
+
+
+def test_no_page_scrolls_sideways_on_a_phone(layout: dict[str, Any]) -> None:
+    wide = {n: f["phone"]["sideways"] for n, f in layout.items() if n != "_largest"}
+    assert not {n: px for n, px in wide.items() if px > 0}, wide
+
+
+def test_paper_pages_are_at_most_40_percent_of_their_former_height(layout: dict[str, Any]) -> None:
+    heights = {key: layout[f"papers/{key}"]["desktop"]["height"] for key in HEIGHT_BEFORE}
+    assert set(HEIGHT_BEFORE) == set(paper_keys(ROOT))
+    over = {k: f"{h} px = {100 * h / HEIGHT_BEFORE[k]:.1f} %" for k, h in heights.items()
+            if h > 0.4 * HEIGHT_BEFORE[k]}
+    assert not over, over
+
+
+def test_the_largest_page_loads_in_under_3_s(layout: dict[str, Any]) -> None:
+    largest = layout["_largest"]
+    assert largest["load"] < 3.0, largest
+
+
+def _visible(page: Any, selector: str) -> bool:
+    return page.evaluate(
+        """sel => [...document.querySelectorAll(sel)].some(e => {
+             const r = e.getBoundingClientRect(), s = getComputedStyle(e);
+             return r.width > 0 && r.height > 0 && s.visibility !== 'hidden'
+                    && r.right > 0 && r.left < innerWidth; })""",
+        selector,
+    )
+
+
+@pytest.mark.parametrize("width", list(WIDTHS))
+def test_menus_open_and_close(browser_context: Any, server: str, width: str) -> None:
+    """The navigation (and on a phone the page's contents) open and close from their buttons."""
+    w, h = WIDTHS[width]
+    page = browser_context.new_page()
+    page.set_viewport_size({"width": w, "height": h})
+    page.goto(f"{server}/papers/lee2020.html", wait_until="load")
+    nav, toc = ".bd-sidebar-primary .bd-links", ".bd-sidebar-secondary .bd-toc-nav"
+    searches = page.evaluate(
+        """() => [...document.querySelectorAll('.bd-search, .search-button-field, .search-button')]
+             .filter(e => e.getBoundingClientRect().width > 0 && e.offsetParent !== null).length"""
+    )
+    assert searches == 1, f"{width}: {searches} search boxes in view"
+
+    def toggle(selector: str) -> None:
+        buttons = [b for b in page.query_selector_all(selector) if b.is_visible()]
+        assert len(buttons) == 1, f"{width}: {len(buttons)} visible {selector}"
+        buttons[0].click()
+        page.wait_for_timeout(400)
+
+    if width == "desktop":
+        assert _visible(page, nav) and _visible(page, toc)
+        toggle(".primary-toggle")
+        assert not _visible(page, nav), "the menu button does not collapse the sidebar"
+        toggle(".primary-toggle")
+        assert _visible(page, nav), "the menu button does not bring the sidebar back"
+    else:
+        for button, panel in ((".primary-toggle", nav), (".secondary-toggle", toc)):
+            assert not _visible(page, panel), f"{panel} shown before its button is pressed"
+            toggle(button)
+            assert _visible(page, panel), f"{button} does not open {panel}"
+            # a tap beside the drawer (on the overlay) closes it
+            page.mouse.click(w - 5 if "primary" in button else 5, h // 2)
+            page.wait_for_timeout(400)
+            assert not _visible(page, panel), f"{panel} does not close"
+    assert _visible(page, ".fa-bars, .fa-list, .fa-solid"), "icons are not drawn"
+    page.close()
+
+
+READER_SHOTS = SHOTS / "reader"
+
+
+def _reader_shot(page: Any, name: str, saved: list[Path]) -> None:
+    page.wait_for_timeout(300)  # lazy images and maths in view are drawn
+    path = READER_SHOTS / f"{name}.png"
+    page.screenshot(path=str(path))
+    saved.append(path)
+
+
+def test_screenshots_of_what_a_reader_sees(browser_context: Any, server: str, site: Path) -> None:
+    """Each paper page at 1280 and 390 px: its first two screens, its claims table, a folded code
+    cell and the same cell unfolded, saved to build/site-screenshots/reader/ for people to look at."""
+    READER_SHOTS.mkdir(parents=True, exist_ok=True)
+    for old in READER_SHOTS.glob("*.png"):
+        old.unlink()
+    saved: list[Path] = []
+    for w, h in WIDTHS.values():
+        page = browser_context.new_page()
+        page.set_viewport_size({"width": w, "height": h})
+        for key in paper_keys(ROOT):
+            page.goto(f"{server}/papers/{key}.html", wait_until="load")
+            page.evaluate("async () => { if (window.MathJax) await MathJax.startup.promise; }")
+            for screen in (0, 1):
+                page.evaluate(f"window.scrollTo(0, {screen * h})")
+                _reader_shot(page, f"{key}-{w}-screen{screen + 1}", saved)
+            page.locator("table.secest-claims").scroll_into_view_if_needed()
+            _reader_shot(page, f"{key}-{w}-claims", saved)
+            folded = page.locator("div.cell details.hide.above-input").nth(2)
+            folded.scroll_into_view_if_needed()
+            page.evaluate("window.scrollBy(0, -120)")
+            assert not folded.evaluate("d => d.open"), key
+            _reader_shot(page, f"{key}-{w}-folded", saved)
+            folded.locator("summary").click()
+            assert folded.evaluate("d => d.open"), f"{key}: a folded cell does not unfold"
+            _reader_shot(page, f"{key}-{w}-unfolded", saved)
+        page.close()
+    assert len(saved) == 2 * 5 * len(paper_keys(ROOT))
+    assert all(p.stat().st_size > 5_000 for p in saved)
+
+
+def test_plain_text_maths_is_typeset_and_code_left_alone() -> None:
+    from secest.repro.site import ascii_maths, escape_md_typeset, sub_sup, typeset_markdown
+
+    assert sub_sup("S̃_{1i,k+1} and y_k^{a,i}") == "S̃<sub>1i,k+1</sub> and y<sub>k</sub><sup>a,i</sup>"
+    assert sub_sup("Σ_{j∈N_i∪{i}}") == "Σ<sub>j∈N<sub>i</sub>∪{i}</sub>"
+    assert sub_sup("lemma_seed 7, x0_spread") == "lemma_seed 7, x0_spread"  # words, not indices
+    assert ascii_maths("tr Gamma+ and +-2 sqrt(P_bar)") == "tr Γ⁺ and ±2 √(P̄)"
+    assert ascii_maths("max_k |x_hat_B(1)| <= 1") == "max<sub>k</sub> |x̂<sub>B</sub>(1)| ≤ 1"
+    assert ascii_maths("gamma0_scale `kappa` $x_1$") == "gamma0_scale `kappa` $x_1$"
+    assert escape_md_typeset("a*b_{i}") == "a\\*b<sub>i</sub>"
+    assert typeset_markdown("P̄* (not P̄_{k}), φ*/φ_*, *A second machine*, `a_{b}`, **C1**") == (
+        "P̄<sup>∗</sup> (not P̄<sub>k</sub>), φ<sup>∗</sup>/φ<sub>∗</sub>, *A second machine*, "
+        "`a_{b}`, **C1**"
+    )
+    assert typeset_markdown("are *not* a reason") == "are *not* a reason"
+
+
+def test_errata_page_shows_no_raw_indices(site: Path) -> None:
+    text = re.sub(r"<(pre|code)[^>]*>.*?</\1>", "", (site / "errata.html").read_text(), flags=re.S)
+    text = re.sub(r"<[^>]+>", "", text)
+    raw = re.findall(r".{0,20}[_^]\{.{0,20}", text)
+    assert not raw, raw[:10]
+    assert (site / "errata.html").read_text().count("<sub>") > 20

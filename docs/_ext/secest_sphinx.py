@@ -14,6 +14,10 @@
   gallery uses it). Sphinx's ``{numref}`` reloads the whole target page from disk for
   each reference (53 paper pages for the gallery, 5 s of the build); this role reads
   the number Sphinx assigned (``env.toc_fignumbers``) and the label's page instead.
+* Every figure image gets its caption's text as alt text, and every image of a page body
+  loads lazily (``loading="lazy"``), so a page reaches its load event without its figures.
+* ``_static/secest-icons.css``: the theme's icon classes with the one icon font inline
+  (the theme's 1.5 MB icon script is not loaded; ``docs/_templates/static/webpack-macros.html``).
 * After the build, the ``.ipynb`` that the theme's download button serves
   (``_sources/papers/<key>.ipynb``, ``_sources/beyond/<key>.ipynb``) is replaced by the
   committed notebook, so
@@ -37,7 +41,7 @@ from sphinx.application import Sphinx
 from sphinx.transforms import SphinxTransform
 from sphinx.util import logging
 
-from secest.repro.site import ROOT, load_manifest
+from secest.repro.site import ROOT, ascii_maths, load_manifest
 
 logger = logging.getLogger(__name__)
 
@@ -121,6 +125,30 @@ def _caption_text(key: str, stem: str, fig: dict[str, Any] | None) -> tuple[str,
     return f"{origin}: {title}.", str(fig.get("status", "?"))
 
 
+def typeset_nodes(text: str) -> list[nodes.Node]:
+    """Text with ``<sub>``/``<sup>`` tags (:func:`secest.repro.site.ascii_maths`) as docutils nodes."""
+    root = nodes.inline()
+    stack: list[nodes.Element] = [root]
+    for piece in re.split(r"(</?su[bp]>)", text):
+        if piece in ("<sub>", "<sup>"):
+            node = nodes.subscript() if piece == "<sub>" else nodes.superscript()
+            stack[-1] += node
+            stack.append(node)
+        elif piece in ("</sub>", "</sup>"):
+            if len(stack) > 1:
+                stack.pop()
+        elif piece:
+            stack[-1] += nodes.Text(piece)
+    children = list(root.children)
+    root.children = []
+    return children
+
+
+def plain_alt(text: str) -> str:
+    """Alt text from typeset text: ``P<sub>k</sub>`` -> ``P_k``, ``x<sup>2</sup>`` -> ``x^2``."""
+    return re.sub(r"</su[bp]>", "", text.replace("<sub>", "_").replace("<sup>", "^"))
+
+
 class NumberNotebookFigures(SphinxTransform):
     """Wrap each saved-figure image output of a paper page in a numbered, captioned figure."""
 
@@ -149,12 +177,15 @@ class NumberNotebookFigures(SphinxTransform):
                 continue
             seen.add(stem)
             text, status = _caption_text(key, stem, info["manifest"])
+            text = ascii_maths(text)  # "tr Gamma+" -> "tr Γ⁺", "P_{k}" -> P with a subscript
+            for image in bundle.findall(nodes.image):  # alt text: what the figure shows
+                image["alt"] = plain_alt(text)
             figure = nodes.figure(classes=["secest-figure"])
             figure["names"].append(f"fig-{key}-{stem}".lower())
             bundle.replace_self(figure)
             figure += bundle
             caption = nodes.caption("", "")
-            caption += nodes.Text(text + " ")
+            caption.extend(typeset_nodes(text + " "))
             caption += nodes.inline(status, status, classes=["secest-badge", _badge_class(status)])
             csv = ROOT / "figures" / key / f"{stem}.csv"
             if csv.is_file():
@@ -193,6 +224,38 @@ def _replace_sources(app: Sphinx, exc: Exception | None) -> None:
                 shutil.copyfile(ROOT / "notebooks" / path.name, target)
 
 
+_EAGER_IMG = re.compile(r"<img (?![^>]*\bloading=)")
+
+
+def _lazy_images(app: Sphinx, pagename: str, templatename: str, context: dict, doctree: Any) -> None:
+    """Images load when they come near the view (``loading="lazy"``), not before the load event."""
+    if "body" in context:
+        context["body"] = _EAGER_IMG.sub('<img loading="lazy" decoding="async" ', context["body"])
+
+
+ICONS_CSS = "secest-icons.css"
+
+
+def _icon_css(app: Sphinx, exc: Exception | None) -> None:
+    """``_static/secest-icons.css``: the theme's Font Awesome classes with its solid font inline.
+
+    The theme draws its icons with Font Awesome's 1.5 MB ``all.min.js``, or with web fonts that a
+    page opened from disk (``file://``) may not load (fonts are fetched in CORS mode). This
+    stylesheet keeps the icon classes of ``css/all.min.css``, drops its ``@font-face`` rules and
+    declares the one font the site's icons use, the solid style, as a ``data:`` URL (156 kB).
+    """
+    if exc is not None or app.builder.format != "html":
+        return
+    vendor = Path(app.outdir, "_static", "vendor", "fontawesome", "6.5.2")
+    css = re.sub(r"@font-face\{[^}]*\}", "", (vendor / "css" / "all.min.css").read_text())
+    font = base64.b64encode((vendor / "webfonts" / "fa-solid-900.woff2").read_bytes()).decode()
+    face = (
+        '@font-face{font-display:block;font-family:"Font Awesome 6 Free";font-style:normal;'
+        f'font-weight:900;src:url(data:font/woff2;base64,{font}) format("woff2")}}'
+    )
+    Path(app.outdir, "_static", ICONS_CSS).write_text(face + "\n" + css)
+
+
 def setup(app: Sphinx) -> dict[str, Any]:
     app.add_role("badge", badge_role)
     app.add_role("figref", figref_role)
@@ -201,4 +264,6 @@ def setup(app: Sphinx) -> dict[str, Any]:
     app.add_transform(NumberNotebookFigures)
     app.connect("builder-inited", _builder_inited)
     app.connect("build-finished", _replace_sources)
+    app.connect("html-page-context", _lazy_images)
+    app.connect("build-finished", _icon_css)
     return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}

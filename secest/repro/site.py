@@ -59,6 +59,12 @@ __all__ = [
     "myst_slug",
     "notebook_headings",
     "beyond_keys",
+    "build_commit",
+    "citation",
+    "claims_table",
+    "fold_tags",
+    "link_claim_ids",
+    "page_claim_label",
     "notebook_keys",
     "page_of",
     "paper_keys",
@@ -73,7 +79,7 @@ DOCS = ROOT / "docs"
 VERDICT_TAGS = ("[Re]", "[Re, partial]", "[¬Re]")
 BEYOND_KEYS = ("arena",)
 """Notebooks that reproduce no paper (the arena): their pages live under ``beyond/``."""
-CLAIM_VERDICTS = ("holds", "fails", "undetermined", "fails-premise")
+CLAIM_VERDICTS = ("holds", "fails", "undetermined", "fails-premise", "not-checked")
 _MD_SPECIAL = re.compile(r"([\\`*_{}\[\]<>#|~$^])")
 
 
@@ -96,6 +102,75 @@ def mathjax_dir() -> Path:
         "sphinx-mathjax-offline is not installed (it ships the MathJax the site serves offline); "
         "run `make venv`"
     )
+
+
+def build_commit(root: Path = ROOT) -> str:
+    """The commit the site is built from, as ``<short hash> (<date>)``, for every page's footer.
+
+    Parameters
+    ----------
+    root : Path, optional
+        Repository root.
+
+    Returns
+    -------
+    str
+        ``"1a2b3c4 (2026-12-03)"``, with ``" + uncommitted changes"`` when the work tree differs
+        from it, or ``"unknown (not a git work tree)"``.
+    """
+    import subprocess
+
+    def git(*args: str) -> str:
+        done = subprocess.run(["git", *args], cwd=root, capture_output=True, text=True)
+        return done.stdout.strip() if done.returncode == 0 else ""
+
+    commit = git("log", "-1", "--format=%h (%cs)")
+    if not commit:
+        return "unknown (not a git work tree)"
+    dirty = git("status", "--porcelain", "--untracked-files=no")
+    return commit + (" + uncommitted changes" if dirty else "")
+
+
+def citation(root: Path = ROOT) -> dict[str, str]:
+    """What ``CITATION.cff`` says that the site shows: authors, title, version, repository.
+
+    Parameters
+    ----------
+    root : Path, optional
+        Repository root.
+
+    Returns
+    -------
+    dict of str to str
+        ``authors`` (names joined by ", "), ``title``, ``version`` and ``repository`` (its
+        ``repository-code``, ``""`` when the file names none).
+
+    Raises
+    ------
+    SiteError
+        If ``CITATION.cff`` is missing or names no author.
+    """
+    import yaml
+
+    path = root / "CITATION.cff"
+    if not path.is_file():
+        raise SiteError(f"CITATION.cff: expected at {path}, found no file")
+    cff = yaml.safe_load(path.read_text())
+    names = []
+    for person in cff.get("authors") or []:
+        name = person.get("name") or " ".join(
+            p for p in (person.get("given-names"), person.get("family-names")) if p
+        )
+        if name:
+            names.append(str(name))
+    if not names:
+        raise SiteError("CITATION.cff: expected at least one author with a name, found none")
+    return {
+        "authors": ", ".join(names),
+        "title": str(cff.get("title", "")),
+        "version": str(cff.get("version", "")),
+        "repository": str(cff.get("repository-code") or ""),
+    }
 
 
 def escape_md(text: str) -> str:
@@ -123,6 +198,92 @@ def escape_md_keep_maths(text: str) -> str:
     """Like ``escape_md``, but inline maths ``$...$`` (a notebook heading's) is left to be typeset."""
     parts = re.split(r"((?<!\\)\$[^$]+\$)", " ".join(str(text).split()))
     return "".join(p if i % 2 else escape_md(p) for i, p in enumerate(parts))
+
+
+_BRACED = r"\{((?:[^{}]|\{[^{}]*\})*)\}"
+_SUBSUP = re.compile(
+    r"(?<=[^\s_^\\`*<(\[])([_^])(?:" + _BRACED + r"|([A-Za-z0-9\u0370-\u03ff])(?![\w{]))"
+)
+_GREEK = {
+    name: chr(code)
+    for name, code in (
+        ("alpha", 0x3B1), ("beta", 0x3B2), ("gamma", 0x3B3), ("Gamma", 0x393), ("delta", 0x3B4),
+        ("Delta", 0x394), ("epsilon", 0x3B5), ("eta", 0x3B7), ("theta", 0x3B8), ("Theta", 0x398),
+        ("kappa", 0x3BA), ("lambda", 0x3BB), ("Lambda", 0x39B), ("mu", 0x3BC), ("nu", 0x3BD),
+        ("xi", 0x3BE), ("Xi", 0x39E), ("pi", 0x3C0), ("Pi", 0x3A0), ("rho", 0x3C1),
+        ("sigma", 0x3C3), ("Sigma", 0x3A3), ("tau", 0x3C4), ("phi", 0x3C6), ("Phi", 0x3A6),
+        ("psi", 0x3C8), ("Psi", 0x3A8), ("omega", 0x3C9), ("Omega", 0x3A9),
+    )
+}
+_GREEK_WORD = re.compile(r"(?<![A-Za-z0-9`])(" + "|".join(_GREEK) + r")(?![A-Za-z0-9`])")
+_ASCII_OPS = (("+-", "±"), ("<=", "≤"), (">=", "≥"), ("!=", "≠"), ("sqrt(", "√("))
+_ACCENT = re.compile(r"(?<![\w`])([A-Za-z\u0370-\u03ff])_(hat|bar|tilde)(?![A-Za-z0-9])")
+_ACCENTS = {"hat": "\u0302", "bar": "\u0304", "tilde": "\u0303"}
+
+
+def sub_sup(text: str) -> str:
+    """Plain-text indices typeset: ``Q_{2i,k}``, ``y_k^{a,i}`` -> HTML ``<sub>``/``<sup>``.
+
+    A braced index (one level of nested braces) or a single letter or digit that ends the word
+    is an index when it follows a character that is not a space; ``lemma_seed`` (an index would
+    have to end the word) and ``x0_spread`` are left alone. Indices of indices are typeset too.
+
+    Parameters
+    ----------
+    text : str
+        Plain text (no code, no links: protect those before).
+
+    Returns
+    -------
+    str
+        The text with ``<sub>…</sub>`` and ``<sup>…</sup>``.
+    """
+
+    def sub(m: re.Match[str]) -> str:
+        tag = "sub" if m.group(1) == "_" else "sup"
+        inner = m.group(2) if m.group(2) is not None else m.group(3)
+        return f"<{tag}>{sub_sup(inner)}</{tag}>"
+
+    return _SUBSUP.sub(sub, text)
+
+
+def ascii_maths(text: str) -> str:
+    """ASCII maths of the claims and captions in Unicode: Greek names, accents, relations, indices.
+
+    ``Pi+_{i,k}`` -> ``Π⁺<sub>i,k</sub>``, ``x_hat_A`` -> ``x̂<sub>A</sub>``, ``<=`` -> ``≤``,
+    ``+-2 sqrt(P_bar)`` -> ``±2 √(P̄)``; a Greek name is replaced only as a whole word (``gamma``,
+    not ``gamma0_scale``), and nothing inside backticks changes.
+
+    Parameters
+    ----------
+    text : str
+        Plain text, e.g. a claim's ``paper`` or ``check`` or a figure's title.
+
+    Returns
+    -------
+    str
+        The text with Unicode symbols and ``<sub>``/``<sup>`` tags (not yet escaped for MyST).
+    """
+    parts = re.split(r"(`[^`]*`|\$[^$]+\$)", text)
+    for i in range(0, len(parts), 2):
+        t = parts[i]
+        for old, new in _ASCII_OPS:
+            t = t.replace(old, new)
+        t = _ACCENT.sub(lambda m: m.group(1) + _ACCENTS[m.group(2)], t)
+        t = _GREEK_WORD.sub(lambda m: _GREEK[m.group(1)], t)
+        t = re.sub(r"(?<=[A-Za-z\u0370-\u03ff\u0300-\u036f])\+(?=[_\s),;.]|$)", "\u207a", t)
+        t = re.sub(r"(?<=[A-Za-z\u0370-\u03ff\u0300-\u036f])-(?=_)", "\u207b", t)
+        t = re.sub(r"(?<=[A-Za-z])~(?![A-Za-z0-9])", "\u0303", t)  # x~ -> x̃
+        t = re.sub(r"(?<=\S)_(max|min|inf|sup|ij)(?![A-Za-z0-9])", r"<sub>\1</sub>", t)
+        t = re.sub(r"(?<=\S)\^(\([^()\s]*\)|-?\d+)", r"<sup>\1</sup>", t)  # x^(1), B^-1
+        parts[i] = sub_sup(t)
+    return "".join(parts)
+
+
+def escape_md_typeset(text: str) -> str:
+    """:func:`escape_md` of :func:`ascii_maths`: symbols and indices typeset, the rest escaped."""
+    pieces = re.split(r"(</?su[bp]>|\$[^$]+\$)", ascii_maths(" ".join(str(text).split())))
+    return "".join(p if i % 2 else _MD_SPECIAL.sub(r"\\\1", p) for i, p in enumerate(pieces))
 
 
 def myst_slug(title: str) -> str:
@@ -485,6 +646,7 @@ def _counts(claims: Mapping[str, Mapping[str, Any]]) -> str:
         "fails": "fail",
         "undetermined": "undetermined",
         "fails-premise": "premise fails",
+        "not-checked": "not checked",
     }
     return ", ".join(f"{n} {words.get(v, v)}" for v, n in counts.items() if n)
 
@@ -642,14 +804,103 @@ def errata_markdown(root: Path = ROOT) -> str:
         If a link would not resolve (no such file, notebook or heading).
     """
     text = _rewrite_links((root / "ERRATA.md").read_text(), root, Path("."))
-    return "(errata)=\n" + text
+    return "(errata)=\n" + typeset_markdown(text)
+
+
+_MD_KEEP = re.compile(
+    r"(```.*?```|`[^`\n]*`|\$[^$\n]+\$|\[[^\]\n]*\]\([^)\n]*\)|\{[a-z:-]+\}`[^`]*`|<[^>\n]+>"
+    r"|\*\*|(?<![^\s(])\*[A-Za-z][^*\n]*?(?<=[A-Za-z.])\*(?![\w*])|^\([\w-]+\)=$)",
+    flags=re.S | re.M,
+)
+
+
+def typeset_markdown(text: str) -> str:
+    """Plain-text maths in markdown prose typeset (ERRATA.md): indices and a lone ``*``.
+
+    Indices ``_{…}``, ``^{…}``, ``_k`` become ``<sub>``/``<sup>`` (:func:`sub_sup`); a ``*``
+    that opens no emphasis (``P̄*``, ``φ*/φ_*``) becomes a superscript ``∗`` instead of
+    starting stray italics. Code, maths, links, roles, HTML, ``**`` and emphasis of words
+    (``*A second machine*``) are left as they are.
+
+    Parameters
+    ----------
+    text : str
+        MyST markdown.
+
+    Returns
+    -------
+    str
+        The markdown with the plain-text maths typeset.
+    """
+    parts = _MD_KEEP.split(text)
+    for i in range(0, len(parts), 2):
+        text_i = re.sub(r"(?<=\S)_\*", "<sub>∗</sub>", parts[i])
+        parts[i] = sub_sup(text_i).replace("*", "<sup>∗</sup>")
+    return "".join(parts)
+
+
+CLAIM_COLUMNS = (
+    "Claim",
+    "The paper states (where)",
+    "Our check",
+    "Measured vs threshold",
+    "Outcome",
+)
+"""The columns of every claims table on the site (the claims matrix and each notebook page)."""
+
+
+def claims_table(
+    key: str,
+    claims: Mapping[str, Mapping[str, Any]],
+    heads: list[tuple[int, str, str]],
+    *,
+    on_page: bool,
+) -> list[str]:
+    """One claims table (MyST ``list-table``), with the columns :data:`CLAIM_COLUMNS`.
+
+    Parameters
+    ----------
+    key : str
+        Notebook key.
+    claims : mapping
+        ``figures/<key>/claims.json``: claim id -> entry.
+    heads : list of (int, str, str)
+        The notebook's headings (:func:`notebook_headings`), to link each claim to its section.
+    on_page : bool
+        True for the table on the notebook's own page (rows labelled :func:`page_claim_label`,
+        links within the page), False for the claims matrix (rows labelled :func:`claim_label`).
+
+    Returns
+    -------
+    list of str
+        The table's lines, claims in natural order (C1, C2, ..., C10, then X1, ...).
+
+    Raises
+    ------
+    SiteError
+        If a claim's ``section`` names no heading of the notebook.
+    """
+    claims_anchor = section_anchor(heads, "Claims") or section_anchor(heads, "Findings (claims)")
+    lines = [
+        ":::{list-table}",
+        ":header-rows: 1",
+        ":widths: 11 25 24 22 18",
+        ":class: secest-claims",
+        "",
+        *[("* - " if i == 0 else "  - ") + name for i, name in enumerate(CLAIM_COLUMNS)],
+    ]
+    if key in BEYOND_KEYS:
+        lines[6] = "  - The finding (ours)"
+    for cid in sorted(claims, key=_natural):
+        lines += _claim_row(key, cid, claims[cid], heads, claims_anchor, on_page=on_page)
+    return lines + [":::"]
 
 
 def claims_markdown(root: Path = ROOT) -> str:
     """The claims matrix: every claim of every paper, one table per paper.
 
     Read from every ``figures/<key>/claims.json``; each claim links to the notebook
-    section that measures it.
+    section that measures it. The tables are those of the notebook pages (:func:`claims_table`).
 
     Parameters
     ----------
@@ -672,13 +923,8 @@ def claims_markdown(root: Path = ROOT) -> str:
         "# Claims matrix",
         "",
         "Every claim that numbers can check, for every paper, generated from "
-        "`figures/<key>/claims.json` (written by the notebooks and asserted by the tests). "
-        "**The paper states** is the paper's claim and where it stands; **What we measured** is "
-        "our check, the measured value and the threshold it is compared with; the verdict is "
-        "{badge}`holds`, {badge}`fails`, {badge}`fails-premise` (the theorem's own assumption "
-        "does not hold) or {badge}`undetermined` (holds in part of the declared space of unknown "
-        "values; the fraction is given). Ids `C…` are the paper's claims, `X…` ours. Values of "
-        "many entries are abbreviated; the full record is each paper's `claims.json`.",
+        "`figures/<key>/claims.json` (written by the notebooks and asserted by the tests); each "
+        "paper page opens with its own table, the same. " + CLAIMS_LEGEND,
         "",
     ]
     summary = [
@@ -715,20 +961,30 @@ def claims_markdown(root: Path = ROOT) -> str:
             f"[notebook]({page_of(key)}.ipynb#{claims_anchor or ''}); full record: "
             "{download}`claims.json <" + f"{repo}/figures/{key}/claims.json" + ">`.",
             "",
-            ":::{list-table}",
-            ":header-rows: 1",
-            ":widths: 18 34 48",
-            ":class: secest-claims",
+            *claims_table(key, claims, heads, on_page=False),
             "",
-            "* - Claim, verdict",
-            "  - The paper states" if key not in BEYOND_KEYS else "  - The finding (ours)",
-            "  - What we measured",
         ]
-        for cid in sorted(claims, key=_natural):
-            sections += _claim_row(key, cid, claims[cid], heads, claims_anchor)
-        sections += [":::", ""]
     summary.append(":::")
     return "\n".join(out + summary + [""] + sections)
+
+
+CLAIMS_LEGEND = (
+    "**The paper states** is the paper's claim in its words and where it stands; **Our check** is "
+    "what we measure and by which rule; **Measured vs threshold** the value at this run's "
+    "parameters (with its interval and run count where it is a Monte Carlo value) and what it is "
+    "compared with; **Outcome** whether it holds at this run and the verdict over the declared "
+    "space: {badge}`holds`, {badge}`fails`, {badge}`fails-premise` (the theorem's own assumption, "
+    "or a precondition of the measurement, does not hold), {badge}`undetermined` (holds in part "
+    "of the declared space; the fraction is given) or {badge}`not-checked`. Ids `C…` are the "
+    "paper's claims, `X…` ours; each links to the section that measures it. Values of many "
+    "entries are abbreviated; the full record is each paper's `claims.json`."
+)
+
+_BASIS_WORDS = {
+    "measured": "measured",
+    "by-construction": "true by construction: not evidence",
+    "replicate": "a replicate of another claim's measurement: not counted twice",
+}
 
 
 def _claim_row(
@@ -737,48 +993,68 @@ def _claim_row(
     entry: Mapping[str, Any],
     heads: list[tuple[int, str, str]],
     claims_anchor: str | None,
+    *,
+    on_page: bool = False,
 ) -> list[str]:
+    """The five cells of one claim (:data:`CLAIM_COLUMNS`); optional keys are shown if present.
+
+    ``basis``, ``runs``, ``decides``, ``interval``, ``premise`` and ``robustness`` are optional;
+    a missing ``section`` links to the notebook's Claims section.
+    """
+    target = f"{Path(page_of(key)).name}.ipynb" if on_page else f"{page_of(key)}.ipynb"
     section = entry.get("section")
     if section:
         anchor = section_anchor(heads, section)
         if anchor is None:
             raise SiteError(f"{key} claim {cid}: section {section!r} names no heading of the notebook")
-        where = f"measured in [§ {escape_md_keep_maths(section)}]({page_of(key)}.ipynb#{anchor})"
     else:
-        where = f"[§ Claims]({page_of(key)}.ipynb#{claims_anchor or ''})"
+        anchor = claims_anchor or ""
+    label = page_claim_label(key, cid) if on_page else claim_label(key, cid)
+    first = [f"[**{cid}**]({target}#{anchor})"]
     source = entry.get("source") or "—"
-    parts = [escape_md(entry.get("check", "")), f"**measured:** {escape_md(_headline(entry))}"]
-    iv = _interval(entry.get("interval"))
-    if iv:
-        parts[-1] += f" — {escape_md(iv)}"
-    threshold = entry.get("threshold")
-    if threshold is not None:
-        parts.append(f"**threshold:** {escape_md(format_value(threshold))}")
+    stated = [
+        escape_md_typeset(entry.get("paper", "")),
+        f"<span class='secest-source'>source: {escape_md(source)}</span>",
+    ]
+    check = [escape_md_typeset(entry.get("check", ""))]
+    basis = entry.get("basis")
+    if basis:
+        check.append(f"**basis:** {escape_md(_BASIS_WORDS.get(str(basis), str(basis)))}")
     premise = entry.get("premise")
     if premise:
         state = "holds" if premise.get("holds") else "does not hold"
-        parts.append(f"**premise** ({state}): {escape_md(premise.get('statement', ''))}")
-    first = [f"**{cid}** {_badge(entry.get('verdict', 'fails'))}"]
+        check.append(f"**premise** ({state}): {escape_md_typeset(premise.get('statement', ''))}")
+    measured = [f"**measured:** {escape_md(_headline(entry))}"]
+    iv = _interval(entry.get("interval"))
+    if iv:
+        measured.append(escape_md(iv))
+    if entry.get("runs") is not None:
+        measured.append(f"runs: {escape_md(format_value(entry['runs']))}")
+    threshold = entry.get("threshold")
+    if threshold is not None:
+        measured.append(f"**threshold:** {escape_md(format_value(threshold))}")
+    outcome = [_badge(entry.get("verdict", "fails"))]
+    holds = entry.get("holds")
+    if isinstance(holds, bool):
+        outcome.append("holds at this run" if holds else "does not hold at this run")
     rob = entry.get("robustness")
     if rob:
         frac = rob.get("fraction_holds")
-        share = f"holds in {100 * frac:.0f} %" if isinstance(frac, int | float) else "swept"
-        first.append(f"{share} of the declared space")
-        parts.append(_robustness_text(rob))
-    first.append(where)
-    return [
-        f"* - ({claim_label(key, cid)})=",
-        "",
-        "    " + "\n\n    ".join(first),
-        f"  - {escape_md(entry.get('paper', ''))}",
-        "",
-        f"    <span class='secest-source'>source: {escape_md(source)}</span>",
-        "  - " + "\n\n    ".join(parts),
-    ]
+        if isinstance(frac, int | float):
+            outcome.append(f"holds in {100 * frac:.0f} % of the declared space")
+        measured.append(_robustness_text(rob))
+    decides = entry.get("decides")
+    if isinstance(decides, bool):
+        outcome.append("decides the verdict" if decides else "does not decide the verdict")
+    cells = [first, stated, check, measured, outcome]
+    rows = [f"* - ({label})=", ""]
+    for i, cell in enumerate(cells):
+        rows.append(("    " if i == 0 else "  - ") + "\n\n    ".join(cell))
+    return rows
 
 
 def _robustness_text(rob: Mapping[str, Any]) -> str:
-    """The sweep's record of a claim, for the wide column: points, region, interval."""
+    """The sweep's record of a claim: points, region, interval."""
     text = "**over the declared space**"
     if rob.get("points"):
         text += f" ({escape_md(format_value(rob['points']))} points)"
@@ -790,6 +1066,24 @@ def _robustness_text(rob: Mapping[str, Any]) -> str:
     elif iv:
         text += f"; interval {escape_md(format_value(iv))}"
     return text
+
+
+def page_claim_label(key: str, cid: str) -> str:
+    """The label (and HTML id) of a claim's row in the table on its notebook's page.
+
+    Parameters
+    ----------
+    key : str
+        Notebook key.
+    cid : str
+        Claim id, e.g. ``C1_nd``.
+
+    Returns
+    -------
+    str
+        ``<key>-claim-<id>``, lower case, ``_`` as ``-``, e.g. ``guo2023-claim-c1-nd``.
+    """
+    return f"{key}-claim-{cid.lower().replace('_', '-')}"
 
 
 def claim_label(key: str, cid: str) -> str:
@@ -830,10 +1124,10 @@ def gallery_markdown(root: Path = ROOT) -> str:
         "(gallery)=",
         "# Figure gallery",
         "",
-        "Every figure listed in `figures/manifest.toml`: the paper's figure, ours (click for the "
-        "full-size PNG), what it shows, its status ({badge}`reproduced`, {badge}`partial`, "
-        "{badge}`not reproduced`, or {badge}`ours` for a figure the paper does not have) and the "
-        "plotted numbers (CSV) next to it. The figure number links to the figure in its notebook page.",
+        "Every figure listed in `figures/manifest.toml`, as a grid of thumbnails: click one to see "
+        "the figure in its notebook page. Each card names the paper's figure, what ours shows, its "
+        "status ({badge}`reproduced`, {badge}`partial`, {badge}`not reproduced`, or {badge}`ours` "
+        "for a figure the paper does not have) and the plotted numbers (CSV).",
         "",
     ]
     for key in notebook_keys(root):
@@ -845,44 +1139,43 @@ def gallery_markdown(root: Path = ROOT) -> str:
             "",
             f"Notebook page: [{key}]({page_of(key)}.ipynb).",
             "",
-            ":::{list-table}",
-            ":header-rows: 1",
-            ":widths: 16 40 44",
-            ":class: secest-gallery",
-            "",
-            "* - Paper's figure, status",
-            "  - Ours",
-            "  - What it shows, data",
+            "::::{container} secest-grid",
         ]
         for fig in entry.get("figures", []):
-            files = fig.get("files", [])
-            pngs = [f for f in files if f.endswith(".png")]
-            data = [f for f in files if not f.endswith(".png")]
-            if pngs:
-                stem = Path(pngs[0]).stem
-                ours = [
-                    f"  - ```{{image}} {repo}/{pngs[0]}",
-                    f"    :alt: {json.dumps(str(fig.get('title', stem)), ensure_ascii=False)}",
-                    "    :width: 260px",
-                    "    :class: secest-thumb",
-                    "    ```",
-                ]
-                what = f"{{figref}}`fig-{key}-{stem}`: {escape_md(fig.get('title', ''))}"
-            else:
-                ours = ["  - table (CSV only)"]
-                what = escape_md(fig.get("title", ""))
-            links = " · ".join(
-                "{download}`" + Path(f).name + f" <{repo}/{f}>`" for f in data if (root / f).is_file()
-            )
-            out += [
-                f"* - {escape_md(fig.get('paper', ''))}",
-                "",
-                f"    {_badge(fig.get('status', '?'))}",
-                *ours,
-                f"  - {what}" + (f"\n\n    data: {links}" if links else ""),
-            ]
-        out += [":::", ""]
+            out += _gallery_card(key, fig, repo, root)
+        out += ["::::", ""]
     return "\n".join(out)
+
+
+def _gallery_card(key: str, fig: Mapping[str, Any], repo: str, root: Path) -> list[str]:
+    """One card of the gallery grid: thumbnail (linked to the figure), number, status, title, data."""
+    files = fig.get("files", [])
+    pngs = [f for f in files if f.endswith(".png")]
+    data = [f for f in files if not f.endswith(".png")]
+    title = escape_md_typeset(fig.get("title", ""))
+    lines = [":::{container} secest-card"]
+    if pngs:
+        stem = Path(pngs[0]).stem
+        fid = "fig-" + re.sub(r"[^a-z0-9]+", "-", f"{key}-{stem}".lower())
+        alt = re.sub(r"</su[bp]>", "", ascii_maths(str(fig.get("title", stem))))
+        alt = alt.replace("<sub>", "_").replace("<sup>", "^")
+        lines += [
+            f"```{{image}} {repo}/{pngs[0]}",
+            f":alt: {json.dumps(alt, ensure_ascii=False)}",
+            f":target: {page_of(key)}.html#{fid}",
+            ":class: secest-thumb",
+            "```",
+            f"{{figref}}`fig-{key}-{stem}` {_badge(fig.get('status', '?'))}",
+        ]
+    else:
+        lines += [f"table (CSV only) {_badge(fig.get('status', '?'))}"]
+    lines += ["", f"**{escape_md(fig.get('paper', ''))}**: {title}"]
+    links = " · ".join(
+        "{download}`" + Path(f).name + f" <{repo}/{f}>`" for f in data if (root / f).is_file()
+    )
+    if links:
+        lines += ["", f"<span class='secest-source'>data: {links}</span>"]
+    return lines + [":::"]
 
 
 def lock_markdown(root: Path = ROOT) -> str:
@@ -1040,7 +1333,9 @@ def api_markdown(root: Path = ROOT) -> str:
         "# API reference",
         "",
         "The shared module `secest`, documented from its numpydoc docstrings. Each function cites the "
-        "equation it implements; notebooks show the code where their derivation reaches it.",
+        "equation it implements; notebooks show the code where their derivation reaches it. Each "
+        "object's `[source]` link opens its code; all of it: "
+        "<a href='../_modules/index.html'>the source of every module</a>.",
         "",
         "```{eval-rst}",
         ".. automodule:: secest",
@@ -1083,7 +1378,8 @@ def paper_header_cell(key: str, root: Path = ROOT) -> dict[str, Any]:
             "in its caption.",
             "",
             f"This page is the committed executed notebook `notebooks/{key}.ipynb`, rendered without "
-            "re-running it. To re-run it with other parameters see {ref}`re-running`.",
+            "re-running it. The notebook imports `secest`: to run it, see {ref}`install`; with "
+            "other parameters, {ref}`re-running`.",
             ":::",
         ]
     )
@@ -1142,26 +1438,178 @@ def beyond_header_cell(key: str, root: Path = ROOT) -> dict[str, Any]:
             "in its caption.",
             "",
             f"This page is the committed executed notebook `notebooks/{key}.ipynb`, rendered without "
-            "re-running it. To re-run it with other parameters see {ref}`re-running`.",
+            "re-running it. The notebook imports `secest`: to run it, see {ref}`install`; with "
+            "other parameters, {ref}`re-running`.",
             ":::",
         ]
     )
     return {"cell_type": "markdown", "metadata": {"tags": ["secest-site"]}, "source": text}
 
 
+FOLD_RULE = (
+    "Code is folded (click to expand) except where a cell shows the algorithm: every code cell's "
+    "input is folded unless the cell only calls `show_source`, whose output (never folded) is the "
+    "library's own code of the step the derivation has reached. Two outputs are folded too: the "
+    "parameter provenance table (`provenance_markdown`) and the summary printed by the cell that "
+    "writes `claims.json` (`write_claims`; the table above shows the same claims). Nothing is "
+    "removed: the page is the committed notebook."
+)
+"""The rule by which the site folds the notebooks' cells (stated on every notebook page)."""
+
+
+def fold_tags(cell: Mapping[str, Any]) -> list[str]:
+    """The myst-nb tags :data:`FOLD_RULE` gives a cell: ``hide-input``, ``hide-output`` or none.
+
+    Parameters
+    ----------
+    cell : mapping
+        A notebook cell (nbformat 4).
+
+    Returns
+    -------
+    list of str
+        The tags to add (an empty list for markdown cells and for cells that only call
+        ``show_source``).
+    """
+    if cell.get("cell_type") != "code":
+        return []
+    src = _source(cell)
+    if _only_show_source(src):
+        return []
+    tags = ["hide-input"]
+    if re.search(r"\b(provenance_markdown|write_claims)\(", src) and cell.get("outputs"):
+        tags.append("hide-output")
+    return tags
+
+
+def _only_show_source(src: str) -> bool:
+    """Whether every statement of a code cell is a call of ``show_source`` (the algorithm shown)."""
+    import ast
+
+    try:
+        body = ast.parse(src).body
+    except SyntaxError:  # IPython magics: not a show_source cell
+        return False
+    return bool(body) and all(
+        isinstance(st, ast.Expr)
+        and isinstance(st.value, ast.Call)
+        and getattr(st.value.func, "id", getattr(st.value.func, "attr", None)) == "show_source"
+        for st in body
+    )
+
+
+_PROTECTED = re.compile(
+    r"(```.*?```|~~~.*?~~~|`[^`\n]*`|\$\$.*?\$\$|(?<!\\)\$[^$\n]+?\$|\[[^\]\n]*\]\([^)\n]*\)"
+    r"|\{[a-z:-]+\}`[^`]*`|<[^>\n]+>|^#{1,6} [^\n]*$|^\([\w-]+\)=$)",
+    flags=re.S | re.M,
+)
+
+
+def link_claim_ids(text: str, key: str, ids: Iterable[str]) -> str:
+    """Claim ids in a notebook's markdown made links to their rows in the page's claims table.
+
+    Only the prose is changed: code, maths, links, roles, HTML tags, headings (their anchors
+    must not move) and targets are left as they are. An id is a whole word equal to a key of
+    ``claims.json`` (``C1``, ``C2a``, ``C1_nd``, ``X3``).
+
+    Parameters
+    ----------
+    text : str
+        The markdown source of a cell.
+    key : str
+        Notebook key.
+    ids : iterable of str
+        The claim ids of the notebook (keys of its ``claims.json``).
+
+    Returns
+    -------
+    str
+        The text with each id as ``{ref}`C1 <key-claim-c1>```.
+    """
+    known = sorted(set(ids), key=len, reverse=True)
+    if not known:
+        return text
+    word = re.compile(r"(?<![\w$\\])(" + "|".join(map(re.escape, known)) + r")(?![\w])")
+    parts = _PROTECTED.split(text)
+    for i in range(0, len(parts), 2):
+        parts[i] = word.sub(
+            lambda m: "{ref}`" + m.group(1) + " <" + page_claim_label(key, m.group(1)) + ">`", parts[i]
+        )
+    return "".join(parts)
+
+
+def claims_table_cell(key: str, nb: Mapping[str, Any], root: Path = ROOT) -> dict[str, Any]:
+    """The markdown cell under a notebook page's header: its claims table and the fold rule."""
+    claims = _claims(root, key)
+    heads = notebook_headings(nb)
+    if claims:
+        body = [
+            f"**Claims at a glance** ({len(claims)}: {_counts(claims)}; the columns are those of "
+            f"the {{ref}}`claims matrix <claims>`, each id links to the section that measures it).",
+            "",
+            *claims_table(key, claims, heads, on_page=True),
+        ]
+    else:
+        body = ["No claims recorded yet."]
+    text = "\n".join([*body, "", f"<span class='secest-source'>{FOLD_RULE}</span>"])
+    return {"cell_type": "markdown", "metadata": {"tags": ["secest-site"]}, "source": text}
+
+
 def paper_notebook(key: str, root: Path = ROOT) -> str:
-    """The committed notebook for its page: a header cell after the title cell; maths in
-    table rows protected as Jupyter does (:func:`protect_table_maths`); nothing else changes."""
+    """The committed notebook for its page, changed only in how it is shown.
+
+    A header cell and the claims table cell are added after the title cell; code cells get the
+    fold tags of :func:`fold_tags`; claim ids in the prose link to the table
+    (:func:`link_claim_ids`); maths in table rows is protected as Jupyter does
+    (:func:`protect_table_maths`). No cell is removed, no source line of a code cell changes.
+    """
     nb = read_notebook(root / "notebooks" / f"{key}.ipynb")
+    ids = list(_claims(root, key))
+    table = claims_table_cell(key, nb, root)
     for cell in nb["cells"]:
         if cell["cell_type"] == "markdown":
             text = _source(cell)
-            fixed = protect_table_maths(text)
+            fixed = link_claim_ids(protect_table_maths(text), key, ids)
             if fixed != text:
                 cell["source"] = fixed
+        tags = fold_tags(cell)
+        if tags:
+            meta = cell.setdefault("metadata", {})
+            meta["tags"] = [*meta.get("tags", []), *[t for t in tags if t not in meta.get("tags", [])]]
     header = beyond_header_cell if key in BEYOND_KEYS else paper_header_cell
-    nb["cells"].insert(1, header(key, root))
+    nb["cells"][1:1] = [header(key, root), table]
     return json.dumps(nb, indent=1, ensure_ascii=False) + "\n"
+
+
+def getcode_markdown(root: Path = ROOT) -> str:
+    """How to get the repository: ``git clone`` of ``CITATION.cff``'s ``repository-code``, if set."""
+    url = citation(root)["repository"]
+    commit = build_commit(root)
+    if url:
+        return (
+            f"```bash\ngit clone {url} secest && cd secest\n```\n\n"
+            f"This site was built from commit `{commit}` (in each page's footer).\n"
+        )
+    return (
+        "The repository's public address is not recorded in the repository (`CITATION.cff` has no "
+        "`repository-code` yet), so this site cannot link it. With a copy of the repository (a clone "
+        f"or an archive), check out the commit this site was built from, `{commit}` (in each "
+        "page's footer), to get the code that made these pages.\n"
+    )
+
+
+def cite_markdown(root: Path = ROOT) -> str:
+    """How to cite secest, from ``CITATION.cff`` (authors, title, version) and the build commit."""
+    cff = citation(root)
+    repo = _rel(root, Path("."))
+    where = f", {cff['repository']}" if cff["repository"] else ""
+    return (
+        f"{escape_md(cff['authors'])}. *{escape_md(cff['title'])}*, version {cff['version']} "
+        f"(commit `{build_commit(root)}`){escape_md(where)}.\n\n"
+        "The citation metadata, with the five papers as references: "
+        "{download}`CITATION.cff <" + f"{repo}/CITATION.cff" + ">` (Citation File Format; "
+        "forges and reference managers read it).\n"
+    )
 
 
 def prepare(srcdir: str | Path, root: Path = ROOT) -> list[Path]:
@@ -1212,6 +1660,8 @@ def prepare(srcdir: str | Path, root: Path = ROOT) -> list[Path]:
     from secest.arena.report import card_schema  # the card validator's schema, as tables
 
     _write(gen / "card_schema.md", card_schema(), written)
+    _write(gen / "getcode.md", getcode_markdown(root), written)
+    _write(gen / "cite.md", cite_markdown(root), written)
     _write(src / "readme.md", readme_markdown(root), written)
     _write(src / "errata.md", errata_markdown(root), written)
     _write(src / "claims.md", claims_markdown(root), written)
