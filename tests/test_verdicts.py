@@ -13,7 +13,7 @@ import re
 
 import pytest
 
-from secest.repro.results import rescience_verdict, repo_root
+from secest.repro.results import repo_root, rescience_verdict
 from secest.repro.site import paper_keys
 
 ROOT = repo_root()
