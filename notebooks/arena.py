@@ -85,6 +85,7 @@ results_path = "figures/arena/claims.json"
 # %%
 import json
 import re
+import warnings
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -252,7 +253,13 @@ display(Markdown("\n".join(rows)))
 # `build/runs/arena.json` (not committed) and to `make bench`, never into this notebook.
 
 # %%
-MATRIX = matrix.run_matrix(SCENARIOS, method_names, short=SHORT)
+with warnings.catch_warnings(record=True) as caught:  # the methods' own warnings, said once each
+    warnings.simplefilter("always")
+    MATRIX = matrix.run_matrix(SCENARIOS, method_names, short=SHORT)
+said = sorted({f"{w.category.__name__}: {str(w.message).splitlines()[0]}" for w in caught})
+print(f"{len(caught)} warnings raised by the methods, {len(said)} distinct" + (":" if said else ""))
+for line in said:
+    print("  " + line)
 status_counts = {s: sum(c.status == s for c in MATRIX.cells.values()) for s in matrix.STATUSES}
 print(f"{len(MATRIX.cells)} cells: " + ", ".join(f"{n} {s}" for s, n in status_counts.items()))
 

@@ -238,16 +238,19 @@ def test_alarm_statistic_is_the_normalised_attack_estimate() -> None:
     assert arena_guo2023.attack_statistic(dec, sc.C[0], sc.R[0], P, u1)[0] == pytest.approx(0.09 / cov)
 
 
-def test_not_applicable_when_the_attack_free_outputs_do_not_observe_the_plant() -> None:
+def test_outside_assumption_2_when_the_attack_free_outputs_do_not_observe_the_plant() -> None:
     sc = scenarios.scenario("inertia5", "bias", runs=4, horizon=20)
     assumption2 = "(A, C_2) is observable, C_2 = [C_2^1; ...; C_2^N] the attack-free outputs (Assumption 2)"
-    # every sensor attackable (Remark 1 literally): single-output nodes keep no attack-free output
-    assert arena_guo2023.Guo2023(threat="all").not_applicable(sc) == assumption2
+    # every sensor attackable (Remark 1 literally): single-output nodes keep no attack-free output,
+    # and n_y >= n_u fails as well: that one it needs to run at all (N/A)
+    everything = arena_guo2023.Guo2023(threat="all")
+    assert assumption2 in everything.outside_theory(sc)
     # node 0 carries the only absolute angle; without it only differences remain (rigid mode lost)
     net = replace(sc.network, measures=np.array([[0], [3], [4], [3], [4]]))
-    assert METHODS["guo2023"].not_applicable(replace(sc, network=net)) == assumption2
+    assert METHODS["guo2023"].outside_theory(replace(sc, network=net)) == [assumption2]
+    assert METHODS["guo2023"].not_applicable(replace(sc, network=net)) is None  # it runs, marked
     none = replace(sc, network=net, attack=scenarios.cards()["attack"]["none"])
-    assert METHODS["guo2023"].not_applicable(none) is None
+    assert METHODS["guo2023"].outside_theory(none) == []
 
 
 def test_bad_input_is_refused_with_the_argument_named() -> None:

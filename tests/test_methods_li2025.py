@@ -371,15 +371,17 @@ def test_the_attacked_packet_gets_the_paper_coefficients() -> None:
     assert li2025.bound_coefficients(1.0, a2, a3, a4) == (1.0, 0.0, 0.0, 1.0)
 
 
-def test_not_applicable_outside_the_replacement_model_and_without_local_observability() -> None:
+def test_outside_the_replacement_model_and_without_local_observability_it_runs_marked() -> None:
     attack = ("every attack on the measurement packets is the Bernoulli replacement (6) of a bounded "
               "value with known psi_check, xi* (or none)")
     for kind in ("bias", "message"):
-        assert METHODS["li2025"].not_applicable(scenarios.scenario("inertia5", kind, runs=2)) == attack
+        sc = scenarios.scenario("inertia5", kind, runs=2)
+        assert METHODS["li2025"].outside_theory(sc) == [attack]
+        assert METHODS["li2025"].not_applicable(sc) is None  # it still runs: one rule for all
     sc = scenarios.scenario("inertia5", "none", runs=2)
     diffs = replace(sc, network=replace(sc.network, measures=np.array([[3], [4], [3], [4], [3]])))
-    reason = METHODS["li2025"].not_applicable(diffs)
-    assert reason is not None and reason.startswith("(A, C) is observable from every node's closed")
+    marks = METHODS["li2025"].outside_theory(diffs)
+    assert len(marks) == 1 and marks[0].startswith("(A, C) is observable from every node's closed")
 
 
 def test_the_arena_method_refuses_bad_options_with_the_argument_named() -> None:

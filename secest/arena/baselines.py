@@ -3,14 +3,14 @@
 Every baseline is a bank of node filters that share one local Kalman filter in information form
 and differ only in what a node exchanges once per step (or ``rounds`` times) and how it fuses
 what it received. With ``A``, ``Q`` the plant, ``C_i``, ``R_i`` node ``i``'s sensor and
-``U_i = C_i^T R_i^{-1} C_i``, ``u_{i,k} = C_i^T R_i^{-1} y_{i,k}`` its measurement information:
+``U_i = C_i^T R_i^{-1} C_i``, ``u_{i,k} = C_i^T R_i^{-1} y_{i,k}`` its measurement information::
 
-(L1) correction: ``Y_i = Y_i^- + U_i``, ``P_i = Y_i^{-1}``,
-     ``xhat_i = x_i^- + P_i (u_{i,k} - U_i x_i^-)`` (the Kalman update, information form);
-(L2) prediction: ``x_i^- = A xhat_i``, ``P_i^- = A P_i A^T + Q``, ``Y_i^- = (P_i^-)^{-1}``;
-(M)  Metropolis weights of the links that delivered at step ``k``: ``w_ij = 1 / (1 + max(d_i,
-     d_j))`` on a delivered link, the weight of every lost link given to the node itself
-     (``w_ii = 1 - sum_{j != i} w_ij``): the weights renormalised over what arrived.
+    (L1) correction:  Y_i = Y_i^- + U_i,  P_i = Y_i^{-1},
+                      xhat_i = x_i^- + P_i (u_{i,k} - U_i x_i^-)   (the Kalman update, information form)
+    (L2) prediction:  x_i^- = A xhat_i,  P_i^- = A P_i A^T + Q,  Y_i^- = (P_i^-)^{-1}
+    (M)  weights:     w_ij = 1 / (1 + max(d_i, d_j)) on a link that delivered at step k,
+                      w_ii = 1 - sum_{j != i} w_ij   (a lost link's weight goes to the node itself:
+                      the weights renormalised over what arrived; Metropolis)
 
 Every node starts from the prior ``x^- = 0``, ``P^- = x0_std^2 I`` and corrects at ``k = 0``.
 

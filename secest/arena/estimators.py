@@ -466,7 +466,19 @@ def _scores(q: NDArray[np.float64]) -> tuple[tuple[float, float, float], tuple[f
 
 
 def growth(q: NDArray[np.float64]) -> float:
-    """Mean of ``q`` (runs, k, N) over the last quarter of the steps over its second quarter."""
+    """The divergence rule's growth factor: mean ``q`` over the last quarter of the steps / the second.
+
+    Parameters
+    ----------
+    q : (runs, k, N) array
+        Unit-free squared errors on the steady window (:func:`normalised_errors`).
+
+    Returns
+    -------
+    float
+        ``mean q[:, 3k/4:] / mean q[:, k/4:k/2]`` (inf when the second quarter's mean is 0); a cell
+        is diverged above :data:`GROWTH_LIMIT`.
+    """
     L = q.shape[1]
     mid = q[:, L // 4: max(L // 2, L // 4 + 1)].mean()
     late = q[:, (3 * L) // 4:].mean()

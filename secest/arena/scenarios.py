@@ -758,6 +758,16 @@ def auto_horizon(plant: Plant, network: Network) -> int:
     """The shortest horizon of ``protocol.toml``: ``MIN_HORIZON_TAU tau``, up to a multiple of 10 steps.
 
     ``tau`` is :func:`steady_state`'s time constant of the plant on the network.
+
+    Parameters
+    ----------
+    plant : Plant
+    network : Network
+
+    Returns
+    -------
+    int
+        The horizon in steps.
     """
     tau = steady_state(plant, network)[1]
     return int(10 * np.ceil(MIN_HORIZON_TAU * tau / 10))
