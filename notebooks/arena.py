@@ -99,6 +99,8 @@ from secest.core.validation import ValidationError
 from secest.repro import plotting, results, spaces
 
 print(results.environment_summary())
+# the methods' warnings name what went wrong, not where the repository is checked out
+warnings.formatwarning = lambda message, category, *_, **__: f"{category.__name__}: {message}\n"
 
 run = results.Run("arena", globals())
 # fast mode (tests): a budget at which every code path still runs: 3 runs (a bootstrap interval
@@ -309,7 +311,8 @@ order = report.method_order(method_names)  # baselines, then the papers' methods
 fig = report.heatmap(MATRIX, width=plotting.PAGE_WIDTH, title=(
     f"Arena: steady-window score, oracle = 1 ({runs_used} runs, seed {seed}, "
     f"attack magnitudes ×{attack_scale:g})"))
-plotting.save_figure(fig, FIG_DIR, "extra_matrix_heatmap", data=report.columns(MATRIX), tolerance=TOL)
+heatmap_png = plotting.save_figure(fig, FIG_DIR, "extra_matrix_heatmap", data=report.columns(MATRIX),
+                                   tolerance=TOL)
 
 # %% [markdown]
 # ## Error over time, one figure per plant
