@@ -49,21 +49,10 @@
 # The κ = 0 control locks out too (13 %, 11 %) although $\Gamma$ does not collapse there: the cause is
 # (17)–(18), which do not let $\Gamma$ grow while updates are skipped (X5).
 #
-# Over the 33 points of the declared space (seeds, stand-in topology, radius, $\delta_0$, $\sigma_0$,
-# $\Pi_0$, $\Gamma_0$, $\nu$, and the printed threshold, $p$, $q$ for the lockout map; fast mode, 100
-# runs) a verdict is decided only on the points where the claim was checked and its premise holds. These
-# counts map the sensitivity to our choices and to three printed values; they are not verdicts on the
-# paper's example, which is the default point. C6, X4, X5 hold everywhere (X4: one evaluation, the swept
-# axes do not enter it), C10 too (by construction); C8a, X1, X2 fail wherever decided; C8b fails its
-# premise everywhere. C1 holds at all 10 decided points (9 fail the attack-free precondition, 14 not
-# checked: at 100 runs a rate of 0.96–0.99 has a Wilson interval containing the level 0.95); C4 holds
-# at all 23 decided points (9 fail the attack-free precondition, 1 not checked); C5 holds at all 8 points where its premise holds (the 25
-# others fail our precondition "every Case-A update accepted", not the paper's $\Gamma_0\preceq P_0\preceq
-# \Pi_0$). **Undetermined**: C2a holds at 8, fails at 16, fails the attack-free precondition at 9 (where
-# 92–100 % of attack-free runs already lock a node out); C2b 7 / 17 / 9; C3 18 / 6 / 9; C9 13 holds, 5
-# fails, 9 fails-premise, 6 not checked; X3 (no lockout without attack) holds at 5 points, exactly where
-# `gamma0_scale` ≥ 1.01 ($\Gamma_0\succeq P_0/2$), fails at 24. A small $\Gamma_0$ (relative to $\Pi_0$) or a
-# large $\sigma_0$ makes nodes reject their first measurement and never start; that drives most failures.
+# Over the 33 points of the declared space (our choices and the printed threshold, $p$, $q$: a
+# sensitivity map, not verdicts on the example) C1, C4, C5 hold wherever decided and C2a, C2b, C3, C9,
+# X3 are undetermined; the counts, point by point, are in the claims table, the section *The lockout
+# over the declared space* and ERRATA.md.
 
 # %% tags=["parameters"]
 mode = "paper"  # "paper": full Monte Carlo and long runs; "fast": fewer runs for the tests (ours)

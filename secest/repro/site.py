@@ -1446,13 +1446,16 @@ def beyond_header_cell(key: str, root: Path = ROOT) -> dict[str, Any]:
     return {"cell_type": "markdown", "metadata": {"tags": ["secest-site"]}, "source": text}
 
 
+LONG_PRINTOUT = 12
+"""Plain-text outputs longer than this many lines are folded on the site (:data:`FOLD_RULE`)."""
 FOLD_RULE = (
     "Code is folded (click to expand) except where a cell shows the algorithm: every code cell's "
     "input is folded unless the cell only calls `show_source`, whose output (never folded) is the "
-    "library's own code of the step the derivation has reached. Two outputs are folded too: the "
-    "parameter provenance table (`provenance_markdown`) and the summary printed by the cell that "
-    "writes `claims.json` (`write_claims`; the table above shows the same claims). Nothing is "
-    "removed: the page is the committed notebook."
+    "library's own code of the step the derivation has reached. Some outputs are folded too: the "
+    "parameter provenance table (`provenance_markdown`), the summary printed by the cell that "
+    "writes `claims.json` (`write_claims`; the table above shows the same claims), and any "
+    f"plain-text printout longer than {LONG_PRINTOUT} lines that is not a `show_source` listing. "
+    "Nothing is removed: the page is the committed notebook."
 )
 """The rule by which the site folds the notebooks' cells (stated on every notebook page)."""
 
@@ -1477,9 +1480,25 @@ def fold_tags(cell: Mapping[str, Any]) -> list[str]:
     if _only_show_source(src):
         return []
     tags = ["hide-input"]
-    if re.search(r"\b(provenance_markdown|write_claims)\(", src) and cell.get("outputs"):
+    if cell.get("outputs") and (re.search(r"\b(provenance_markdown|write_claims)\(", src)
+                                or _long_printout(cell)):
         tags.append("hide-output")
     return tags
+
+
+def _long_printout(cell: Mapping[str, Any]) -> bool:
+    """Whether every output of ``cell`` is plain text (a stream or a text/plain result) and,
+    together, longer than :data:`LONG_PRINTOUT` lines."""
+    lines = 0
+    for out in cell.get("outputs", []):
+        if out.get("output_type") == "stream":
+            text = out.get("text", "")
+        elif out.get("output_type") == "execute_result" and set(out.get("data", {})) == {"text/plain"}:
+            text = out["data"]["text/plain"]
+        else:
+            return False
+        lines += len(("".join(text) if isinstance(text, list) else text).splitlines())
+    return lines > LONG_PRINTOUT
 
 
 def _only_show_source(src: str) -> bool:
