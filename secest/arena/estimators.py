@@ -405,7 +405,7 @@ def settle_steps(sc: Scenario, *, short: bool = False) -> int:
     ValidationError
         If the horizon is shorter than ``MIN_HORIZON_TAU tau`` and ``short`` is False.
     """
-    from secest.arena.scenarios import MIN_HORIZON_TAU, auto_horizon
+    from secest.arena.scenarios import MIN_HORIZON_TAU, horizon_of
 
     tau = sc.time_constant
     if sc.horizon < MIN_HORIZON_TAU * tau:
@@ -413,7 +413,7 @@ def settle_steps(sc: Scenario, *, short: bool = False) -> int:
             raise ValidationError(
                 f"horizon of {sc.name}: {sc.horizon} steps give no steady window; at least "
                 f"{MIN_HORIZON_TAU} tau = {MIN_HORIZON_TAU * tau:.0f} steps (tau = {tau:.3g} steps; "
-                f"horizon = \"auto\" gives {auto_horizon(sc.plant, sc.network)})"
+                f"horizon = \"auto\" gives {horizon_of(tau)})"
             )
         return max(1, sc.horizon // 2)
     return int(np.ceil(SETTLE_TAU * tau))

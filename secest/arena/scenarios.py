@@ -54,6 +54,7 @@ __all__ = [
     "Trial",
     "auto_horizon",
     "cards",
+    "horizon_of",
     "matrix",
     "scenario",
     "simulate",
@@ -321,6 +322,11 @@ class Scenario:
         return np.einsum("iy,yz->iyz", var, np.eye(var.shape[1]))
 
     @cached_property
+    def _steady(self) -> tuple[NDArray[np.float64], float]:
+        """:func:`steady_state` of the scenario's plant on its network, solved once."""
+        return steady_state(self.plant, self.network)
+
+    @cached_property
     def steady_covariance(self) -> NDArray[np.float64]:
         """Error covariance of the oracle's steady-state Kalman filter after its update, (n, n).
 
@@ -328,13 +334,13 @@ class Scenario:
         ``P = P^- - P^- C^T (C P^- C^T + R)^{-1} C P^-``. Its diagonal is the unit of the
         falsified-message attack (:func:`simulate`).
         """
-        return steady_state(self.plant, self.network)[0]
+        return self._steady[0]
 
     @cached_property
     def time_constant(self) -> float:
         """``tau`` in steps (:func:`steady_state`): the slower of the oracle's error decay and the
         plant's slowest decaying open-loop mode."""
-        return steady_state(self.plant, self.network)[1]
+        return self._steady[1]
 
     @property
     def attacked_nodes(self) -> tuple[int, ...]:
@@ -769,7 +775,22 @@ def auto_horizon(plant: Plant, network: Network) -> int:
     int
         The horizon in steps.
     """
-    tau = steady_state(plant, network)[1]
+    return horizon_of(steady_state(plant, network)[1])
+
+
+def horizon_of(tau: float) -> int:
+    """``MIN_HORIZON_TAU tau`` steps, rounded up to a multiple of 10 (:func:`auto_horizon`).
+
+    Parameters
+    ----------
+    tau : float
+        A time constant in steps (:func:`steady_state`).
+
+    Returns
+    -------
+    int
+        The horizon in steps.
+    """
     return int(10 * np.ceil(MIN_HORIZON_TAU * tau / 10))
 
 
