@@ -438,7 +438,11 @@ def test_outcome_vocabulary() -> None:
                       ({"holds": True, "not_checked": "x"}, "not_checked: give the reason"),
                       ({"holds": True, "basis": "assumed"}, "basis: expected one of"),
                       ({"holds": True, "decides": 1}, "decides must be a bool"),
-                      ({"holds": True, "runs": 0}, "runs: expected a run count >= 1")]:
+                      ({"holds": True, "runs": 0}, "runs: expected a run count >= 1"),
+                      ({"holds": True, "decides": True, "basis": "by-construction"},
+                       "holds by construction is no evidence"),
+                      ({"holds": True, "decides": True, "source": "ours (Remark 4)"},
+                       "a claim of ours cannot decide")]:
         holds = kw.pop("holds")
         with pytest.raises(ValidationError, match=match):
             results.claim("p", "c", 1.0, 1.0, holds, **kw)
@@ -454,7 +458,7 @@ def _decided(holds: bool, verdict: str | None = None, **kw) -> dict:
 def test_rescience_verdict_rule() -> None:
     ok, bad = _decided(True), _decided(False)
     extra = results.claim("p", "c", 1.0, 1.0, False)  # does not decide
-    built = results.claim("p", "c", 1.0, 1.0, False, basis="by-construction", decides=True)
+    built = results.claim("p", "c", 1.0, 1.0, False, basis="by-construction")
     assert results.rescience_verdict({"C1": ok, "C2": ok, "X1": extra, "X2": built})["verdict"] == "[Re]"
     part = results.rescience_verdict({"C10": ok, "C2": _decided(True, "undetermined")})
     assert part["verdict"] == "[Re, partial]"
@@ -467,8 +471,15 @@ def test_rescience_verdict_rule() -> None:
         results.rescience_verdict({"C1": extra, "X2": built})
 
 
+def test_write_claims_gives_claims_of_ours_x_ids(tmp_path) -> None:
+    ours = results.claim("p", "c", 1.0, 1.0, True, source="ours; a rule of ours")
+    results.write_claims(tmp_path / "claims.json", {"X1": ours})
+    with pytest.raises(ValidationError, match="claim C2b: a claim of ours .* takes an X id"):
+        results.write_claims(tmp_path / "claims.json", {"C2b": ours})
+
+
 def test_write_claims_merges_the_sweep_verdict(tmp_path) -> None:
-    c = results.claim("p", "c", 1.0, 1.0, True, source="ours")
+    c = results.claim("p", "c", 1.0, 1.0, True, source="Sec. V")
     summary = {"C1": {"verdict": "undetermined", "fraction_holds": 0.5, "points": 4}}
     (tmp_path / "robustness.json").write_text(json.dumps(summary))
     path = results.write_claims(tmp_path / "claims.json", {"C1": c, "C2": c},

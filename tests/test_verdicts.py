@@ -13,7 +13,13 @@ import re
 
 import pytest
 
-from secest.repro.results import repo_root, rescience_verdict
+from secest.repro.results import (
+    COUNTS_PATTERN,
+    POINT_OUTCOMES,
+    counts_text,
+    repo_root,
+    rescience_verdict,
+)
 from secest.repro.site import paper_keys
 
 ROOT = repo_root()
@@ -66,3 +72,42 @@ def test_the_deciding_claims_are_measured_claims_of_the_paper(key: str) -> None:
         entry = claims[cid]
         assert cid.startswith("C") and entry["basis"] == "measured", cid
         assert entry.get("source") != "ours", cid
+
+
+def _robustness(key: str) -> dict:
+    path = ROOT / "figures" / key / "robustness.json"
+    return json.loads(path.read_text()) if path.exists() else {}
+
+
+def _quoted_counts(text: str) -> list[tuple[str, dict[str, int]]]:
+    return [(m.group(1), dict(zip(POINT_OUTCOMES, map(int, m.groups()[1:]), strict=True)))
+            for m in COUNTS_PATTERN.finditer(text)]
+
+
+@pytest.mark.parametrize("key", paper_keys())
+def test_every_count_quoted_in_readme_and_errata_is_the_sweeps(key: str) -> None:
+    summary = _robustness(key)
+    texts = {"README": _readme_row(key), "ERRATA": _errata_section(key)}
+    for where, text in texts.items():
+        for cid, counts in _quoted_counts(text):
+            assert cid in summary, f"{where} quotes counts for {key} {cid}, which the sweep has not"
+            assert counts == summary[cid]["outcomes"], (where, key, cid, counts,
+                                                        summary[cid]["outcomes"])
+
+
+@pytest.mark.parametrize("key", paper_keys())
+def test_errata_quotes_the_counts_of_every_deciding_claim(key: str) -> None:
+    summary = _robustness(key)
+    section = _errata_section(key)
+    quoted = {cid for cid, _ in _quoted_counts(section)}
+    for cid in rescience_verdict(_claims(key))["deciding"]:
+        if cid in summary:
+            expected = f"{cid} {counts_text(summary[cid]['outcomes'])}"
+            assert cid in quoted, f"ERRATA's {key} section lacks '{expected}'"
+
+
+def test_counts_text_is_the_form_the_pattern_reads() -> None:
+    outcomes = {"holds": 8, "fails": 16, "fails-premise": 9, "not-checked": 0}
+    text = f"C2a {counts_text(outcomes)}"
+    assert text == "C2a 8 holds / 16 fails / 9 fails-premise / 0 not-checked"
+    assert _quoted_counts(f"so {text}.") == [("C2a", outcomes)]

@@ -60,6 +60,7 @@ from __future__ import annotations
 import json
 import math
 import platform
+import re
 import subprocess
 import time
 from collections.abc import Mapping, Sequence
@@ -399,6 +400,12 @@ def claim(
         raise ValidationError(f"basis: expected one of {BASES}, found {basis!r}")
     if not isinstance(decides, bool):
         raise ValidationError(f"decides must be a bool, found {type(decides).__name__}")
+    if decides and basis != "measured":
+        raise ValidationError("decides: a claim that holds by construction is no evidence and "
+                              "cannot decide the verdict (basis must be 'measured')")
+    if decides and _ours(source):
+        raise ValidationError(f"decides: a claim of ours cannot decide the paper's verdict "
+                              f"(source {source!r})")
     if runs is not None and (isinstance(runs, bool) or not isinstance(runs, int) or runs < 1):
         raise ValidationError(f"runs: expected a run count >= 1, found {runs!r}")
     _check_text("paper", paper)
@@ -443,6 +450,36 @@ def claim(
         entry["section"] = _check_text("section", section)
     entry["verdict"] = point_verdict(entry)
     return entry
+
+
+def _ours(source: str | None) -> bool:
+    """True when a claim's ``source`` says it is ours (``"ours"``, ``"ours (...)"``, ``"ours; ..."``)."""
+    return source is not None and re.match(r"ours\b", source) is not None
+
+
+def counts_text(outcomes: Mapping[str, int]) -> str:
+    """The one written form of a claim's counts over the declared space.
+
+    README and ERRATA quote counts only in this form, so that a test can compare every
+    quoted count with ``figures/<key>/robustness.json`` (``tests/test_verdicts.py``).
+
+    Parameters
+    ----------
+    outcomes : mapping
+        Outcome -> number of design points (the ``outcomes`` of a robustness entry).
+
+    Returns
+    -------
+    str
+        ``"8 holds / 16 fails / 9 fails-premise / 0 not-checked"``: every outcome of
+        :data:`POINT_OUTCOMES`, in that order, zeros included.
+    """
+    return " / ".join(f"{int(outcomes.get(o, 0))} {o}" for o in POINT_OUTCOMES)
+
+
+COUNTS_PATTERN = re.compile(
+    r"\b([CX]\w*)[:,]? (\d+) holds / (\d+) fails / (\d+) fails-premise / (\d+) not-checked")
+"""Where README or ERRATA quote :func:`counts_text` after a claim id (``C2a 8 holds / ...``)."""
 
 
 def point_verdict(entry: Mapping[str, Any]) -> str:
@@ -627,6 +664,9 @@ def write_claims(
     for cid, entry in claims.items():
         if not (cid[:1] in "CX" and cid[1:].replace("_", "").isalnum() and len(cid) > 1):
             raise ValidationError(f"claim id {cid!r} must look like 'C1' (paper) or 'X1' (ours)")
+        if cid.startswith("C") and _ours(entry.get("source")):
+            raise ValidationError(f"claim {cid}: a claim of ours (source {entry.get('source')!r}) "
+                                  "takes an X id; C ids are the paper's statements")
         missing = [k for k in REQUIRED_KEYS if k not in entry]
         if missing:
             raise ValidationError(f"claim {cid} lacks keys {missing}")
