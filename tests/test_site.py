@@ -22,6 +22,7 @@ import os
 import re
 import subprocess
 import sys
+import tarfile
 import tempfile
 import threading
 import time
@@ -783,6 +784,12 @@ def test_every_page_names_its_build_commit_and_the_citation(site: Path) -> None:
         assert f"Built from commit <code>{commit}" in (site / f"{name}.html").read_text(), name
     install = (site / "install.html").read_text()
     assert citation(ROOT)["authors"] in install and "CITATION.cff" in install
+    archives = re.findall(r'href="(_downloads/[0-9a-f]+/secest-[0-9a-f]+\.tar\.gz)"', install)
+    assert len(set(archives)) == 1, "install page: no single link to the repository's source archive"
+    with tarfile.open(site / archives[0]) as tar:
+        names = tar.getnames()
+    stem = Path(archives[0]).name.removesuffix(".tar.gz")
+    assert {f"{stem}/Makefile", f"{stem}/environment.lock", f"{stem}/notebooks/lee2020.py"} <= set(names)
     assert "the secest authors" not in (site / "index.html").read_text()
     assert (site / "_static" / "favicon.svg").is_file()
     assert 'rel="icon"' in (site / "index.html").read_text()

@@ -1600,21 +1600,72 @@ def paper_notebook(key: str, root: Path = ROOT) -> str:
     return json.dumps(nb, indent=1, ensure_ascii=False) + "\n"
 
 
-def getcode_markdown(root: Path = ROOT) -> str:
-    """How to get the repository: ``git clone`` of ``CITATION.cff``'s ``repository-code``, if set."""
+def source_archive(root: Path = ROOT) -> tuple[str, bytes] | None:
+    """The repository's tracked files as the site's source download: ``(file name, tar.gz bytes)``.
+
+    The archive is the build commit (``git archive``); with uncommitted changes to tracked
+    files it is a commit object of the work tree made by ``git stash create`` (nothing is
+    stashed), so the download is always the code that built the pages. Files unknown to git
+    are not in it.
+
+    Parameters
+    ----------
+    root : Path, optional
+        Repository root.
+
+    Returns
+    -------
+    tuple or None
+        ``("secest-<short hash>.tar.gz", data)`` with every path under ``secest-<short hash>/``,
+        or None outside a git work tree.
+    """
+    import subprocess
+
+    def git(*args: str) -> subprocess.CompletedProcess:
+        return subprocess.run(["git", *args], cwd=root, capture_output=True)
+
+    head = git("rev-parse", "--verify", "HEAD")
+    if head.returncode != 0:
+        return None
+    tree = git("stash", "create").stdout.strip() or head.stdout.strip()
+    short = git("rev-parse", "--short", tree.decode()).stdout.decode().strip()
+    name = f"secest-{short}"
+    done = git("archive", "--format=tar.gz", f"--prefix={name}/", tree.decode())
+    if done.returncode != 0:
+        raise SiteError(f"git archive failed: {done.stderr.decode().strip()}")
+    return f"{name}.tar.gz", done.stdout
+
+
+def getcode_markdown(root: Path = ROOT, archive: str | None = None) -> str:
+    """How to get the repository: the source download ``archive`` and, if set, ``git clone``.
+
+    Parameters
+    ----------
+    root : Path, optional
+        Repository root.
+    archive : str, optional
+        File name of :func:`source_archive`'s download in the site's ``_generated`` folder.
+    """
     url = citation(root)["repository"]
     commit = build_commit(root)
+    text = ""
     if url:
-        return (
-            f"```bash\ngit clone {url} secest && cd secest\n```\n\n"
-            f"This site was built from commit `{commit}` (in each page's footer).\n"
+        text += f"```bash\ngit clone {url} secest && cd secest\n```\n\n"
+    else:
+        text += ("The repository's public address is not recorded in the repository "
+                 "(`CITATION.cff` has no `repository-code` yet), so there is no `git clone` line; "
+                 "the download below is the repository's content.\n\n")
+    if archive:
+        stem = archive.removesuffix(".tar.gz")
+        text += (
+            "**The repository at the commit this site was built from:** "
+            "{download}`" + archive + f" </_generated/{archive}>` (every tracked file: code, "
+            "notebooks, committed figures, the lock), then\n\n"
+            f"```bash\ntar xzf {archive} && cd {stem}\n"
+            "make test               # the whole suite; or re-run one paper: make figures NB=lee2020\n"
+            "```\n\n"
         )
-    return (
-        "The repository's public address is not recorded in the repository (`CITATION.cff` has no "
-        "`repository-code` yet), so this site cannot link it. With a copy of the repository (a clone "
-        f"or an archive), check out the commit this site was built from, `{commit}` (in each "
-        "page's footer), to get the code that made these pages.\n"
-    )
+    return text + f"This site was built from commit `{commit}` (in each page's footer).\n"
 
 
 def cite_markdown(root: Path = ROOT) -> str:
@@ -1679,7 +1730,10 @@ def prepare(srcdir: str | Path, root: Path = ROOT) -> list[Path]:
     from secest.arena.report import card_schema  # the card validator's schema, as tables
 
     _write(gen / "card_schema.md", card_schema(), written)
-    _write(gen / "getcode.md", getcode_markdown(root), written)
+    archive = source_archive(root)
+    if archive is not None:
+        _write(gen / archive[0], archive[1], written)
+    _write(gen / "getcode.md", getcode_markdown(root, archive and archive[0]), written)
     _write(gen / "cite.md", cite_markdown(root), written)
     _write(src / "readme.md", readme_markdown(root), written)
     _write(src / "errata.md", errata_markdown(root), written)
