@@ -191,7 +191,10 @@ def _accepted_keys() -> dict[str, set[str]]:
     attack = {"title", "kind"}
     for required, optional in scenarios._ATTACK_KEYS.values():
         attack |= required | optional
-    return {"plant": set(scenarios.CARD_KEYS["plant"]), "network": network, "attack": attack}
+    # the scenario's keys are the schema itself (the validator reads them from it); the package's
+    # [matrix] table uses every [matrix] key
+    return {"plant": set(scenarios.CARD_KEYS["plant"]), "network": network, "attack": attack,
+            "scenario": set(scenarios.CARD_KEYS["scenario"]), "matrix": set(scenarios._cards()["matrix"])}
 
 
 def test_the_documented_card_keys_are_the_validated_ones() -> None:
@@ -199,7 +202,8 @@ def test_the_documented_card_keys_are_the_validated_ones() -> None:
     assert documented == _accepted_keys()  # the plant's are the schema itself, by construction
     text = report.card_schema()
     for kind, keys in scenarios.CARD_KEYS.items():
-        block = text.split(f"**`[{kind}.<name>]`**")[1].split("**`[")[0]
+        heading = "[matrix]" if kind == "matrix" else f"[{kind}.<name>]"
+        block = text.split(f"**`{heading}`**")[1].split("**`[")[0]
         rows = [line.split("`")[1] for line in block.splitlines() if line.startswith("| `")]
         assert rows == list(keys)
     assert "```{include} _generated/card_schema.md" in PAGE.read_text()

@@ -266,7 +266,12 @@ def test_a_bad_network_or_plant_key_is_refused_by_name() -> None:
         scenarios.cards(extra={"network": {"bad4": {**net, "degre": 4}}})
     with pytest.raises(ValidationError, match=r"network rgg4: missing key\(s\) \['radius', 'seed'\]"):
         scenarios.cards(extra={"network": {"rgg4": {**net, "graph": "rgg"}}})
-    assert set(scenarios.CARD_KEYS) == {"plant", "network", "attack"}
+    assert set(scenarios.CARD_KEYS) == {"plant", "network", "attack", "scenario", "matrix"}
+    with pytest.raises(ValidationError, match=r"scenario s1: unknown key 'horizn' \(did you mean 'horizon'"):
+        scenarios.cards(extra={"scenario": {"s1": {"network": "target20", "attack": "none",
+                                                   "horizn": 40}}})
+    with pytest.raises(ValidationError, match=r"scenario s2: missing key\(s\) \['attack'\]"):
+        scenarios.cards(extra={"scenario": {"s2": {"network": "target20"}}})
 
 
 def test_score_and_evaluate_check_shapes_trials_and_horizons() -> None:

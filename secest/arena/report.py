@@ -256,12 +256,13 @@ def card_schema() -> str:
     Returns
     -------
     str
-        For each kind (``plant``, ``network``, ``attack``) a heading ``[<kind>.<name>]`` and a
+        For each kind a heading (``[<kind>.<name>]`` for the named cards, ``[matrix]``) and a
         table ``| key | meaning |`` in the schema's order.
     """
     parts = []
     for kind, keys in scenarios.CARD_KEYS.items():
-        parts += [f"**`[{kind}.<name>]`**", "", "| key | meaning |", "|---|---|"]
+        heading = "[matrix]" if kind == "matrix" else f"[{kind}.<name>]"
+        parts += [f"**`{heading}`**", "", "| key | meaning |", "|---|---|"]
         parts += [f"| `{key}` | {_md(text)} |" for key, text in keys.items()]
         parts.append("")
     return "\n".join(parts)

@@ -99,8 +99,26 @@ CARD_KEYS: dict[str, dict[str, str]] = {
         "p": "dos: failure probability per step of the shared Gilbert-Elliott chain",
         "q": "dos: recovery probability per step",
     },
+    "scenario": {
+        "title": "optional: one line for tables and figures",
+        "network": "name of a network card (with its plant)",
+        "attack": "name of an attack card",
+        "horizon": "optional: steps, or \"auto\" (20 time constants of the plant on the network)",
+        "runs": "optional: Monte Carlo runs, >= 2",
+        "seed": "optional: seed of the trials",
+    },
+    "matrix": {
+        "networks": "network cards crossed with the attacks (an extra file's list is appended)",
+        "attacks": "attack cards crossed with the networks (an extra file's list is appended)",
+        "horizon": "package file only: steps, or \"auto\"; a call passes horizon=",
+        "runs": "package file only: Monte Carlo runs; a call passes runs=",
+        "seed": "package file only: seed of the trials; a call passes seed=",
+    },
 }
-"""Every key a card may have, with what it means: the one schema the validator and the docs use."""
+"""Every key a card may have, with what it means: the one schema the validator and the docs use.
+
+``plant``, ``network``, ``attack`` and ``scenario`` are named tables (``[<kind>.<name>]``);
+``matrix`` is the one ``[matrix]`` table."""
 
 _ATTACK_KEYS = {
     "none": (set(), set()),
@@ -511,7 +529,8 @@ def _cards(extra: Extra = None) -> dict[str, Any]:
         raise ValidationError(f"extra cards: [matrix] {per_call[0]} is not read from an extra file; "
                               f"pass {per_call[0]}= to matrix() or scenario() (--{per_call[0]} on "
                               "the command line)")
-    _check_keys("extra cards:", "[matrix]", extends, set(), {"networks", "attacks"})
+    _check_keys("extra cards:", "[matrix]", extends, set(),
+                set(CARD_KEYS["matrix"]) - {"horizon", "runs", "seed"})
     for key in ("networks", "attacks"):  # extra [matrix] lists extend the cross
         names = extends.get(key, [])
         if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
@@ -668,15 +687,10 @@ def cards(extra: Extra = None) -> dict[str, dict[str, Any]]:
     }
 
 
-_NAMED_KEYS = {"network", "attack", "horizon", "runs", "seed", "title"}
-
-
 def _named(
     name: str, card: dict[str, Any], networks: dict[str, Network], attacks: dict[str, Attack]
 ) -> dict[str, Any]:
-    unknown = sorted(set(card) - _NAMED_KEYS)
-    if unknown:
-        raise ValidationError(f"scenario {name}: unknown keys {unknown}; known: {sorted(_NAMED_KEYS)}")
+    _check_keys("scenario", name, card, {"network", "attack"}, set(CARD_KEYS["scenario"]))
     for kind, known in (("network", networks), ("attack", attacks)):
         if card.get(kind) not in known:
             raise ValidationError(f"scenario {name}: {kind} {card.get(kind)!r} has no card")
