@@ -677,16 +677,20 @@ def plot_claim(
         1,
         len(levels),
         figsize=(COLUMN_WIDTH * min(2.0, 1.0 + 0.5 * len(levels)), COLUMN_WIDTH * 0.8),
+        sharex=True,
         sharey=True,
         squeeze=False,
     )
     has_values = all(r[f"{cid}.value"] != "" for r, _ in ok)
+    xs_all = [p[x_axis] for _, p in ok]  # one x scale for every panel, from all points
+    log_x = space.axes[x_axis].log or (
+        _numeric(xs_all) and bool(xs_all) and min(xs_all) > 0 and max(xs_all) / min(xs_all) >= 100)
     for ax, level in zip(panels[0], levels, strict=True):
         sel = [(r, p) for r, p in ok if level is None or spaces._same(p[facet], level)]
-        _scatter(ax, space, x_axis, sel, cid, has_values)
+        _scatter(ax, space, x_axis, sel, cid, has_values, log_x)
         if threshold is not None and has_values:
             ax.axhline(threshold, color="0.4", ls="--", lw=0.9, label="threshold", zorder=2)
-        title = f"{facet} = {space.axes[facet].label(level)}: " if facet else ""
+        title = f"{facet} = {space.axes[facet].label(level)}\n" if facet else ""
         held = sum(r[f"{cid}.outcome"] == "holds" for r, _ in sel)
         ax.set_title(f"{title}holds at {held}/{len(sel)}", fontsize=8)
         ax.set_xlabel(_axis_label(space, x_axis))
@@ -734,10 +738,11 @@ def _axis_label(space: spaces.Space, name: str) -> str:
     return f"{name} [{unit}]" if unit else name
 
 
-def _scatter(ax: Any, space: spaces.Space, x_axis: str, sel: list, cid: str, has_values: bool) -> None:
+def _scatter(ax: Any, space: spaces.Space, x_axis: str, sel: list, cid: str, has_values: bool,
+             log_x: bool) -> None:
     axis = space.axes[x_axis]
     categorical = axis.kind == "set" and not _numeric(axis.values)
-    if axis.log:
+    if log_x and not categorical:
         ax.set_xscale("log")
     style = {"holds": ("o", "tab:blue"), "fails": ("x", "tab:red"), "fails-premise": ("^", "tab:gray"),
              "not-checked": ("D", "tab:olive")}
@@ -753,10 +758,6 @@ def _scatter(ax: Any, space: spaces.Space, x_axis: str, sel: list, cid: str, has
         ax.scatter(xs, ys, marker=marker, color=colour, s=18, label=outcome, zorder=3)
     if categorical:
         ax.set_xticks(range(len(axis.values)), [axis.label(v) for v in axis.values], rotation=20)
-    else:
-        xs_all = [p[x_axis] for _, p in sel]
-        if xs_all and min(xs_all) > 0 and max(xs_all) / min(xs_all) >= 100:
-            ax.set_xscale("log")
     if not has_values:
         ax.set_yticks([0, 1], ["fails", "holds"])
 
