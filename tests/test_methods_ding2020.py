@@ -184,7 +184,7 @@ def test_constant_gain_filter_refuses_bad_input(change: dict, name: str) -> None
 
 def test_theorem4_on_the_example_gives_the_committed_values() -> None:
     ex = _example()
-    committed = json.loads((FIG / "claims.json").read_text())["C8a"]["measured"]
+    committed = json.loads((FIG / "claims.json").read_text())["X7"]["measured"]
     sigma = float(stats.chi2.sf(PARAMS["threshold"], 1))
     kw = dict(p=PARAMS["p"], q=PARAMS["q"], kappa=PARAMS["kappa"], n_bar=committed["N_bar"], nu=PARAMS["nu"],
               sigma=sigma)
