@@ -396,9 +396,11 @@ def summarise(space: spaces.Space, rows: Sequence[Mapping[str, Any]], points: Se
     holding and its Wilson interval are over the decided points, treated as a sample of
     the declared space, but the interval counts each distinct evaluation of the decided points
     once: points that reproduce one evaluation are not independent samples. An evaluation is
-    the outcome with the claim's whole measured record (``<id>.record``, a fingerprint: a
+    a decided outcome with the claim's whole measured record (``<id>.record``, a fingerprint: a
     headline value shared by different experiments, such as a rate saturating at 1, does not
-    make them one evaluation; rows without records fall back to the headline value).
+    make them one evaluation; rows without records fall back to the headline value); at a
+    point where the premise fails or the claim was not checked, the outcome with its headline
+    value.
     ``evaluations`` counts the distinct evaluations of all its points: 1 means every point gave
     the same outcome and record (the swept axes do not change it, whether or not they enter
     it), so "holds everywhere" is one evaluation.
@@ -467,8 +469,13 @@ def summarise(space: spaces.Space, rows: Sequence[Mapping[str, Any]], points: Se
 
 
 def _evaluation(row: Mapping[str, Any], cid: str) -> tuple:
-    """A point's evaluation of ``cid``: its outcome with its whole record where tabulated."""
-    return (row[f"{cid}.outcome"], row.get(f"{cid}.record") or row.get(f"{cid}.value"))
+    """A point's evaluation of ``cid``: a decided outcome with its whole measured record (where
+    tabulated); a point whose premise fails or that was not checked did not evaluate the claim,
+    so there the outcome with its headline value (the premise's measure, typically)."""
+    outcome = row[f"{cid}.outcome"]
+    if outcome in ("holds", "fails") and row.get(f"{cid}.record"):
+        return (outcome, row[f"{cid}.record"])
+    return (outcome, row.get(f"{cid}.value"))
 
 
 def _space_verdict(counts: Mapping[str, int]) -> tuple[str, int]:
