@@ -43,7 +43,9 @@
 #   picks (C1b: an exact counterexample from $k=2$ on); at the $\alpha_2>\alpha_3$ weights that Theorem 3
 #   requires the printed recursion does bound (largest share 0.9997 / 0.91 / 0.59), but Remark 4 lets
 #   the weights "be changed arbitrarily", so one counterexample refutes the statement. Fig. 7 as printed
-#   (C1c, printed coefficients) fails: the "bound" lies significantly below the MSE. Theorem 3's premise
+#   (C1c, printed coefficients, not deciding) fails at the default: the "bound" lies significantly below
+#   the MSE; over the space it is undetermined, holding only with the interior weights at the shortest
+#   sampled horizon (see the robustness table). Theorem 3's premise
 #   fails on the example for every weight set (C3a: $E_iE_i^T$ has rank 1 and $\sum_jB_{i,j}\sum_jB_{i,j}^T$
 #   rank ≤ 2, so Assumption 1's $e_*,b_*>0$ do not exist); even with $e_*=b_*=0$ admitted, no weights meet
 #   its conditions (X7, ours: a proof for $\kappa_x\ge0$, a 4096-point search otherwise), and Fig. 8's
