@@ -213,6 +213,28 @@ def test_the_gain_28_minimises_the_trace_of_the_bound_18() -> None:
         assert trace(L[0] + 1e-3 * rng.standard_normal(L[0].shape)) > trace(L[0])
 
 
+def test_bound_for_gain_is_18_term_by_term_and_equals_the_bound_at_the_gain_28() -> None:
+    """bound_for_gain at (28) is gain_and_bound's S(k|k); at other gains it is (18) as printed."""
+    rng = np.random.default_rng(7)
+    a, b = rng.standard_normal((NX, NX)), rng.standard_normal((NX, NX))
+    S, X = a @ a.T + np.eye(NX), b @ b.T
+    G = CH[SETS[1]]
+    for variant in ("corrected", "paper"):
+        coefs = li2025.bound_coefficients(0.5, 0.2, 0.3, 0.1, variant)
+        L, S_new, _ = li2025.gain_and_bound(S[None], X[None], G, coefs, 2.0, XI_STAR, V)
+        np.testing.assert_allclose(li2025.bound_for_gain(S, X, G, L[0], coefs, 2.0, XI_STAR, V),
+                                   S_new[0], rtol=1e-12, atol=1e-12)
+        Lm = rng.standard_normal(L[0].shape)  # any gain: the printed terms of (18), one by one
+        c0, kx, kxi, kv = coefs
+        Mm, LG = np.eye(NX) - Lm @ G, Lm @ G
+        expected = (c0 * Mm @ S @ Mm.T + 3.0 * kx * LG @ S @ LG.T + 1.5 * kx * LG @ X @ LG.T
+                    + (kxi * XI_STAR + kv * V) * Lm @ Lm.T)
+        np.testing.assert_allclose(li2025.bound_for_gain(S, X, G, Lm, coefs, 2.0, XI_STAR, V),
+                                   expected, rtol=1e-12, atol=1e-12)
+    with pytest.raises(ValidationError, match="must match S_pred"):
+        li2025.bound_for_gain(S, X, G, np.zeros((NX, NX)), coefs, 2.0, XI_STAR, V)
+
+
 def test_an_exploding_candidate_gets_a_nan_gain_not_an_error() -> None:
     S = np.stack([np.eye(NX), 1e20 * np.eye(NX)])
     L, _, _ = li2025.gain_and_bound(S, np.zeros((2, NX, NX)), CH[SETS[0]],

@@ -56,6 +56,7 @@ __all__ = [
     "UPDATES",
     "VARIANTS",
     "bound_coefficients",
+    "bound_for_gain",
     "correct",
     "estimate",
     "gain_and_bound",
@@ -311,6 +312,74 @@ def gain_and_bound(
     Mm = np.eye(n) - L @ G
     S_new = c0 * (Mm @ S_pred @ _t(Mm)) + L @ R @ _t(L)  # (18)
     return L, sym(S_new), R
+
+
+def bound_for_gain(
+    S_pred: Array,
+    X_hat: Array,
+    G: Array,
+    L: Array,
+    coefs: Coefficients,
+    a1: ArrayLike,
+    xi_star: ArrayLike,
+    V: ArrayLike,
+) -> Array:
+    """The bound (18) for an arbitrary gain ``L``, term by term as printed.
+
+    .. math::  \\mathfrak S(k|k) = c_0 M \\mathfrak S(k|k-1) M^T
+               + (1+\\alpha_1)\\kappa_x L G \\mathfrak S(k|k-1) G^T L^T
+               + (1+\\alpha_1^{-1})\\kappa_x L G \\hat X G^T L^T
+               + \\kappa_\\xi L (\\xi^* I) L^T + \\kappa_v L \\mathcal V L^T,
+               \\qquad M = I - L G,
+
+    with ``G = (C H_eps)_{eps(k)}`` the received rows (``Phi_o(k)`` applied). Theorem 2 states
+    that the gain (28) (:func:`gain_and_bound`) minimises its trace; this function evaluates the
+    trace at any other gain, which is how that statement is checked (li2025 notebook, C8).
+
+    Parameters
+    ----------
+    S_pred, X_hat : (..., n, n) arrays
+        ``S(k|k-1)`` and ``E{x_hat(k|k-1) x_hat^T(k|k-1)}`` (or its surrogate).
+    G : (..., rows, n) array
+        Received rows of ``C H_eps``.
+    L : (..., n, rows) array
+        The gain at which (18) is evaluated.
+    coefs : (c0, kappa_x, kappa_xi, kappa_v)
+        :func:`bound_coefficients` (or any other reading of (18)'s scalars).
+    a1 : float or array
+        Lemma 1 weight of (24).
+    xi_star : float or array
+        Energy bound of the attack signal.
+    V : float or (..., rows, rows) diagonal array
+        Measurement-noise variance, as in :func:`gain_and_bound`.
+
+    Returns
+    -------
+    (..., n, n) array
+        ``S(k|k)`` of (18) at ``L``, symmetrised.
+
+    Raises
+    ------
+    ValidationError
+        Shapes of ``G`` and ``L`` that do not match ``S_pred``, or ``coefs`` not a 4-tuple.
+    """
+    rows_n = np.shape(G)[-1:] + np.shape(G)[-2:-1]  # (n, rows): the shape L must end with
+    if np.shape(G)[-1] != np.shape(S_pred)[-1] or np.shape(L)[-2:] != rows_n:
+        raise ValidationError(
+            f"G (rows, n) and L (n, rows) must match S_pred (n, n): found {np.shape(G)}, "
+            f"{np.shape(L)} and {np.shape(S_pred)}")
+    if len(coefs) != 4:
+        raise ValidationError(
+            f"coefs must be (c0, kappa_x, kappa_xi, kappa_v), found {len(coefs)} values")
+    c0, kx, kxi, kv = coefs
+    rows, n = G.shape[-2], G.shape[-1]
+    Mm = np.eye(n) - L @ G
+    LG = L @ G
+    s = c0 * (Mm @ S_pred @ _t(Mm))  # (18): first term
+    s = s + (1 + a1) * kx * (LG @ S_pred @ _t(LG))  # (18): (1 + a1) kappa_x L G S G^T L^T
+    s = s + (1 + 1 / a1) * kx * (LG @ X_hat @ _t(LG))  # (18): (1 + 1/a1) kappa_x L G Xhat G^T L^T
+    s = s + L @ ((kxi * xi_star + kv * V) * np.eye(rows)) @ _t(L)  # (18): attack energy and noise
+    return sym(s)
 
 
 # ------------------------------------------------------------------ Theorem 3, as printed
