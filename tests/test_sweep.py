@@ -117,8 +117,11 @@ def test_a_saturating_headline_of_different_experiments_is_not_one_evaluation(to
         results[pid]["claims"]["C2"]["measured"] = {"r": 1.0, "runs": 10 + len(pid)}
     rows = sweep.tabulate(space, swept, results)
     c2 = sweep.summarise(space, rows, points)["C2"]
-    assert {r["C2.value"] for r in rows} == {1.0}
-    assert c2["evaluations"] == len({10 + len(pid) for pid, _ in swept}) > 1
+    assert {r["C2.value"] for r in rows} == {1.0} and c2["evaluations"] == 1
+    assert c2["records"] == len({10 + len(pid) for pid, _ in swept}) > 1
+    low = c2["interval"]["low"]  # the interval counts the records, not the one headline
+    assert low > sweep.summarise(space, [{k: v for k, v in r.items() if not k.endswith(".record")}
+                                         for r in rows], points)["C2"]["interval"]["low"]
 
 
 def test_failed_points_are_counted_and_reported(toy: Path) -> None:
