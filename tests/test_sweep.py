@@ -113,7 +113,7 @@ def test_a_saturating_headline_of_different_experiments_is_not_one_evaluation(to
     space = _space(toy)
     points = spaces.design(space)
     swept, results = _results(points, lambda p: True)
-    for pid, p in swept:  # every point's rate is 1.0, from a different run count
+    for pid, _p in swept:  # every point's rate is 1.0, from a different run count
         results[pid]["claims"]["C2"]["measured"] = {"r": 1.0, "runs": 10 + len(pid)}
     rows = sweep.tabulate(space, swept, results)
     c2 = sweep.summarise(space, rows, points)["C2"]
