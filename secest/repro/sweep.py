@@ -394,16 +394,16 @@ def summarise(space: spaces.Space, rows: Sequence[Mapping[str, Any]], points: Se
     the premise fails somewhere, else ``not-checked``. Points where the premise fails or
     that were not checked are counted and shown, never counted as failures. The fraction
     holding and its Wilson interval are over the decided points, treated as a sample of
-    the declared space, but the interval counts each distinct evaluation of the decided points
-    once: points that reproduce one evaluation are not independent samples. An evaluation is
-    a decided outcome with the claim's whole measured record (``<id>.record``, a fingerprint: a
+    the declared space, but the interval counts each distinct record of the decided points
+    once: points that reproduce one measurement are not independent samples. A record is a
+    decided outcome with the claim's whole measured record (``<id>.record``, a fingerprint: a
     headline value shared by different experiments, such as a rate saturating at 1, does not
-    make them one evaluation; rows without records fall back to the headline value); at a
-    point where the premise fails or the claim was not checked, the outcome with its headline
-    value.
-    ``evaluations`` counts the distinct evaluations of all its points: 1 means every point gave
-    the same outcome and record (the swept axes do not change it, whether or not they enter
-    it), so "holds everywhere" is one evaluation.
+    make them one; rows without records fall back to the headline value); at a point where the
+    premise fails or the claim was not checked, the outcome with its headline value.
+    ``evaluations`` counts the distinct (outcome, headline value) pairs of all its points: 1
+    means every point gave the same outcome and value (the swept axes do not change it, whether
+    or not they enter it), so "holds everywhere" is one evaluation; ``records`` counts the
+    distinct records (1: every point measured exactly the same, exact replicates).
 
     Parameters
     ----------
@@ -419,7 +419,8 @@ def summarise(space: spaces.Space, rows: Sequence[Mapping[str, Any]], points: Se
     dict
         Claim id -> ``verdict``, ``points`` (finished points with an outcome),
         ``decided`` (points with outcome holds or fails), ``evaluations`` (distinct
-        evaluations), ``failed_points`` (points that did not finish), ``outcomes``
+        outcome-value pairs), ``records`` (distinct records), ``failed_points`` (points
+        that did not finish), ``outcomes``
         (count per outcome), ``fraction_holds``, ``interval`` (a :func:`secest.repro.results.interval`
         entry), ``region`` (:func:`describe_region`) and ``axes`` (the axes it was
         described over). Claims without any finished point are left out.
@@ -438,8 +439,8 @@ def summarise(space: spaces.Space, rows: Sequence[Mapping[str, Any]], points: Se
         if n == 0:
             continue
         verdict, decided = _space_verdict(counts)
+        evaluations = len({(r[f"{cid}.outcome"], r.get(f"{cid}.value")) for r, _ in ok})
         evaluated = [_evaluation(r, cid) for r, _ in ok]
-        evaluations = len(set(evaluated))
         distinct = {e for e in evaluated if e[0] in ("holds", "fails")}
         held = sum(o == "holds" for o, _ in distinct)
         lo, hi = wilson_interval(held, len(distinct)) if distinct else (0.0, 1.0)
@@ -455,11 +456,12 @@ def summarise(space: spaces.Space, rows: Sequence[Mapping[str, Any]], points: Se
             "points": n,
             "decided": decided,
             "evaluations": evaluations,
+            "records": len(set(evaluated)),
             "failed_points": sum(1 for r in rows if r["status"] != "ok"),
             "outcomes": counts,
             "fraction_holds": counts["holds"] / decided if decided else None,
             "interval": interval(
-                lo, hi, method="wilson, distinct evaluations of the decided design points as a sample "
+                lo, hi, method="wilson, distinct records of the decided design points as a sample "
                 "of the declared space"
             ),
             "region": _region(space, axes, outcomes),
