@@ -353,8 +353,29 @@ def tabulate(space: spaces.Space, swept: Sequence[tuple[str, Mapping]], results:
             row[f"{cid}.holds"] = "" if entry is None or entry["holds"] is None else bool(entry["holds"])
             value = headline_value(entry) if entry else None
             row[f"{cid}.value"] = "" if value is None else float(format(value, ".7g"))
+            row[f"{cid}.record"] = _fingerprint(entry["measured"]) if entry else ""
         rows.append(row)
     return rows
+
+
+def _fingerprint(measured: Any) -> str:
+    """Short hash of a claim's whole measured record (numbers to 10 significant digits).
+
+    Two points with the same fingerprint evaluated the claim identically (replicates); a
+    headline value shared by different experiments (a rate saturating at 1) does not make
+    them replicates.
+    """
+    def plain(x: Any) -> Any:
+        if isinstance(x, Mapping):
+            return {str(k): plain(v) for k, v in x.items()}
+        if isinstance(x, list | tuple):
+            return [plain(v) for v in x]
+        if isinstance(x, float):
+            return format(x, ".10g")
+        return x
+
+    text = json.dumps(plain(measured), sort_keys=True)
+    return hashlib.sha256(text.encode()).hexdigest()[:12]
 
 
 def _cid_key(cid: str) -> tuple:
@@ -373,11 +394,16 @@ def summarise(space: spaces.Space, rows: Sequence[Mapping[str, Any]], points: Se
     the premise fails somewhere, else ``not-checked``. Points where the premise fails or
     that were not checked are counted and shown, never counted as failures. The fraction
     holding and its Wilson interval are over the decided points, treated as a sample of
-    the declared space, but the interval counts each distinct (outcome, value) pair of the
-    decided points once: points that reproduce one evaluation are not independent samples.
-    ``evaluations`` counts the distinct (outcome, value) pairs of all its points: 1 means every
-    point gave the same outcome and value (the swept axes do not change it, whether or not they
-    enter it), so "holds everywhere" is one evaluation.
+    the declared space, but the interval counts each distinct record of the decided points
+    once: points that reproduce one measurement are not independent samples. A record is a
+    decided outcome with the claim's whole measured record (``<id>.record``, a fingerprint: a
+    headline value shared by different experiments, such as a rate saturating at 1, does not
+    make them one; rows without records fall back to the headline value); at a point where the
+    premise fails or the claim was not checked, the outcome with its headline value.
+    ``evaluations`` counts the distinct (outcome, headline value) pairs of all its points: 1
+    means every point gave the same outcome and value (the swept axes do not change it, whether
+    or not they enter it), so "holds everywhere" is one evaluation; ``records`` counts the
+    distinct records (1: every point measured exactly the same, exact replicates).
 
     Parameters
     ----------
@@ -393,7 +419,8 @@ def summarise(space: spaces.Space, rows: Sequence[Mapping[str, Any]], points: Se
     dict
         Claim id -> ``verdict``, ``points`` (finished points with an outcome),
         ``decided`` (points with outcome holds or fails), ``evaluations`` (distinct
-        outcome-value pairs), ``failed_points`` (points that did not finish), ``outcomes``
+        outcome-value pairs), ``records`` (distinct records), ``failed_points`` (points
+        that did not finish), ``outcomes``
         (count per outcome), ``fraction_holds``, ``interval`` (a :func:`secest.repro.results.interval`
         entry), ``region`` (:func:`describe_region`) and ``axes`` (the axes it was
         described over). Claims without any finished point are left out.
@@ -413,8 +440,8 @@ def summarise(space: spaces.Space, rows: Sequence[Mapping[str, Any]], points: Se
             continue
         verdict, decided = _space_verdict(counts)
         evaluations = len({(r[f"{cid}.outcome"], r.get(f"{cid}.value")) for r, _ in ok})
-        distinct = {(r[f"{cid}.outcome"], r.get(f"{cid}.value")) for r, _ in ok
-                    if r[f"{cid}.outcome"] in ("holds", "fails")}
+        evaluated = [_evaluation(r, cid) for r, _ in ok]
+        distinct = {e for e in evaluated if e[0] in ("holds", "fails")}
         held = sum(o == "holds" for o, _ in distinct)
         lo, hi = wilson_interval(held, len(distinct)) if distinct else (0.0, 1.0)
         names = dict.fromkeys(name for _, p in ok for name in p)
@@ -429,17 +456,28 @@ def summarise(space: spaces.Space, rows: Sequence[Mapping[str, Any]], points: Se
             "points": n,
             "decided": decided,
             "evaluations": evaluations,
+            "records": len(set(evaluated)),
             "failed_points": sum(1 for r in rows if r["status"] != "ok"),
             "outcomes": counts,
             "fraction_holds": counts["holds"] / decided if decided else None,
             "interval": interval(
-                lo, hi, method="wilson, distinct evaluations of the decided design points as a sample "
+                lo, hi, method="wilson, distinct records of the decided design points as a sample "
                 "of the declared space"
             ),
             "region": _region(space, axes, outcomes),
             "axes": list(axes),
         }
     return summary
+
+
+def _evaluation(row: Mapping[str, Any], cid: str) -> tuple:
+    """A point's evaluation of ``cid``: a decided outcome with its whole measured record (where
+    tabulated); a point whose premise fails or that was not checked did not evaluate the claim,
+    so there the outcome with its headline value (the premise's measure, typically)."""
+    outcome = row[f"{cid}.outcome"]
+    if outcome in ("holds", "fails") and row.get(f"{cid}.record"):
+        return (outcome, row[f"{cid}.record"])
+    return (outcome, row.get(f"{cid}.value"))
 
 
 def _space_verdict(counts: Mapping[str, int]) -> tuple[str, int]:
