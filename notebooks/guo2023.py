@@ -25,43 +25,41 @@
 # constrained trace-optimal gain. Theorem 2: bounded mean-square error under collective
 # observability.
 #
-# **Verdict: [Re, partial]** (by the one rule, computed in the verdict section; decided by C1, C2, C3,
-# C5) — the estimator's claims hold at the example and over the declared space, but Theorem 2 cannot
-# be tested on the paper's example: its $A_k$ is exponentially stable, so the open-loop prediction is
-# already bounded there and C3 fails its precondition. Its figures cannot be compared either. In detail:
+# **Verdict: [Re]** (by the one rule, computed in the verdict section; decided by C1, C2_nd, C3_u, C5,
+# C7_nd) — under one stated rule: a general result of the paper that its example cannot exercise (it
+# holds there vacuously or by identities) is decided on declared instances of ours that satisfy its
+# premises, and the example's evaluation is shown, not counted. The paper's example exercises only
+# Theorem 1: its gain is identically zero ($K\equiv0$, E6) and every node's local filter contracts
+# without fusion, so the estimator's design and Theorem 2 are decided on our instances. In detail:
 #
-# * **Holds (exact checks, Monte Carlo as a second witness):** Theorem 1 (consistency, C1), unbiasedness
-#   of the local estimates and their decoupling from $d_k$, $a_k$ (C2), the gain (28) as the constrained
-#   minimiser of Lemmas 1-2 (C5), and our consequence that the estimation errors do not depend on the
-#   signals at all (X1). C1 and C5 hold **under our corrected reading** of garbled equations (E3-E5,
-#   E7): the printed (24)-(25) cannot be evaluated, and with the printed symbol in (28) read literally
-#   the gain is far from optimal. The structural identities (C6) hold by construction of our
-#   implementation (shown, not evidence).
-# * **Cannot be tested on the example (C3, fails-premise):** $\bar P$ and the true MSE do not grow over
-#   800 steps, but the product of $A_k$ over one period has norm 0.0026: the plant contracts by itself,
-#   so even the open-loop prediction (no measurement, no fusion) is bounded, and the check says nothing
-#   about Theorem 2's sufficient condition.
-# * **Theorem 2 where it can fail (C3_u, not deciding):** on the example and on our non-degenerate
-#   variant with $A_k$ replaced by $e^{3h}A_k$ (every mode unstable, Assumptions 1-2 still hold), $\bar P$
-#   and the true MSE stay bounded over 800 steps: the theorem holds at these non-example instances.
-# * **What the sweep counts:** its 37 points are 5 independent evaluations (4 Sobol draws + the default);
-#   the 9 signal cells of a draw are exact replicates (X1).
-# * **Where they are exercised:** in the paper's example $n_y-p=n_u-p$, so the gain is identically
-#   zero whatever $S$ is (E6) and the decoupling comes from the structure alone; Lemmas 1-2 and the
-#   constraint $KU_1=0$ — the paper's main design — are exercised only on random instances (C5) and
-#   on our non-degenerate variant with a third output per node (C1_nd, C2_nd, C5_nd), where they hold.
+# * **At the paper's example:** Theorem 1 (consistency, C1) holds, **under our corrected reading** of
+#   garbled equations (E3, E7: the printed (24)-(25) cannot be evaluated). The unbiasedness of the local
+#   and of the input estimates (C2, C7) holds there **by construction** — with $K\equiv0$ it reduces to
+#   the identities of C6 — and so does not decide; Theorem 2's check (C3) fails its precondition: every
+#   node's local error dynamics without fusion, $(I-KC)(I-JC)A_{k-1}$, contracts over a period (norms
+#   0.0026-0.0047), so a bounded error there says nothing about the theorem.
+# * **On instances of ours (deciding, by the rule):** Lemmas 1-2 (C5, on random general instances; also
+#   under our corrected reading E3-E5: with the printed symbol in (28) read literally the gain is far
+#   from optimal), the local estimate's and the input estimates' unbiasedness with $K\ne0$ (C2_nd, C7_nd,
+#   our non-degenerate variant with a third output per node), and Theorem 2 (C3_u: the example and the
+#   variant with $A_k\to e^{3h}A_k$, where every local filter expands by $\sim10^5$ per period) hold.
+# * **Side statements:** Section V's "nodes 2 and 3" are locally unobservable (C4 holds), but read as the
+#   list of such nodes it fails: node 4 is too (C4b). The structural identities (C6) hold by construction.
+# * **What the sweep counts:** its 37 points are at most 5 independent evaluations (4 Sobol draws + the
+#   default); the 9 signal cells of a draw are exact replicates (X1). Our consequence X1: the errors do
+#   not depend on the signals at all.
 # * **Not reproducible from the paper:** its Figs. 1-2 are not available to us, so no
-#   curve-by-curve comparison is possible; the unknown $d_k$, $a_k$ do not matter (X1: every error
-#   is identical for any signals), and X2 predicts, exactly, the scatter its Fig. 1 must show. The
-#   constants of the bound (34) cannot be computed from the paper.
-# * **Rules changed, and recorded:** C2's Monte Carlo rule is now an equivalence rule on the normalised
-#   bias (the old $|z|>3$ rule changed meaning with the run count); C5's rule was relaxed after the
-#   first sweep (the random-$\Gamma$ residual is recorded, not tested) and X3 keeps the old rule's
-#   outcome: under the old rule C5_nd fails at the 9 points of the draw `variant_seed` 994542 of the
-#   committed design (X3 undetermined over the space).
+#   curve-by-curve comparison is possible; the unknown $d_k$, $a_k$ do not matter (X1), and X2 predicts,
+#   exactly at our horizon and initial spread, the scatter its Fig. 1 must show. The constants of the
+#   bound (34) cannot be computed from the paper.
+# * **Rules changed, and recorded:** C2's Monte Carlo part is now a refuter only (the exact part decides
+#   "holds"; at 500 runs it can refute only a bias $\gtrsim0.7$ sd); C5's rule was relaxed after a first
+#   variant run and after the first sweep, and is tightened again (a $\kappa$-scaled test of $KU_1$ at the
+#   random $\Gamma$); X3 keeps the first-stated rule's outcome, X4 replays the first sweep's failing draw
+#   (`lemma_seed` 29109, removed from the design in the same commit as the relaxation): it fails the
+#   first-stated rule.
 # * Algorithm 1 is garbled in print and several equations carry typos; the corrections are derived
-#   and checked below, and Section V's list of locally unobservable nodes is incomplete (node 4
-#   too, C4).
+#   and checked below.
 
 # %% tags=["parameters"]
 mode = "paper"  # "paper": full run; "fast": fewer random Lemma instances (tests) (ours)
@@ -733,28 +731,43 @@ for name, val in c1_ex.items():
 #    error contribute no mean). **Rule**: that change is at most $10^{-10}$ times the scale of the
 #    signals and states ($\max(1,|x|,|u|)$; double precision round-off is $\sim10^{-16}$ of that scale,
 #    amplified by the recursions); the same for the second and the random signal set (X1);
-# 2. **Monte Carlo, a second witness** of (1) that does not rely on the linearity argument: the
+# 2. **Monte Carlo, a refuter only** of (1), that does not rely on the linearity argument: the
 #    normalised bias $\beta_{k,i,j}=\mathbb E[\tilde x^{i,i}_{k,j}]/\sigma_{k,i,j}$, with $\sigma$ the error's own
 #    exact sd (the diagonal of the exact local covariance), at every $(k\ge1,\ \text{node }i,\
 #    \text{state }j)$. Its simultaneous 95 % interval over all $m=n\cdot N\cdot n_x$ tests is the
-#    Bonferroni $t$-interval $(\bar e\pm t_{1-0.025/m,\,n_{mc}-1}\,s/\sqrt{n_{mc}})/\sigma$. **Rule (an
-#    equivalence rule at a level of ours, `BIAS_TOL` = 0.5, stated once):** holds if every interval lies
-#    inside $[-0.5,0.5]$, fails if some interval lies wholly outside it, not-checked otherwise ("an
-#    interval contains the level at $n_{mc}$ runs"); the run count is recorded. Why 0.5: a bias of half the
-#    error's sd adds a quarter of the variance to the mean-square error ($\sigma^2(1+\beta^2)$), a bias no
-#    plot of the estimates could pass off as scatter; this part is a coarse witness of the exact
-#    check (1), which measures the bias to round-off. The level does not move with the run count; the
-#    interval does: with 500 runs its half-width is about 0.19 (a bias below about 0.3 sd is confirmed,
-#    one above about 0.7 refuted), with 10 runs about 2.5 (not-checked). This replaces (issue #30,
-#    before the sweep now committed) the earlier rule "the 95 % Wilson lower limit of the fraction of
-#    $|z|>3$ is below 1 %", whose meaning changed with the run count (a fixed cutoff on a $t$-statistic: at 10 runs an
-#    unbiased estimator fails it, at large $n$ a negligible bias does); that fraction is still
-#    recorded (`z_fraction_old_rule`), on the local errors, not tested;
+#    Bonferroni $t$-interval $(\bar e\pm t_{1-0.025/m,\,n_{mc}-1}\,s/\sqrt{n_{mc}})/\sigma$. **Rule (a level of
+#    ours, `BIAS_TOL` = 0.5, stated once):** the part **fails** if some interval lies wholly outside
+#    $[-0.5,0.5]$; otherwise it records "no bias detected", which never makes the claim hold: the exact
+#    part (1) decides "holds" (issue #30, round-2 review: a Monte Carlo part whose "holds" depended on an
+#    interval of half-width $\approx0.19$ fitting inside $\pm0.5$ was a level matched to 500 runs). Why
+#    0.5: a bias of half the error's sd adds a quarter of the variance to the mean-square error
+#    ($\sigma^2(1+\beta^2)$), a bias no plot of the estimates could pass off as scatter. **Its resolution at
+#    the run count** is printed (`mc_refutable_bias_sd` = 0.5 + the largest half-width): at 500 runs it can
+#    refute only $|\beta|\gtrsim0.69$ sd (the half-width is about 0.19 sd), at 10 runs nothing below about
+#    3 sd. The level does not move with the run count; the resolution does. The round-1 reading of this
+#    part (equivalence: "holds" if every interval lies inside $\pm0.5$) is still recorded
+#    (`mc_part_old_equivalence_reading`), not used. The rule before round 1, "the 95 % Wilson lower
+#    limit of the fraction of $|z|>3$ is below 1 %", changed meaning with the run count (a fixed cutoff on
+#    a $t$-statistic: at 10 runs an unbiased estimator fails it, at large $n$ a negligible bias does);
+#    that fraction is recorded (`z_fraction_old_rule`), now on the local errors (before issue #30 it was
+#    computed on the fused errors, which C2 then measured), not tested;
 # 3. $\|K^iU^i_1\|<10^{-10}$ at every step.
 #
 # In the paper's example (1) is not due to the constraint: $K\equiv0$ (E6), and the decoupling
-# comes from the structure alone ($U_2^T\bar H=0$, $\bar M_2C_2\bar G_2=I$). The variant below,
-# with $K\ne0$, is where the constraint does the work.
+# comes from the structure alone ($U_2^T\bar H=0$, $\bar M_2C_2\bar G_2=I$, $\bar G_1=0$: identities
+# that C6 marks true by construction). So C2 **at the example is by construction** (shown, not
+# evidence) and, by the rule of the verdict section, **C2_nd decides**: the same sentence, measured on
+# our non-degenerate variant, with $K\ne0$, where the constraint does the work.
+#
+# **The input estimates (C7, C7_nd).** Sec. III-B, after (9): "To ensure the unbiasedness of
+# $\hat u^i_{1,k}$ and $\hat u^i_{2,k-1}$, it is required that (10)"; the joint state and input estimate
+# is the paper's first contribution (abstract, Sec. VI). Measured like C2 on the input-estimate errors
+# $\hat u^i_k-u_k$, $k\ge1$ (the estimate at $k=0$ is the prior's, see X2): exact — the error's
+# response to $(d,a)$, the change with the second, the random and the zero signal set, same noise,
+# $\le10^{-10}$ relative; Monte Carlo — the same refutation-only rule on the normalised bias (sd from the
+# exact input-error covariance). At the example the input errors (8)-(9) are free of $u$ by (10) and by
+# the structural decoupling of the state error — the identities of C6 — so C7 at the example is by
+# construction and **C7_nd decides**.
 
 # %%
 BIAS_TOL = 0.5  # ours: equivalence level of the normalised bias (reason in the text above)
@@ -770,6 +783,12 @@ def normalised_bias(err, var_exact, level=0.95):
     return (mean - half) / scale, (mean + half) / scale, mean / scale, m
 
 
+def mc_refutation(lo, hi, tol):
+    """The Monte Carlo part of C2 / C7 (it can only refute): "fails" if an interval lies wholly
+    outside [-tol, tol], else "no bias detected" (never a hold by itself)."""
+    return "fails" if np.any((lo > tol) | (hi < -tol)) else "no bias detected"
+
+
 def equivalence_outcome(lo, hi, tol):
     """True if every interval lies inside [-tol, tol], False if one lies wholly outside, else None."""
     if np.all((lo >= -tol) & (hi <= tol)):
@@ -780,9 +799,12 @@ def equivalence_outcome(lo, hi, tol):
 
 
 def unbiasedness(case):
-    """Local-estimate bias: exact (response to the signals) and Monte Carlo (equivalence rule)."""
+    """Local-estimate and input-estimate bias: exact (response to the signals) and Monte Carlo (refutation only)."""
     var_loc = np.diagonal(case.P_loc_exact, axis1=-2, axis2=-1)           # (K, N, nx)
     lo, hi, beta, m = normalised_bias(case.err_loc, var_loc)
+    var_u = np.diagonal(case.U_exact[1:], axis1=-2, axis2=-1)             # (K-1, N, nu), k >= 1
+    lo_u, hi_u, beta_u, m_u = normalised_bias(case.u_err[1:], var_u)
+    rel_u = {name: g["input"] / g["scale"] for name, g in case.gaps.items()}
     var_fused = np.diagonal(case.P_exact[1:], axis1=-2, axis2=-1)
     lo_f, hi_f, beta_f, _ = normalised_bias(case.err[1:], var_fused)
     err = case.err_loc
@@ -793,7 +815,18 @@ def unbiasedness(case):
         "bias_ci_reach": float(max(-lo.min(), hi.max())), "bias_ci_low": float(lo.min()),
         "bias_ci_high": float(hi.max()), "max_abs_normalised_bias": float(np.abs(beta).max()),
         "n_bias_tests": int(m),
-        "mc_part": {True: "holds", False: "fails", None: "not-checked"}[equivalence_outcome(lo, hi, BIAS_TOL)],
+        "mc_part": mc_refutation(lo, hi, BIAS_TOL),
+        "mc_half_width_sd_max": float(((hi - lo) / 2).max()),
+        "mc_refutable_bias_sd": float(BIAS_TOL + ((hi - lo) / 2).max()),
+        "mc_part_old_equivalence_reading": {True: "holds", False: "fails", None: "not-checked"}[
+            equivalence_outcome(lo, hi, BIAS_TOL)],
+        "input": {"bias_ci_reach": float(max(-lo_u.min(), hi_u.max())), "bias_ci_low": float(lo_u.min()),
+                  "bias_ci_high": float(hi_u.max()), "max_abs_normalised_bias": float(np.abs(beta_u).max()),
+                  "n_bias_tests": int(m_u), "mc_part": mc_refutation(lo_u, hi_u, BIAS_TOL),
+                  "mc_half_width_sd_max": float(((hi_u - lo_u) / 2).max()),
+                  "mc_refutable_bias_sd": float(BIAS_TOL + ((hi_u - lo_u) / 2).max()),
+                  "relative_input_gap": rel_u, "relative_input_gap_max": max(rel_u.values()),
+                  "max_M2B2_minus_I": step_checks(case.run)["M2B2"], "n_runs": int(err.shape[2])},
         "fused_bias_ci_reach": float(max(-lo_f.min(), hi_f.max())),
         "fused_max_abs_normalised_bias": float(np.abs(beta_f).max()),
         "z_fraction_old_rule": float(np.mean(np.abs(z_scores) > 3.0)),
@@ -816,7 +849,11 @@ invariance_rows = "".join(
 display(Markdown(
     f"Local errors, normalised bias: max $|\\hat\\beta|$ = {c2_ex['max_abs_normalised_bias']:.3f}; its "
     f"simultaneous 95 % intervals over {c2_ex['n_bias_tests']} tests ({c2_ex['n_runs']} runs) reach "
-    f"{c2_ex['bias_ci_reach']:.3f} (level {BIAS_TOL}); the same for the fused errors: "
+    f"{c2_ex['bias_ci_reach']:.3f} (level {BIAS_TOL}: refutes only $|\\beta|\\gtrsim$ "
+    f"{c2_ex['mc_refutable_bias_sd']:.2f} sd at this run count; outcome of the part: {c2_ex['mc_part']}); "
+    f"input errors: max $|\\hat\\beta|$ = {c2_ex['input']['max_abs_normalised_bias']:.3f}, reach "
+    f"{c2_ex['input']['bias_ci_reach']:.3f}, relative change with $d=a=0$ "
+    f"{c2_ex['input']['relative_input_gap']['zero']:.1e}; the same for the fused errors: "
     f"{c2_ex['fused_bias_ci_reach']:.3f}. Local error change with $d=a=0$: "
     f"{c2_ex['relative_local_gap_zero_signals']:.1e} relative. Old rule's fraction of $|z|>3$ "
     f"(recorded): {c2_ex['z_fraction_old_rule']:.2%}; "
@@ -840,7 +877,9 @@ display(Markdown(
 # to the time-averaged exact variance; **rule** (an equivalence level of ours, $\pm10\%$): the 95 %
 # t-interval of its mean over the runs lies inside $[0.9, 1.1]$ for every node and component (holds),
 # wholly outside it for one (fails), else not-checked (earlier: "inside, else fails"; made three-way in
-# issue #30).
+# issue #30). Why $\pm10\%$: it is a margin on a mean square, i.e. about $\pm5\%$ on the predicted sd,
+# finer than any scatter a reader can compare by eye in a plot like Fig. 1, so a prediction within it is
+# as good as the figure can test; it is not a level from the paper, which gives no number.
 
 
 # %%
@@ -896,37 +935,73 @@ display(Markdown(
 # \operatorname{tr}P^i_k\le\operatorname{tr}\bar P^i_k$ by C1) settle in the quasi-periodic regime of
 # $A_k, C_k$ (period $2\pi/h\approx62.8$ steps) and do not grow; **rule**: $\underline p>0$ and the
 # maxima of $\lambda_{\max}(\bar P^i_k)$ and of $\operatorname{tr}P^i_k$ over the last five periods
-# are at most $1.01\times$ their maxima over the five periods before.
+# are at most $1.01\times$ their maxima over the five periods before. (Why 1.01, ours: five periods are rounded to whole steps and $A_k, C_k$ are only quasi-periodic, so the maxima of a
+# bounded regime differ between windows by a sampling jitter well below 1 %; a growth of 1 % over five
+# periods is a rate of $3\cdot10^{-5}$ per step, and an unbounded error of the kind Theorem 2 excludes
+# grows far faster — in C3_u's instances the open loop grows by $e^{18.9}$ per period.)
 #
 # **This check cannot discriminate on the example, and C3 records that as its failed precondition.**
-# $A_k=e^{e_k}\exp(hA_0)$ with $A_0$'s eigenvalues $-1,-2,-1$ and $e_k$ telescoping, so the product of
-# $A_k$ over one period has norm far below 1 (printed: `open_loop_period_norm_max`): $A_k$ is
-# exponentially stable. Then the open-loop prediction $\hat x_k=A_{k-1}\hat x_{k-1}$ — no measurement,
-# no fusion — already has a bounded error covariance, so a bounded estimation error on this plant is no
-# sign that Theorem 2's mechanism (collective observability through the fusion) is at work. (An earlier
-# version said "every estimator with bounded gains is bounded" here: that is false — bounded gains can
-# make $(I-KC)(I-JC)A_k$ expand even when $A_k$ contracts.) The precondition "A_k does not contract over
-# a period (norm of the period product $\ge1$)" fails, so C3 is `fails-premise` whatever the growth
-# ratios are (they are recorded). The paper's example does not test Theorem 2.
+# The measurement tests Theorem 2's mechanism — boundedness through collective observability and the
+# fusion — only if a node's local filter cannot keep its error bounded on its own. The precondition,
+# measured: some node's **local error dynamics without fusion**, the transition
+# $\Phi^i_k=(I-K^i_kC^i_k)(I-J^i_kC^i_k)A_{k-1}$ of the local step (14) applied to the node's own
+# previous error (the gains of the run), does not contract over one period of $A_k$:
+# $\max_i\max_{k_0}\|\Phi^i_{k_0+w}\cdots\Phi^i_{k_0+1}\|\ge1$ ($w=2\pi/h$; printed:
+# `local_period_norm_per_node`). At the example it fails: every node's period product has norm far below
+# 1, because $A_k=e^{e_k}\exp(hA_0)$ with $A_0$'s eigenvalues $-1,-2,-1$ contracts (its period product,
+# `open_loop_period_norm_max`, is recorded) and the one-step expansion of $I-J^iC^i$
+# (`one_step_norm_I_minus_JC_per_node`, above 1 at every node) does not undo that over a period. So
+# every node's local filter is bounded without any fusion, and a bounded error on this plant is no sign
+# that Theorem 2's mechanism is at work. (An earlier version said "every estimator with bounded gains is
+# bounded" here: that is false — bounded gains can make $(I-KC)(I-JC)A_k$ expand even when $A_k$
+# contracts; and the round-1 precondition, the open-loop product of $A_k$ alone, did not carry that
+# reason: the review of round 1 asked for the local closed loop, which is what is measured now.) C3 is
+# `fails-premise` whatever the growth ratios are (they are recorded). The paper's example does not test
+# Theorem 2, so C3 does not decide (the rule of the verdict section).
 #
-# **Theorem 2 at instances where it can fail (C3_u, ours as instances, the paper's theorem as claim).**
+# **Theorem 2 at instances of ours where it can fail (C3_u, the paper's theorem as claim, deciding).**
 # We run the same check on two declared variants whose plant does not contract: the Sec. V example and
 # our non-degenerate variant (next sections) with $A_k$ replaced by $e^{3h}A_k$, i.e. $A_0$'s rates
 # $-1,-2,-1$ mirrored to $+2,+1,+2$: every mode unstable, the same eigenvectors and the same time
 # variation $e^{e_k}$ (the factor 3 is ours, fixed before any run: the smallest integer shift making every
 # mode unstable with a margin, the middle one included). Assumption 1 holds (scaling keeps $A_k$
 # invertible), Assumption 2 holds unchanged (a scalar factor on $A_k$ scales the rows of the
-# observability matrix and keeps its rank), Assumption 3 holds, and the open-loop period-product norm is
-# far above 1, so the check can fail. C3_u is the paper's Theorem 2 measured at instances that are not
-# the paper's example; it does not decide the verdict (like the other variant claims; see the verdict
-# section).
+# observability matrix and keeps its rank), Assumption 3 holds, and the precondition is measured there
+# too (the local period products must not all contract), so the check can fail. C3_u is the paper's
+# Theorem 2 measured at instances of ours that satisfy its premises; by the rule of the verdict section
+# it is the claim that decides for Theorem 2.
 
 
 # %%
 def bounded_run(mdl, n_steps, spread):
-    """P_bar and the exact P over a long horizon (gains and bounds do not depend on the data)."""
+    """P_bar, the exact P and the run record over a long horizon (gains and bounds do not depend on the data)."""
     run_b = M.run_estimator(mdl, np.zeros((1, n_steps + 1, mdl.N, mdl.ny)))
-    return run_b.P, M.error_covariance(mdl, run_b, spread=spread)[0]
+    return run_b.P, M.error_covariance(mdl, run_b, spread=spread)[0], run_b
+
+
+def local_period_norms(mdl, run_b, n_steps):
+    """Per node: max over starts k0 of ||Phi_{k0+w} ... Phi_{k0+1}||, Phi_k = (I - K C)(I - J C) A_{k-1}.
+
+    Phi^i_k is node i's local error transition without fusion (the local step (14) applied to
+    the node's own previous local error, with the gains of the run). All below 1 means every
+    node's local filter contracts by itself: a bounded error then says nothing about Theorem 2's
+    mechanism (collective observability through the fusion). Also returned: per node, the max
+    one-step norm of I - J C.
+    """
+    w1 = int(round(2 * np.pi / mdl.h))
+    eye = np.eye(mdl.nx)
+    phi = [[(eye - run_b.K[k - 1, i] @ mdl.C(k)[i]) @ (eye - run_b.J[k - 1, i] @ mdl.C(k)[i]) @ mdl.A(k - 1)
+            for i in range(mdl.N)] for k in range(1, n_steps + 1)]
+    norms = np.zeros(mdl.N)
+    for k0 in range(0, n_steps - w1 + 1, max(1, w1 // 4)):
+        for i in range(mdl.N):
+            prod = eye
+            for k in range(k0, k0 + w1):
+                prod = phi[k][i] @ prod
+            norms[i] = max(norms[i], np.linalg.norm(prod, 2))
+    one_step = np.array([max(np.linalg.norm(eye - run_b.J[k, i] @ mdl.C(k + 1)[i], 2) for k in range(n_steps))
+                         for i in range(mdl.N)])
+    return norms, one_step
 
 
 def period_product_norm(mdl, n_steps):
@@ -947,7 +1022,8 @@ def period_product_norm(mdl, n_steps):
 
 def boundedness(mdl, n_steps, spread):
     """The C3 measures on one model: bounds of P_bar, growth of lambda_max(P_bar) and tr P, period norm."""
-    P_bar_b, P_exact_b = bounded_run(mdl, n_steps, spread)
+    P_bar_b, P_exact_b, run_b = bounded_run(mdl, n_steps, spread)
+    local_norms, one_step_IJC = local_period_norms(mdl, run_b, n_steps)
     eig_b = np.linalg.eigvalsh(P_bar_b[1:])                    # (K, N, nx)
     tr_exact_b = np.trace(P_exact_b, axis1=-2, axis2=-1)
     w5 = int(round(5 * 2 * np.pi / mdl.h))
@@ -957,7 +1033,9 @@ def boundedness(mdl, n_steps, spread):
             "growth_tr_P_exact": float(tr_exact_b[last5].max() / tr_exact_b[prev5].max()),
             "tr_P_exact_max_k_ge_1": float(tr_exact_b[1:].max()),
             "tr_Pbar_max_k_ge_1": float(np.trace(P_bar_b[1:], axis1=-2, axis2=-1).max()),
-            "horizon": n_steps, "open_loop_period_norm_max": period_product_norm(mdl, n_steps)}
+            "horizon": n_steps, "open_loop_period_norm_max": period_product_norm(mdl, n_steps),
+            "local_period_norm_per_node": local_norms, "local_period_norm_max": float(local_norms.max()),
+            "one_step_norm_I_minus_JC_per_node": one_step_IJC}
 
 
 def bounded_holds(m):
@@ -967,7 +1045,7 @@ def bounded_holds(m):
 
 c3 = boundedness(model, n_steps_bound, x0_spread)
 for name, val in c3.items():
-    print(f"{name}: {val:.6g}")
+    print(f"{name}: {np.array2string(np.asarray(val), precision=4)}")
 # %% [markdown]
 # ## Lemmas 1 and 2 on random general instances
 #
@@ -997,10 +1075,15 @@ for name, val in c3.items():
 # $\|KU_1\|$ of the random-$\Gamma$ gain reached $1.7\cdot10^{-10}$ and $4.9\cdot10^{-10}$ where
 # $\kappa$ reached $2\cdot10^8$, while (28)'s own $\|KU_1\|$ stayed below $3\cdot10^{-14}$; that
 # residual is therefore recorded, not tested, too: the projector in (28) makes $KU_1=0$ for every
-# $\Theta$ up to round-off amplified by $\|\Theta\|$. That change, made after a failing sweep, turned
-# those 18 fails into holds; so that it does not do so silently, **X3** keeps the old rule's outcome at
-# every point (the committed design contains the draw `variant_seed` 994542 again, 9 points), and
-# replays the failing draw `lemma_seed` 29109, which the committed design does not contain.) The same comparison runs on 50 evenly spaced steps of the
+# $\Theta$ up to round-off amplified by $\|\Theta\|$. That change, made after a failing sweep (in the
+# same commit as the cut of the design from 8 to 4 Sobol points, which removed `lemma_seed` 29109), turned
+# those 18 fails into holds. Round 2 of the issue #30 review tests that residual again, scaled as its
+# round-off is: $\|K_{(27)}U_1\|\le10^{-10}+10^{-12}\kappa\|S\Theta_\Gamma\|$ (a changed rule, declared: an
+# untested constraint at arbitrary $\Gamma$ would let a leak of $10^{-3}$ pass). So that no change does so
+# silently, **X3** keeps the outcome of the rule as first stated — $\|KU_1\|<10^{-10}$ and the (27) gap
+# $\le10^{-9}$ without allowance, for the random-$\Gamma$ gain too — at every point (the committed design
+# contains the draw `variant_seed` 994542 again, 9 points), and **X4** replays the failing draw
+# `lemma_seed` 29109 under it.) The same comparison runs on 50 evenly spaced steps of the
 # non-degenerate variant below (cvxpy on a few steps).
 
 
@@ -1072,8 +1155,9 @@ def lemma_row(lc, rng, solve_cvxpy):
     Gamma2 = Ubar[:, m_:].T @ Xi_mhalf                       # Lemma 2
     Gamma_r = rng.standard_normal((hbar, ny))                # Lemma 1, arbitrary Gamma
     K_kkt, kkt_res = gain_kkt(lc)
+    Theta_r = theta_from_gamma(lc, Gamma_r)
     gains = {"28": lc.K, "kkt": K_kkt,
-             "L1": constrained_gain(lc.S, theta_from_gamma(lc, Gamma_r), lc.U1),
+             "L1": constrained_gain(lc.S, Theta_r, lc.U1),
              "L2": constrained_gain(lc.S, theta_from_gamma(lc, Gamma2), lc.U1),
              "breve": constrained_gain(lc.S, lc.Xi_breve, lc.U1),      # Xi_breve misread into (28)
              "unc": lc.S @ np.linalg.pinv(lc.Xi_breve, rcond=1e-9)}   # unconstrained minimiser
@@ -1083,10 +1167,13 @@ def lemma_row(lc, rng, solve_cvxpy):
     scale = abs(tr["28"])
     P28 = P_full(lc, lc.K)
     cond_L1 = float(np.linalg.cond(Gamma_r @ lc.Xi_breve @ Gamma_r.T))
+    KU1_L1 = float(np.linalg.norm(gains["L1"] @ lc.U1))
+    STheta_r = float(np.linalg.norm(lc.S @ Theta_r, 2))
     return {
         "rank_Xi_breve": relative_rank(lc.Xi_breve, 1e-9), "hbar": hbar,
         "KU1": max(float(np.linalg.norm(gains[name] @ lc.U1)) for name in ("28", "kkt", "L2")),
-        "KU1_L1": float(np.linalg.norm(gains["L1"] @ lc.U1)),
+        "KU1_L1": KU1_L1, "STheta_L1": STheta_r,
+        "KU1_L1_allowance_used": KU1_L1 / (1e-10 + 1e-12 * cond_L1 * STheta_r),
         "KU1_cvx": float(np.linalg.norm(gains["cvx"] @ lc.U1)) if solve_cvxpy else 0.0,
         "kkt_residual": kkt_res,
         "d_kkt": (tr["28"] - tr["kkt"]) / scale,
@@ -1122,6 +1209,7 @@ def lemma_measures(rows):
             "max_rel_excess_over_cvxpy": float(column(rows, "d_cvx").max()),
             "max_rel_gap_lemma1_random_gamma": float(np.abs(column(rows, "d_L1")).max()),
             "max_L1_allowance_used": float(column(rows, "L1_allowance_used").max()),
+            "max_KU1_L1_allowance_used": float(column(rows, "KU1_L1_allowance_used").max()),
             "max_cond_lemma1_random_gamma": float(column(rows, "cond_L1").max()),
             "max_eq29_vs_25": float(column(rows, "eq29").max()),
             "max_kkt_residual": float(column(rows, "kkt_residual").max()),
@@ -1245,7 +1333,9 @@ print("locally unobservable nodes:", unobservable)
 # capabilities to ensure the local observability"; that is true but incomplete: node 4 cannot
 # observe $x_3$ either (column 3 of $C^4_k$ is zero and $x_3$ is decoupled from $x_1,x_2$ since
 # $a_{13}=a_{23}=a_{31}=a_{32}=0$). The network is collectively observable through the
-# attack-free outputs, so Assumption 2 holds.
+# attack-free outputs, so Assumption 2 holds. Two readings of the sentence, both recorded: C4 tests
+# what it says (nodes 2 and 3 are locally unobservable, the network collectively observable: holds);
+# C4b tests the reading that the list is complete (the unobservable nodes are 2 and 3 only: fails).
 
 # %% [markdown]
 # ## A non-degenerate variant: the design at work ($K\ne0$)
@@ -1357,7 +1447,9 @@ display(Markdown(
 # The boundedness check of C3 on the two declared unstable variants (Boundedness section): the Sec. V
 # example and the non-degenerate variant with $A_k$ replaced by $e^{3h}A_k$. Measured exactly, as for
 # C3, over `n_steps_bound` steps, with the premise (Assumptions 1-2 on the variant) and the precondition
-# (the period product of $A_k$ has norm $\ge1$) evaluated, not assumed.
+# (some node's local error dynamics without fusion does not contract over a period: local period-product
+# norm $\ge1$) evaluated, not assumed. The two instances are ours (declared variants), not the paper's
+# example; their keys are prefixed `unstable_`.
 
 # %%
 UNSTABLE_SHIFT = 3.0  # ours: A_k -> exp(UNSTABLE_SHIFT h) A_k, rates -1, -2, -1 -> +2, +1, +2
@@ -1380,19 +1472,19 @@ def collective_rank_min(mdl, n_windows):
 
 
 c3_u = {}
-for name, mdl in (("example", unstable(model)), ("variant", unstable(variant))):
+for name, mdl in (("unstable_example", unstable(model)), ("unstable_variant", unstable(variant))):
     m = boundedness(mdl, n_steps_bound, x0_spread)
     m["min_abs_det_A"] = float(min(abs(np.linalg.det(mdl.A(k))) for k in range(n_steps_bound + 1)))
     m["collective_rank_min"] = int(collective_rank_min(mdl, min(n_steps, 100)))
     c3_u[name] = m
 premise_c3_u = all(m["min_abs_det_A"] > 0 and m["collective_rank_min"] == model.nx for m in c3_u.values())
-precondition_c3_u = all(m["open_loop_period_norm_max"] >= 1.0 for m in c3_u.values())
+precondition_c3_u = all(m["local_period_norm_max"] >= 1.0 for m in c3_u.values())
 c3_u_flat = {f"{name}_{key}": val for name, m in c3_u.items() for key, val in m.items()}
 c3_u_flat["growth_tr_P_exact_max"] = max(m["growth_tr_P_exact"] for m in c3_u.values())
 display(Markdown(
     "| measured (exact, " + f"{n_steps_bound} steps) | example, $e^{{3h}}A_k$ | variant, $e^{{3h}}A_k$ |\n|---|---|---|\n"
-    + "".join(f"| {key} | {c3_u['example'][key]:.7g} | {c3_u['variant'][key]:.7g} |\n"
-              for key in ("open_loop_period_norm_max", "min_abs_det_A", "collective_rank_min", "p_lower",
+    + "".join(f"| {key} | {c3_u['unstable_example'][key]:.7g} | {c3_u['unstable_variant'][key]:.7g} |\n"
+              for key in ("local_period_norm_max", "open_loop_period_norm_max", "min_abs_det_A", "collective_rank_min", "p_lower",
                           "p_upper", "growth_lambda_max_Pbar", "growth_tr_P_exact", "tr_P_exact_max_k_ge_1"))))
 
 # %% [markdown]
@@ -1565,7 +1657,9 @@ plt.show()
 # machine; the cost grows linearly with the number of points (9 per Sobol point). Our first sweep
 # used 8 Sobol points (73 executions: 11 CPU-minutes, about 6 minutes idle, 30 minutes of wall
 # time on the heavily loaded machine it ran on), over the 5-minute budget, so the committed design
-# uses 4. Since the Sobol sample is shared by the 9 signal cells, each seed axis takes 4 distinct
+# uses 4. That cut was made in the same commit (56c8733) as the relaxation of C5's rule, after the first
+# sweep had failed C5 at `lemma_seed` 29109 and C5_nd at `variant_seed` 994542; the 4-point design no
+# longer contains `lemma_seed` 29109 (it does contain `variant_seed` 994542), so X4 replays that draw. Since the Sobol sample is shared by the 9 signal cells, each seed axis takes 4 distinct
 # values (plus the default). The verdicts below are read from `figures/guo2023/robustness.json`
 # when it exists.
 #
@@ -1591,26 +1685,31 @@ else:
 # ## Claims
 #
 # Where each claim is exercised: **E** the paper's example (Sec. V, $K\equiv0$), **V** our
-# non-degenerate variant ($K\ne0$), **R** random general instances. Monte Carlo parts decide by a
-# rule on a 95 % confidence interval (so the rule means the same at any run count; `runs` is recorded);
-# everything else is exact. **D**: decides the ReScience verdict; **BC**: true by construction (shown,
-# not evidence).
+# non-degenerate variant ($K\ne0$), **R** random general instances, **U** our two declared unstable
+# instances (the example and the variant with $A_k\to e^{3h}A_k$). V, R and U are instances of ours;
+# only E is the paper's. Monte Carlo parts decide by a rule on a 95 % confidence interval (so the rule means the same
+# at any run count; `runs` is recorded); everything else is exact. **D**: decides the ReScience verdict;
+# **BC**: true by construction (shown, not evidence).
 #
 # | id | paper (source) | where | what we measure, and the rule |
 # |---|---|---|---|
-# | C1 (D) | Theorem 1: $(\hat x^i_k,\bar P^i_k)$ is consistent, $P^i_k\preceq\bar P^i_k$ | E | exact: $\lambda_{\min}(\bar P-P)\ge-10^{-12}$ for $k\ge1$, $\rho\le1+10^{-9}$ (fused and local); Monte Carlo: 95 % t upper limit of the ANEES $\le1$. Premise: `x0_spread` $\le1$. **Rests on our corrected reading** of (24)-(25) and Algorithm 1 (E1, E3, E7) |
+# | C1 (D) | Theorem 1: $(\hat x^i_k,\bar P^i_k)$ is consistent, $P^i_k\preceq\bar P^i_k$ | E | exact: $\lambda_{\min}(\bar P-P)\ge-10^{-12}$ for $k\ge1$, $\rho\le1+10^{-9}$ (fused and local); Monte Carlo: 95 % t-interval of the ANEES against 1 (three-way). Premise: `x0_spread` $\le1$. **Rests on our corrected reading** of (24)-(25) and Algorithm 1 (E1, E3, E7) |
 # | C1_nd | the same | V | the same |
-# | C2 (D) | Sec. III-B, after (16): with $KU_1=0$ "the **local** estimate $\hat x^{i,i}_k$ is unbiased", whatever $d_k$, $a_k$ | E | local errors: exact bias (the error's response to $d,a$, same noise) $\le10^{-10}$ relative; $\max\|KU_1\|<10^{-10}$; Monte Carlo: simultaneous 95 % intervals of the normalised bias inside $\pm0.5$ (equivalence rule, level ours; fails if one lies wholly outside, else not-checked). Here $K\equiv0$: decoupling by structure |
-# | C2_nd | the same | V | the same, with $K\ne0$: the constraint does the work |
-# | C3 (D) | Lemma 3 / Theorem 2: $\bar P^i_k$ bounded, mean-square error uniformly bounded | E | exact over `n_steps_bound` steps: $\underline p>0$; maxima of $\lambda_{\max}(\bar P)$ and $\operatorname{tr}P$ over the last 5 periods $\le1.01\times$ those over the 5 before. Premise: Assumptions 1-2 and, as a precondition of the measurement, $A_k$ does not contract by itself (period-product norm $\ge1$; it is 0.0026: **fails-premise**) |
-# | C3_u | the same | E, V with $A_k\to e^{3h}A_k$ | the C3 rule on both unstable instances; premise and precondition evaluated there (they hold). Not the paper's example: does not decide |
+# | C2 (BC) | Sec. III-B, after (16): with $KU_1=0$ "the **local** estimate $\hat x^{i,i}_k$ is unbiased", whatever $d_k$, $a_k$ | E | as C2_nd; here $K\equiv0$ and the decoupling is by the identities C6 marks by construction: shown, not evidence |
+# | C2_nd (D) | the same sentence | V | local errors: exact bias (the error's response to $d,a$, same noise) $\le10^{-10}$ relative and $\max\|KU_1\|<10^{-10}$ (decides holds); Monte Carlo, a refuter only: fails if a simultaneous 95 % interval of the normalised bias lies wholly outside $\pm0.5$ sd (level ours), else "no bias detected" (resolution printed: $\gtrsim0.69$ sd at 500 runs) |
+# | C3 | Lemma 3 / Theorem 2: $\bar P^i_k$ bounded, mean-square error uniformly bounded | E | exact over `n_steps_bound` steps: $\underline p>0$; maxima of $\lambda_{\max}(\bar P)$ and $\operatorname{tr}P$ over the last 5 periods $\le1.01\times$ those over the 5 before. Premise: Assumptions 1-2 and, as a precondition of the measurement, some node's local error dynamics without fusion $(I-KC)(I-JC)A_{k-1}$ does not contract over a period (it does at every node: **fails-premise**; does not decide) |
+# | C3_u (D) | the same, decided on instances of ours that satisfy its premises | U | the C3 rule on both unstable instances; premise and precondition evaluated there |
 # | C4 | Sec. V: nodes 2 and 3 are locally unobservable, the network is collectively observable | E | window ranks per node and collective; solvability of (13) |
-# | C5 (D) | Lemmas 1-2: (28) satisfies $KU_1=0$ and minimises $\operatorname{tr}\bar P^{i,i}$; (29) | R | $\|KU_1\|<10^{-10}$; relative trace gap of (28) to KKT $\le10^{-9}$, excess over cvxpy $\le10^{-9}$, gap to (27) with random $\Gamma$ $\le10^{-9}+10^{-12}\kappa$; $\lvert(29)-(25)\rvert<10^{-10}$. **Rests on our corrected reading** E3-E5 ($\tilde\Xi$ in (28) read as $\Theta$; read literally the trace is far above the optimum) |
+# | C4b | Sec. V, read as a list: the locally unobservable nodes are 2 and 3 (only) | E | the set of nodes with window rank $<3$ is $\{2,3\}$ |
+# | C5 (D) | Lemmas 1-2: (28) satisfies $KU_1=0$ and minimises $\operatorname{tr}\bar P^{i,i}$; (29) | R | $\|KU_1\|<10^{-10}$ ((28), KKT, Lemma 2), $\le10^{-10}+10^{-12}\kappa\|S\Theta_\Gamma\|$ ((27), random $\Gamma$; round 2); relative trace gap of (28) to KKT $\le10^{-9}$, excess over cvxpy $\le10^{-9}$, gap to (27) with random $\Gamma$ $\le10^{-9}+10^{-12}\kappa$; $\lvert(29)-(25)\rvert<10^{-10}$. Decided on instances of ours (the example cannot exercise it). **Rests on our corrected reading** E3-E5 |
 # | C5_nd | the same | V | the same at every node on 50 evenly spaced steps (cvxpy at three of them) |
-# | C6 (BC) | Sec. III structure: $\bar G_1=0$ ($\hat A=A$, $\hat Q=Q$), (10), $T_1RU_2=0$, $\sum_jW^{i,j}=I$ | E, V | max deviations $<10^{-12}$ |
+# | C6 (BC) | Sec. III-B/C: $\bar G_1M_1T_1=0$ ($\hat A=A$, $\hat Q=Q$), (10), fusion weights (20) | E, V | max deviations $<10^{-12}$, with $\sum_jW^{i,j}=I$ and our $T_1RU_2=0$ (identities of our implementation) |
+# | C7 (BC) | Sec. III-B, before (10): "To ensure the unbiasedness of $\hat u_1$ and $\hat u_2$, it is required that (10)"; abstract, Sec. VI | E | as C7_nd; here by the identities of C6: shown, not evidence |
+# | C7_nd (D) | the same | V | input errors: exact response to $d,a$ $\le10^{-10}$ relative (decides holds); Monte Carlo refuter as in C2_nd |
 # | X1 | ours, from (15)-(16) and (21): the errors do not depend on the signals at all | E, V | the second set, the random set and $d=a=0$ change the errors by $\le10^{-10}$ relative |
-# | X2 | ours: prediction for Fig. 1 — the scatter of $\hat d$, $\hat a$ is fixed by the example | E | exact sd per node; Monte Carlo/exact mean-square ratio: every 95 % t-interval inside $[0.9,1.1]$ |
-# | X3 | ours: C5 and C5_nd under the rule stated before the first sweep (also $\|KU_1\|<10^{-10}$ for the random-$\Gamma$ gain) | R, V | the old rule's outcome, kept after the rule was changed; the failing first-sweep draw `lemma_seed` 29109 replayed (recorded) |
+# | X2 | ours: prediction for Fig. 1 — the scatter of $\hat d$, $\hat a$ is fixed by the example | E | exact sd per node; Monte Carlo/exact mean-square ratio: every 95 % t-interval inside $[0.9,1.1]$ (margin ours, reason in its section) |
+# | X3 | ours: C5 and C5_nd under the rule as first stated (also $\|KU_1\|<10^{-10}$ and the gap $\le10^{-9}$ for the random-$\Gamma$ gain) | R, V | the old rule's outcome, kept after the rule was changed |
+# | X4 | ours: the first-sweep draw `lemma_seed` 29109 (removed from the design by commit 56c8733) under the first-stated rule | R | replayed, one evaluation |
 
 # %%
 MC_TOL = results.Tolerance(
@@ -1659,31 +1758,31 @@ def c1_claim(m, where, decides=False):
         decides=decides, section="Consistency (Theorem 1)")
 
 
-def c2_claim(m, where, decides=False):
+def c2_claim(m, where, decides=False, basis="measured"):
     """Unbiasedness and decoupling of the local estimates on one case."""
     exact = bool(m["relative_local_gap_max"] <= 1e-10 and m["max_KU1"] < 1e-10)
-    mc = m["mc_part"]
-    holds = False if not exact or mc == "fails" else (None if mc == "not-checked" else True)
+    holds = bool(exact and m["mc_part"] != "fails")
     return results.claim(
         paper=C2_PAPER + where,
-        check="local estimates x_hat^{i,i}_k, k >= 1 (the estimate the quoted sentence is about; the "
-        "fused errors are measured and recorded, not tested). Exact: the errors are linear in the "
-        "initial error, the noise and (d, a), with data-independent gains, so the bias is the error's "
-        "response to (d, a): re-run with d = a = 0, the second and the random signal set, same noise, "
-        "the local errors change by <= 1e-10 x max(1, |x|, |u|); max_k ||K U_1|| < 1e-10. Monte Carlo "
-        f"({m['n_runs']} runs), a second witness: the normalised bias E[error]/sd (sd exact) at each of "
-        f"{m['n_bias_tests']} (k, node, state), simultaneous 95% Bonferroni t-intervals; equivalence "
-        f"rule at a level of ours, {BIAS_TOL} sd (a bias of half the error's sd adds a quarter of the "
-        "variance to the MSE): holds if every interval lies inside +-0.5, fails if one lies wholly "
-        "outside, not-checked if an interval contains the level at this run count. Replaces (issue #30) "
-        "the rule 'the 95% Wilson lower limit of the fraction of |z| > 3 is below 1%', whose meaning "
-        "changed with the run count; that fraction is recorded (z_fraction_old_rule), not tested",
+        check=("BY CONSTRUCTION at the example: K == 0 (E6), so the local error is free of (d, a) by the "
+               "identities M_bar_2 C_2 G_bar_2 = I, G_bar_1 = 0, U_2^T H_bar = 0 that C6 marks by construction; "
+               "shown, not evidence (C2_nd decides). " if basis == "by-construction" else "")
+        + "local estimates x_hat^{i,i}_k, k >= 1 (the estimate the quoted sentence is about; the "
+        "fused errors are measured and recorded, not tested). Exact part (decides holds): the errors are "
+        "linear in the initial error, the noise and (d, a), with data-independent gains, so the bias is the "
+        "error's response to (d, a): re-run with d = a = 0, the second and the random signal set, same "
+        "noise, the local errors change by <= 1e-10 x max(1, |x|, |u|); max_k ||K U_1|| < 1e-10. Monte "
+        f"Carlo part ({m['n_runs']} runs), a refuter only: the normalised bias E[error]/sd (sd exact) at each "
+        f"of {m['n_bias_tests']} (k, node, state), simultaneous 95% Bonferroni t-intervals; it fails the "
+        f"claim if one interval lies wholly outside +-{BIAS_TOL} sd (level ours: a bias of half the error's sd "
+        "adds a quarter of the variance to the MSE), else records 'no bias detected', which never makes "
+        f"the claim hold. Its resolution at {m['n_runs']} runs: it can refute only |bias| >~ "
+        f"{m['mc_refutable_bias_sd']:.2f} sd (0.5 + the largest half-width). Recorded, not used: the round-1 "
+        "equivalence reading of this part (mc_part_old_equivalence_reading) and the pre-issue-#30 "
+        "fraction of |z| > 3 (z_fraction_old_rule)",
         measured=m, threshold={"relative_local_gap_max": 1e-10, "max_KU1": 1e-10,
                                "normalised_bias_level": BIAS_TOL},
-        holds=holds,
-        not_checked=(None if holds is not None else
-                     f"a simultaneous interval of the normalised bias contains the level {BIAS_TOL} at "
-                     f"{m['n_runs']} runs (the exact part holds)"),
+        holds=holds, basis=basis,
         source="Sec. III-B, the sentence after (16); (15)-(16)",
         interval=results.interval(m["bias_ci_low"], m["bias_ci_high"], level=0.95,
                                   method="t, Bonferroni over every (k, node, state), envelope"),
@@ -1691,11 +1790,53 @@ def c2_claim(m, where, decides=False):
         section="Unbiasedness, decoupling and signal invariance")
 
 
+C7_PAPER = ("Sec. III-B, after (9): 'To ensure the unbiasedness of u_hat_{1,k}^i and u_hat_{2,k-1}^i, it "
+            "is required that (10)'; the joint state and input estimate (abstract; Sec. VI): the input "
+            "estimates are unbiased, whatever d_k and a_k")
+
+
+def c7_claim(m, where, decides=False, basis="measured"):
+    """Unbiasedness of the input estimates on one case (measured like C2)."""
+    u = m["input"]
+    exact = bool(u["relative_input_gap_max"] <= 1e-10)
+    holds = bool(exact and u["mc_part"] != "fails")
+    return results.claim(
+        paper=C7_PAPER + where,
+        check=("BY CONSTRUCTION at the example: K == 0, so the input errors (8)-(9) are free of (d, a) by "
+               "(10) and the structural decoupling of the state error, identities C6 marks by construction; "
+               "shown, not evidence (C7_nd decides). " if basis == "by-construction" else "")
+        + "input-estimate errors u_hat^i_k - u_k, k >= 1 (k = 0 is the prior's estimate). Exact part "
+        "(decides holds): re-run with d = a = 0, the second and the random signal set, same noise: the "
+        "input errors change by <= 1e-10 x max(1, |x|, |u|) (the errors are linear in the data with "
+        f"data-independent gains, so this change is the bias). Monte Carlo part ({u['n_runs']} runs), a "
+        f"refuter only: normalised bias E[error]/sd (sd from the exact input-error covariance) at each of "
+        f"{u['n_bias_tests']} (k, node, component), simultaneous 95% Bonferroni t-intervals; fails the claim "
+        f"if one lies wholly outside +-{BIAS_TOL} sd (the level of C2), else 'no bias detected' (never a "
+        f"hold by itself); resolution at {u['n_runs']} runs: |bias| >~ {u['mc_refutable_bias_sd']:.2f} sd",
+        measured=u, threshold={"relative_input_gap_max": 1e-10, "normalised_bias_level": BIAS_TOL},
+        holds=holds, basis=basis,
+        source="Sec. III-B, (8)-(10) and the sentence before (10); abstract; Sec. VI",
+        interval=results.interval(u["bias_ci_low"], u["bias_ci_high"], level=0.95,
+                                  method="t, Bonferroni over every (k, node, component), envelope"),
+        key="bias_ci_reach", tolerance=MC_TOL, runs=int(u["n_runs"]), decides=decides,
+        section="Unbiasedness, decoupling and signal invariance")
+
+
 def c5_holds(m, lemma_tol=1e-9):
-    """The rule of C5 on the headline numbers of a set of local steps."""
+    """The rule of C5 on the headline numbers of a set of local steps (round 2: with the kappa-scaled
+    test of (27)'s K U_1 at the random Gamma)."""
     return bool(m["max_KU1"] < 1e-10 and m["max_rel_gap_kkt"] <= lemma_tol
                 and m["max_rel_excess_over_cvxpy"] <= lemma_tol and m["max_L1_allowance_used"] <= 1.0
-                and m["max_eq29_vs_25"] < 1e-10)
+                and m["max_KU1_L1_allowance_used"] <= 1.0 and m["max_eq29_vs_25"] < 1e-10)
+
+
+def c5_holds_first_rule(m, lemma_tol=1e-9):
+    """The C5 rule as first stated (before the kappa allowance of the (27) gap, added after a first
+    variant run, and before commit 56c8733): every residual ||K U_1|| of (28), KKT, Lemma 2 and the
+    random-Gamma (27) < 1e-10, and the (27) gap <= 1e-9 without allowance (X3, X4)."""
+    return bool(m["max_KU1"] < 1e-10 and m["max_KU1_lemma1_random_gamma"] < 1e-10
+                and m["max_rel_gap_kkt"] <= lemma_tol and m["max_rel_excess_over_cvxpy"] <= lemma_tol
+                and m["max_rel_gap_lemma1_random_gamma"] <= lemma_tol and m["max_eq29_vs_25"] < 1e-10)
 
 
 C5_PAPER = ("Lemmas 1-2 (Sec. III-D): the gain (28) satisfies K U_1 = 0 and minimises tr P_bar^{i,i}; "
@@ -1709,50 +1850,65 @@ C5_CHECK = ("under our corrected reading (E3, E4, E5): the symbol Xi_tilde in (2
             "optimum by <= 1e-9 relative (one-sided: cvxpy above (28) is the solver's tolerance); gap to (27) "
             "with a random Gamma <= 1e-9 + 1e-12 cond(Gamma Xi_breve Gamma^T) (its round-off grows with "
             "that condition number), each gain scored by the full expansion (25); ||K U_1|| < 1e-10 "
-            "for (28), KKT and Lemma 2's Gamma (cvxpy's and the random Gamma's residuals are recorded, "
-            "not tested); "
+            "for (28), KKT and Lemma 2's Gamma; for (27) at the random Gamma ||K U_1|| <= 1e-10 + 1e-12 "
+            "cond(Gamma Xi_breve Gamma^T) ||S Theta_Gamma|| (round 2 of the issue #30 review, a changed "
+            "rule: the round-off of the projector grows with kappa and ||S Theta||; between commit 56c8733 "
+            "and round 2 this residual was recorded, not tested; X3 keeps the first-stated rule); cvxpy's "
+            "residual is recorded, not tested (its solver tolerance); "
             "|(29) - (25)| < 1e-10")
 claims = {}
 claims["C1"] = c1_claim(c1_ex, " (the paper's example)", decides=True)
 claims["C1_nd"] = c1_claim(c1_nd, " (our non-degenerate variant, K != 0)")
 claims["C2"] = c2_claim(c2_ex, " (the paper's example, where K == 0: decoupling by structure)",
-                        decides=True)
-claims["C2_nd"] = c2_claim(c2_nd, " (our non-degenerate variant, K != 0: the constraint does the work)")
+                        basis="by-construction")
+claims["C2_nd"] = c2_claim(c2_nd, " (on an instance of ours: the non-degenerate variant, K != 0, where the "
+                           "constraint does the work)", decides=True)
+claims["C7"] = c7_claim(c2_ex, " (the paper's example, where K == 0)", basis="by-construction")
+claims["C7_nd"] = c7_claim(c2_nd, " (on an instance of ours: the non-degenerate variant, K != 0)",
+                           decides=True)
 premise_c3 = bool(min_det_A > 0 and rank_coll.min() == model.nx)
 claims["C3"] = results.claim(
     paper="Lemma 3 / Theorem 2 (Sec. IV): p_lower I <= P_bar_k^i <= p_upper I and the fused error is "
     "uniformly bounded in mean square, (34) (its constants are not computable from the paper)",
     check=f"exact, over {n_steps_bound} steps: min eigenvalue of P_bar > 0; the maxima of "
     "lambda_max(P_bar) and of tr P (true MSE) over the last 5 periods of A_k (2 pi / h steps) are "
-    "<= 1.01 x their maxima over the 5 periods before (no growth). At the example the precondition "
-    "fails: A_k contracts by itself, so the open-loop prediction (no measurement, no fusion) is "
-    "already bounded and a bounded error says nothing about Theorem 2; Theorem 2 is exercised at "
-    "non-contracting instances in C3_u",
+    "<= 1.01 x their maxima over the 5 periods before (no growth; 1.01 is ours: sampling jitter of the "
+    "maxima of a quasi-periodic bounded regime, far below any growth Theorem 2 excludes). At the example "
+    "the precondition fails: every node's local error dynamics without fusion, (I - KC)(I - JC)A_{k-1}, "
+    "contracts over a period (local_period_norm_per_node), so every local filter is bounded without the "
+    "fusion and a bounded error says nothing about Theorem 2. Does not decide (the rule of the verdict "
+    "section): Theorem 2 is decided at instances of ours that satisfy its premises, C3_u",
     measured=c3, threshold={"p_lower": 0.0, "growth": 1.01},
     holds=bounded_holds(c3),
     source="Sec. IV, Lemma 3, Theorem 2, (34)",
     premise=("Assumptions 1-2 (A_k invertible, (A_k, C_2,k) collectively observable), and, as a "
-             "precondition of the measurement, the plant does not contract by itself: "
-             "max_k ||A_{k+w-1}...A_k|| >= 1 over one period w = 2 pi / h (otherwise the open-loop "
-             "prediction, with no measurement and no fusion, is already bounded and the check says "
-             "nothing about Theorem 2)", premise_c3 and c3["open_loop_period_norm_max"] >= 1.0),
-    key="growth_tr_P_exact", decides=True, section="Boundedness (Lemma 3, Theorem 2)")
+             "precondition of the measurement, some node's local error dynamics without fusion does not "
+             "contract over a period: max_i max_k0 ||Phi^i_{k0+w}...Phi^i_{k0+1}|| >= 1, Phi^i_k = "
+             "(I - K^i_k C^i_k)(I - J^i_k C^i_k) A_{k-1}, w = 2 pi / h (otherwise every node's local "
+             "filter is bounded on its own and the check says nothing about Theorem 2's mechanism, "
+             "boundedness through collective observability and the fusion)",
+             premise_c3 and c3["local_period_norm_max"] >= 1.0),
+    key="growth_tr_P_exact", section="Boundedness (Lemma 3, Theorem 2)")
 claims["C3_u"] = results.claim(
     paper="Lemma 3 / Theorem 2 (Sec. IV), as for C3, at two instances that are not the paper's example "
-    "(ours as instances): the Sec. V example and our non-degenerate variant with A_k replaced by "
-    "exp(3h) A_k (rates -1, -2, -1 mirrored to +2, +1, +2), where A_k does not contract",
+    "(decided on instances of ours that satisfy its premises): the Sec. V example and our "
+    "non-degenerate variant with A_k replaced by exp(3h) A_k (rates -1, -2, -1 mirrored to +2, +1, +2), "
+    "where the local error dynamics do not contract",
     check=f"the C3 rule on both instances, exact over {n_steps_bound} steps: min eigenvalue of P_bar > 0, "
     "no growth (<= 1.01) of the maxima of lambda_max(P_bar) and tr P over the last 5 periods against "
     "the 5 before; holds only if both instances hold. Premise evaluated on the instances: Assumption 1 "
     "(min |det A_k| > 0), Assumption 2 (window rank of (A_k, stacked C_2,k) = 3), and the precondition "
-    "that the plant does not contract (period-product norm >= 1). Does not decide: it is not the "
-    "paper's example",
+    "of C3: some node's local error dynamics without fusion, (I - KC)(I - JC)A_{k-1}, does not contract "
+    "over a period (local period-product norm >= 1). Decides for Theorem 2 (the rule of the verdict "
+    "section: the example cannot exercise it, C3)",
     measured=c3_u_flat, threshold={"p_lower": 0.0, "growth": 1.01},
     holds=bool(all(bounded_holds(m) for m in c3_u.values())),
     source="Sec. IV, Lemma 3, Theorem 2, (34), at declared non-contracting variants of Sec. V",
-    premise=("Assumptions 1-2 on each instance and the precondition that A_k does not contract "
-             "(period-product norm >= 1)", premise_c3_u and precondition_c3_u),
-    key="growth_tr_P_exact_max", section="Theorem 2 where the plant does not contract (C3_u)")
+    premise=("Assumptions 1-2 on each instance and the precondition that some node's local error "
+             "dynamics without fusion does not contract (local period-product norm >= 1)",
+             premise_c3_u and precondition_c3_u),
+    key="growth_tr_P_exact_max", decides=True,
+    section="Theorem 2 where the plant does not contract (C3_u)")
 claims["C4"] = results.claim(
     paper="Sec. V: nodes 2 and 3 are locally unobservable while the network is collectively "
     "observable (Assumption 2: (A_k, C_2k) observable)",
@@ -1768,6 +1924,17 @@ claims["C4"] = results.claim(
                and cg_min.min() > 0),
     source="Sec. V, last paragraph; Assumption 2", key="rank_collective_min",
     section="Observability (Assumption 2 and the statement of Section V)")
+claims["C4b"] = results.claim(
+    paper="Sec. V, last paragraph, read as a list: 'nodes 2 and 3 own insufficient capabilities to ensure "
+    "the local observability', i.e. the locally unobservable nodes are nodes 2 and 3 (and no other; the "
+    "reading C4 does not test)",
+    check=f"the nodes whose {window}-step observability matrix (A_k, C^i_k) has rank < 3 in every window "
+    "are exactly {2, 3}",
+    measured={"locally_unobservable_nodes": unobservable, "rank_C_per_node": rank_C.max(0),
+              "n_locally_unobservable": len(unobservable)},
+    threshold={"n_x": model.nx}, holds=bool(unobservable == [2, 3]),
+    source="Sec. V, last paragraph", key="n_locally_unobservable",
+    section="Observability (Assumption 2 and the statement of Section V)")
 c5 = {**lemma_measures(rows),
       "theta_30_min_gap": float(column(rows, "theta_gap_30").min()),
       "gain_theta_gamma_vs_line13": float(column(rows, "gain_gap_30").max()),
@@ -1775,48 +1942,63 @@ c5 = {**lemma_measures(rows),
                                       float(ratio_breve.max())],
       "example_max_abs_K": c2_ex["max_abs_K"]}
 claims["C5"] = results.claim(
-    paper=C5_PAPER + " (random general instances; in the example K == 0, E6)",
-    check=f"{len(rows)} random general instances: " + C5_CHECK,
+    paper=C5_PAPER + " (decided on instances of ours: random general instances; the example cannot "
+    "exercise it, K == 0 there, E6)",
+    check=f"{len(rows)} random general instances of ours (lemma_seed {lemma_seed}), not the paper's "
+    "example: " + C5_CHECK,
     measured=c5, threshold={"KU1": 1e-10, "rel_gap": 1e-9, "eq29": 1e-10}, holds=c5_holds(c5),
     source="Sec. III-D, Lemmas 1-2, (26)-(30)", key="max_rel_gap_kkt", tolerance=CVX_TOL,
     decides=True, section="Lemmas 1 and 2 on random general instances")
 claims["C5_nd"] = results.claim(
-    paper=C5_PAPER + " (our non-degenerate variant, 50 evenly spaced steps, every node)",
+    paper=C5_PAPER + " (on an instance of ours: the non-degenerate variant, 50 evenly spaced steps, every node)",
     check=f"{c5_nd['n_steps_checked']} node-steps of the variant (cvxpy on {c5_nd['n_cvxpy']}): "
     + C5_CHECK,
     measured=c5_nd, threshold={"KU1": 1e-10, "rel_gap": 1e-9, "eq29": 1e-10}, holds=c5_holds(c5_nd),
     source="Sec. III-D, Lemmas 1-2, (26)-(30)", key="max_rel_gap_kkt", tolerance=CVX_TOL,
     section="A non-degenerate variant: the design at work ($K\\ne0$)")
-# The C5 rule as stated before the first sweep (until commit 56c8733, 25 Nov 2026) also required
-# ||K U_1|| < 1e-10 of Lemma 1's gain with a random Gamma; the rule was changed after that sweep failed
-# C5 at lemma_seed 29109 and C5_nd at variant_seed 994542. X3 keeps the old rule's outcome here, and
-# replays the failing lemma_seed (30 instances, as in paper mode; the random Gammas do not depend on
-# cvxpy, so it is skipped in the replay).
+# The C5 rule as first stated (before the kappa allowance of the (27) gap, added after a first variant
+# run, and before commit 56c8733, 25 Nov 2026, which also cut the design from 8 to 4 Sobol points after
+# the failing first sweep, removing the failing draw lemma_seed 29109) required ||K U_1|| < 1e-10 of
+# Lemma 1's gain with a random Gamma and its trace gap <= 1e-9. X3 keeps that rule's outcome on this
+# point's draws; X4 replays the draw lemma_seed 29109 under it (30 instances, as in paper mode; the
+# random Gammas do not depend on cvxpy, so it is skipped in the replay: its excess is not part of X4).
 replay_rng = np.random.default_rng(29109)
 rows_29109 = [lemma_row(random_instance(replay_rng, *shapes[n % len(shapes)]), replay_rng, False)
               for n in range(30)]
 x3 = {"C5_max_KU1_all_gains": max(c5["max_KU1"], c5["max_KU1_lemma1_random_gamma"]),
       "C5_nd_max_KU1_all_gains": max(c5_nd["max_KU1"], c5_nd["max_KU1_lemma1_random_gamma"]),
+      "C5_max_rel_gap_lemma1_random_gamma": c5["max_rel_gap_lemma1_random_gamma"],
+      "C5_nd_max_rel_gap_lemma1_random_gamma": c5_nd["max_rel_gap_lemma1_random_gamma"],
       "C5_holds_current_rule": c5_holds(c5), "C5_nd_holds_current_rule": c5_holds(c5_nd),
-      "replay_lemma_seed_29109_max_KU1_random_gamma": float(column(rows_29109, "KU1_L1").max()),
-      "replay_lemma_seed_29109_max_cond_random_gamma": float(column(rows_29109, "cond_L1").max())}
+      "C5_holds_first_rule": c5_holds_first_rule(c5), "C5_nd_holds_first_rule": c5_holds_first_rule(c5_nd)}
 x3["max_KU1_all_gains"] = max(x3["C5_max_KU1_all_gains"], x3["C5_nd_max_KU1_all_gains"])
 claims["X3"] = results.claim(
-    paper="(ours) C5 and C5_nd under the rule stated before the first sweep (until commit 56c8733, "
-    "25 Nov 2026): as now, and also ||K U_1|| < 1e-10 for Lemma 1's gain (27) with a random Gamma",
-    check="old rule = current C5 rule on C5 and on C5_nd, and the random-Gamma residual ||K U_1|| < 1e-10 "
-    "on both; holds iff both pass. The rule was changed after the first sweep (73 points), where this "
-    "residual reached 1.7e-10 (lemma_seed 29109, C5) and 4.9e-10 (variant_seed 994542, C5_nd) at "
-    "cond(Gamma Xi_breve Gamma^T) ~ 2e8 while (28)'s own residual stayed below 3e-14: round-off of an "
-    "ill-conditioned Gamma of ours, not a property of the paper's gain. The change is recorded here "
-    "rather than hidden: under the old rule those 18 points were fails. The committed design contains "
-    "the draw variant_seed 994542 again (one Sobol draw, 9 points), where X3 records the old rule's "
-    "outcome; lemma_seed 29109 is not in it, so that draw is replayed here (measured, not in the rule)",
-    measured=x3, threshold=1e-10,
-    holds=bool(x3["C5_holds_current_rule"] and x3["C5_nd_holds_current_rule"]
-               and x3["max_KU1_all_gains"] < 1e-10),
-    source="ours (the C5 rule before commit 56c8733)", key="max_KU1_all_gains", tolerance=CVX_TOL,
+    paper="(ours) C5 and C5_nd under the rule as first stated (before the kappa allowance of the (27) gap, "
+    "added after a first variant run, and before commit 56c8733, 25 Nov 2026): as now, but ||K U_1|| < 1e-10 "
+    "also for Lemma 1's gain (27) with a random Gamma, and the (27) trace gap <= 1e-9 with no allowance",
+    check="first-stated rule on C5's and on C5_nd's draws of this point; holds iff both pass. The rule was "
+    "relaxed twice: the allowance 1e-9 + 1e-12 kappa of the (27) gap after a first variant run, where one "
+    "of 800 node-steps had a gap of 4.5e-8; and, in commit 56c8733, after the first sweep (73 points), "
+    "the random-Gamma residual recorded instead of tested: it reached 1.7e-10 (lemma_seed 29109, C5) and "
+    "4.9e-10 (variant_seed 994542, C5_nd) at cond(Gamma Xi_breve Gamma^T) ~ 2e8 while (28)'s own residual "
+    "stayed below 3e-14. The same commit cut the design from 8 to 4 Sobol points, which removed the "
+    "draw lemma_seed 29109 (replayed in X4). Round 2 of the review tests that residual again, "
+    "kappa-scaled (C5). The old outcome is recorded here rather than hidden",
+    measured=x3, threshold={"KU1": 1e-10, "rel_gap_lemma1_random_gamma": 1e-9},
+    holds=bool(x3["C5_holds_first_rule"] and x3["C5_nd_holds_first_rule"]),
+    source="ours (the C5 rule as first stated)", key="max_KU1_all_gains", tolerance=CVX_TOL,
     section="Lemmas 1 and 2 on random general instances")
+x4 = {**lemma_measures(rows_29109), "holds_current_rule_without_cvxpy": c5_holds(lemma_measures(rows_29109))}
+claims["X4"] = results.claim(
+    paper="(ours) the draw lemma_seed 29109 of the first sweep (removed from the design by commit 56c8733) "
+    "under C5's rule as first stated",
+    check="30 random instances from lemma_seed 29109 (as in paper mode), cvxpy skipped (its excess not "
+    "tested here): first-stated rule (see X3); a fixed draw, the same at every point (one evaluation). "
+    "The current rule's outcome on it is recorded (holds_current_rule_without_cvxpy)",
+    measured=x4, threshold={"KU1": 1e-10, "rel_gap": 1e-9},
+    holds=c5_holds_first_rule(x4),
+    source="ours (the C5 rule as first stated, first-sweep draw)", key="max_KU1_lemma1_random_gamma",
+    tolerance=CVX_TOL, section="Lemmas 1 and 2 on random general instances")
 checks_nd = step_checks(nd.run)
 c6 = {"max_abs_G1": max(checks_ex["G1"], checks_nd["G1"]),
       "max_M2B2_minus_I": max(checks_ex["M2B2"], checks_nd["M2B2"]),
@@ -1826,12 +2008,13 @@ c6 = {"max_abs_G1": max(checks_ex["G1"], checks_nd["G1"]),
 c6["max_deviation"] = max(c6["max_abs_G1"], c6["max_M2B2_minus_I"], c6["max_sumW_minus_I"],
                           structure["max |T1 R U2|"], T1RU2_nd)
 claims["C6"] = results.claim(
-    paper="Sec. III: G_bar_1 M_1 T_1 = 0 so A_hat = A, Q_hat = Q (display after (16)); unbiasedness "
-    "conditions (10); T_1 R U_2 = 0 (before (5)); fusion weights (20) with rows of Pi summing to 1",
+    paper="Sec. III-B: G_bar_1 M_1 T_1 = 0, which implies A_hat = A, Q_hat = Q (display after (16)); the "
+    "unbiasedness conditions (10); Sec. III-C: the fusion weights (20) with (19)",
     check="BY CONSTRUCTION (identities of the SVD split, of the definition of M_2 and of the "
     "normalised fusion weights as we implement them: a check of our code, not evidence about the "
-    "paper): example and variant: max |G_bar_1|, |M_bar_2 C_2 G_bar_2 - I|, |sum_j W^ij - I|, "
-    "|T_1 R U_2| < 1e-12",
+    "paper): example and variant: max |G_bar_1|, |M_bar_2 C_2 G_bar_2 - I|, |sum_j W^ij - I| (the last "
+    "follows from (19)-(20)) and, identities of our implementation that the paper does not state, "
+    "|T_1 R U_2| (our T_1, chosen so that v_1 and v_2 are uncorrelated) < 1e-12",
     measured=c6, threshold=1e-12, holds=bool(c6["max_deviation"] < 1e-12), basis="by-construction",
     source="Sec. III-A/B: (4)-(6), (10)-(11), display after (16); Sec. III-C: (19)-(21)",
     key="max_deviation", section="Measurement transformation (Section III-A)")
@@ -1881,37 +2064,53 @@ for cid, c in written.items():
 #
 # The verdict follows the one written rule of `secest.repro.results.rescience_verdict`, the same for
 # all five papers: [Re] if every deciding claim holds at the paper's example and over the declared
-# space, [¬Re] if none holds at the example, [Re, partial] otherwise. The deciding claims are the
-# paper's two listed contributions (Sec. I, "The main contributions of this paper are summarized as
-# follows"; repeated in Sec. VI):
+# space, [¬Re] if none holds at the example, [Re, partial] otherwise ("at the example" is the outcome of
+# the committed run, the paper's setting). The deciding claims are the paper's listed contributions
+# (Sec. I, "The main contributions of this paper are summarized as follows"; repeated in the abstract and
+# Sec. VI):
 #
-# * "a novel distributed state estimator is developed against unknown inputs and deception attacks" —
-#   **C2** (unbiased whatever $d_k$, $a_k$), **C1** (Theorem 1: the fused pair is consistent) and **C5**
-#   (Lemmas 1-2: the constrained trace-optimal gain, the estimator's design; measured on random general
-#   instances, since in the example $K\equiv0$);
+# * "a novel distributed state estimator is developed against unknown inputs and deception attacks",
+#   a joint state **and input** estimator (abstract, Sec. VI) — the local estimate is unbiased whatever
+#   $d_k$, $a_k$ (C2 / **C2_nd**), the input estimates are unbiased (C7 / **C7_nd**), the fused pair is
+#   consistent (Theorem 1, **C1**), the constrained trace-optimal gain (Lemmas 1-2, **C5**);
 # * "a sufficient condition is provided by showing that the estimation error in each node is uniformly
-#   bounded in mean square" — **C3** (Theorem 2).
+#   bounded in mean square" — Theorem 2 (C3 / **C3_u**).
 #
-# The deciding claims were chosen from that list before this revision and are not re-picked after
-# seeing results. The `_nd` claims and C3_u (the paper's statements at our variants, not at the paper's
-# example: the rule's "at the example" is the example's outcome), C4 (a side statement of Sec. V), C6
-# (true by construction) and the X claims (ours) do not decide. C1 and C5 hold under our corrected reading
-# of garbled equations (E3-E5, E7; said in their check texts): the verdict rests on that reading. Computed
-# from the claims just written:
+# **One stated rule for general results the example cannot exercise.** A general result of the paper
+# (a lemma or theorem, or a general statement of its design) that the paper's example cannot exercise —
+# it holds there vacuously or by identities — is decided on declared instances of ours that satisfy its
+# premises; the example's vacuous or identity evaluation is shown, with basis `by-construction` or as
+# `fails-premise`, and does not decide. Applied:
+#
+# * Lemmas 1-2 (C5): at the example $K\equiv0$ and the feasible set of the constraint is $\{0\}$ (E6), so
+#   the lemmas are vacuous there; **C5 decides on the random general instances of ours** (R), not at the
+#   example;
+# * Theorem 2 (C3): at the example every node's local filter contracts without fusion, so C3 fails its
+#   precondition (`fails-premise`, not deciding); **C3_u decides**, on our two unstable instances (U);
+# * the unbiasedness of the local estimate (C2) and of the input estimates (C7): at the example they
+#   reduce to the identities C6 marks by construction ($K\equiv0$, $\bar M_2C_2\bar G_2=I$, $\bar G_1=0$),
+#   so C2 and C7 there are `by-construction`; **C2_nd and C7_nd decide**, on our non-degenerate variant
+#   (V), with the same quotes;
+# * Theorem 1 (C1) is exercised by the example (the bound $\bar P$ and the true covariance differ there)
+#   and decides there.
+#
+# This rule was fixed by the lead of issue #30 (round 2) on the reviewer's finding that C5 decided at
+# random instances while C3_u was barred from deciding for not being the example: one rule for both. The
+# verdict it gives is accepted whatever it is. The remaining `_nd` claims (C1_nd, C5_nd: the example or R
+# already decides those results), C4, C4b (side statements of Sec. V), C6 (by construction) and the X
+# claims (ours) do not decide. C1 and C5 hold under our corrected reading of garbled equations (E3-E5, E7;
+# said in their check texts): the verdict rests on that reading. Computed from the claims just written:
 
 # %%
 VERDICT = results.rescience_verdict(written)
 print(VERDICT["line"])
 
 # %% [markdown]
-# So **[Re, partial]** (as computed above): the estimator's claims C1, C2, C5 hold at the example (their
-# counts over the declared space are in the robustness table), but Theorem 2 cannot be tested on the
-# paper's example — its $A_k$ is exponentially stable, so the open-loop prediction is already bounded
-# there, and C3 fails its precondition at every point (the no-growth ratios themselves hold). Where the
-# plant does not contract (C3_u, not deciding) the theorem's boundedness is observed. Two further limits
-# of the evidence, not of the rule: in the example the gain is $K\equiv0$, so C2 there is decoupling by
-# structure (the constraint $KU_1=0$ works on our variant, C2_nd), and the paper's Figs. 1-2 are not
-# available to us.
+# The verdict is the line printed above, computed by the rule (README and ERRATA quote it). What it rests
+# on: C1 at the paper's example; C2_nd, C7_nd, C3_u and C5 at instances of ours (V, U, R), by the stated
+# rule, because the example exercises neither the gain design ($K\equiv0$) nor Theorem 2 (every local
+# filter contracts there). Further limits of the evidence, not of the rule: the paper's Figs. 1-2 are not
+# available to us, and the constants of (34) cannot be computed.
 # %% [markdown]
 # ## Deviations from the paper
 #
@@ -1925,17 +2124,17 @@ print(VERDICT["line"])
 # | E6 | the example | — | $K\equiv0$ | $n_y-p=n_u-p$: $U_1$ spans the range of $I-CJ$, so $KU_1=0$ forces $K=0$; Lemmas 1-2 and the constraint are exercised on random instances (C5) and on our non-degenerate variant (C1_nd, C2_nd, C5_nd) |
 # | E7 | Algorithm 1 | lines 5-6 ($\bar{\mathcal G}$ printed as $\bar G$), 9 (covariance terms in $\hat x^*$), 10 (truncated), 11 ($\bar U_2\bar K$...), 13 (transpose on $\bar G_2$), 14 (closing factor lost), 17 ($\bar P^{i,j}$), 19 | the table of the estimator section | reconstructed from (13), (14), (24), (26), (28)-(30) |
 # | E8 | OCR slips | "$\mathcal A_{1,k}$" in (10), "$V_1=\mathbb R^{\dots}$", (12), "$C^{a,i}_k=\dots$" in Sec. V | $M_{1,k}$, $V_1\in\mathbb R^{\dots}$, $M_2=\mathcal G\bar G_2^TC_2^T\Xi_2^{-1}$, $y^{a,i}_k=\dots$ | typesetting |
-# | E9 | Sec. V observability | "nodes 2 and 3" locally unobservable | nodes 2, 3 **and 4** | node 4 never sees $x_3$ (C4) |
-# | M1 | $d_k$, $a_k$ | only plotted in Fig. 1 | parameters (an expression of $k$ or samples); default $\sin(0.05k)$ and a pulse plus a ramp; swept over 3 x 3 bounded shapes | Fig. 1 is not available to us and the signals of ref. [30] could not be retrieved. The estimation errors do not depend on the signals (X1), so our Figs. 1-2 show the errors the paper's must show, and X2 predicts the scatter of its Fig. 1; a curve-by-curve comparison is impossible without the figures |
+# | E9 | Sec. V observability | "nodes 2 and 3" locally unobservable | nodes 2, 3 **and 4** | node 4 never sees $x_3$ (C4; the reading "only nodes 2 and 3" fails, C4b) |
+# | M1 | $d_k$, $a_k$ | only plotted in Fig. 1 | parameters (an expression of $k$ or samples); default $\sin(0.05k)$ and a pulse plus a ramp; swept over 3 x 3 bounded shapes | Fig. 1 is not available to us and the signals of ref. [30] could not be retrieved. The estimation errors do not depend on the signals (X1), so our Figs. 1-2 show the errors the paper's must show, and X2 predicts, at our horizon and initial spread, the scatter of its Fig. 1; a curve-by-curve comparison is impossible without the figures |
 # | M2 | horizon, $x_0$, noise, seeds, Monte Carlo | not stated | 200 steps (swept 100-400), $x_0=\hat x_0+s P_0^{1/2}\xi$ with $s=1$ (swept 0-1), `SeedSequence(2023)` (swept), 500 runs | see the provenance table |
-# | M3 | Theorem 2 bound (34) | constants $\eta,\rho,\underline p,\bar p$ | no growth of $\bar P$ and of the true MSE over `n_steps_bound` steps, exactly (C3), recorded as fails-premise: $A_k$ contracts by itself (period-product norm 0.0026), so the open-loop prediction is bounded on the example; the same check at the example and our variant with $A_k\to e^{3h}A_k$ (C3_u, not deciding) | the constants cannot be computed from the paper, boundedness cannot be decided on a finite horizon, and the example cannot discriminate |
+# | M3 | Theorem 2 bound (34) | constants $\eta,\rho,\underline p,\bar p$ | no growth of $\bar P$ and of the true MSE over `n_steps_bound` steps, exactly (C3), recorded as fails-premise: every node's local error dynamics without fusion contracts over a period (norms 0.0026-0.0047; $A_k$ alone: 0.0026), so every local filter is bounded on the example without fusion; the same check at the example and our variant with $A_k\to e^{3h}A_k$ (C3_u, deciding by the rule of the verdict section) | the constants cannot be computed from the paper, boundedness cannot be decided on a finite horizon, and the example cannot discriminate |
 # | M4 | estimates shown in Figs. 1-2 | not stated which node(s) | all four nodes' $\hat d_k$, $\hat a_k$ and $\hat x_k$ | shows the node-to-node spread (node 3's $\hat d$ noisiest) |
 # | M5 | rank of $\bar H^i_k$ in the SVD (5) | exact rank | numerical rank: singular values $\sigma>10^{-10}\sigma_{\max}$ count (the observability ranks of C4 use $10^{-9}$) | floating-point rank decision; the example's ranks are far from both tolerances |
 # | A1 | consistency checks | Theorem 1 only | exact joint covariance + Monte Carlo ANEES; extra figure | a numerical check of Theorem 1 the paper does not make |
 # | A2 | accuracy of Figs. 1-2 | "track well", no numbers | signal invariance (X1) and the exact scatter of the input estimates (X2); no accuracy range of ours is presented as the paper's | the paper gives no number to compare with |
 # | A3 | non-degenerate variant | — | third output per node, generic $R$ (ours, `variant_seed`) | the only way to exercise the paper's gain design on its example's dynamics |
-# | A4 | decision rules | — | C2: exact bias of the local errors (their response to $d,a$) and a Monte Carlo equivalence rule on the normalised bias (level 0.5 sd, ours; simultaneous intervals; three-way), replacing in issue #30 the $\lvert z\rvert>3$-rate rule whose meaning changed with the run count; C1, X2: three-way interval rules (issue #30; no committed outcome changed); C5: (28) not above cvxpy's optimum (one-sided), Lemma 1 with a random $\Gamma$ within $10^{-9}+10^{-12}\kappa$ (added after a first variant run), the random-$\Gamma$ residual $\|KU_1\|$ recorded, not tested, since the first sweep (X3 keeps the old rule's outcome) | our rules, stated with each claim |
-# | A5 | C3_u | — | the example and our variant with $A_k\to e^{3h}A_k$ (ours) | the only instances here where Theorem 2's boundedness can fail |
+# | A4 | decision rules | — | C2, C7: exact bias (the errors' response to $d,a$) decides "holds"; a Monte Carlo part on the normalised bias (level 0.5 sd, ours; simultaneous intervals) can only refute (round 2 of the issue #30 review; round 1 had it as a three-way equivalence rule, recorded), replacing in issue #30 the $\lvert z\rvert>3$-rate rule whose meaning changed with the run count; C1, X2: three-way interval rules (issue #30; no committed outcome changed); C5: (28) not above cvxpy's optimum (one-sided), Lemma 1 with a random $\Gamma$ within $10^{-9}+10^{-12}\kappa$ (added after a first variant run), the random-$\Gamma$ residual $\|KU_1\|$ recorded, not tested, from the first sweep (commit 56c8733) to round 2, now tested $\kappa$-scaled, $\le10^{-10}+10^{-12}\kappa\|S\Theta_\Gamma\|$ (X3 keeps the first-stated rule's outcome, X4 replays the removed draw) | our rules, stated with each claim |
+# | A5 | C3_u | — | the example and our variant with $A_k\to e^{3h}A_k$ (ours) | the only instances here where Theorem 2's boundedness can fail; deciding by the rule of the verdict section |
 
 # %%
 manifest_path = run.finish(solver="CLARABEL (cvxpy) for the Lemma 1-2 cross-check")
