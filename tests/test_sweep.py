@@ -109,6 +109,18 @@ def test_not_checked_points_are_not_failures_and_replicates_are_counted(toy: Pat
         "not-checked", 0)
 
 
+def test_a_saturating_headline_of_different_experiments_is_not_one_evaluation(toy: Path) -> None:
+    space = _space(toy)
+    points = spaces.design(space)
+    swept, results = _results(points, lambda p: True)
+    for pid, p in swept:  # every point's rate is 1.0, from a different run count
+        results[pid]["claims"]["C2"]["measured"] = {"r": 1.0, "runs": 10 + len(pid)}
+    rows = sweep.tabulate(space, swept, results)
+    c2 = sweep.summarise(space, rows, points)["C2"]
+    assert {r["C2.value"] for r in rows} == {1.0}
+    assert c2["evaluations"] == len({10 + len(pid) for pid, _ in swept}) > 1
+
+
 def test_failed_points_are_counted_and_reported(toy: Path) -> None:
     space = _space(toy)
     points = spaces.design(space)[:3]

@@ -522,6 +522,14 @@ def rescience_verdict(claims: Mapping[str, Mapping[str, Any]]) -> dict[str, Any]
         otherwise: some hold at the example, and some fail, fail their premise, are not
         checked, or hold only in part of the space.
 
+    Which claims decide is the notebook's part, by one convention for all five papers:
+    the paper's main contributions (its abstract, introduction and conclusion), each a
+    measured statement of the paper that can fail. A general result that the paper's
+    example cannot exercise (its premise cannot hold there, or it holds vacuously or by
+    identities) is decided on a declared instance of ours that satisfies its premises; its
+    evaluation at the example is shown (``fails-premise`` or by construction) and does not
+    decide. A contribution that cannot be measured here decides as ``not-checked``.
+
     Parameters
     ----------
     claims : mapping

@@ -353,8 +353,29 @@ def tabulate(space: spaces.Space, swept: Sequence[tuple[str, Mapping]], results:
             row[f"{cid}.holds"] = "" if entry is None or entry["holds"] is None else bool(entry["holds"])
             value = headline_value(entry) if entry else None
             row[f"{cid}.value"] = "" if value is None else float(format(value, ".7g"))
+            row[f"{cid}.record"] = _fingerprint(entry["measured"]) if entry else ""
         rows.append(row)
     return rows
+
+
+def _fingerprint(measured: Any) -> str:
+    """Short hash of a claim's whole measured record (numbers to 10 significant digits).
+
+    Two points with the same fingerprint evaluated the claim identically (replicates); a
+    headline value shared by different experiments (a rate saturating at 1) does not make
+    them replicates.
+    """
+    def plain(x: Any) -> Any:
+        if isinstance(x, Mapping):
+            return {str(k): plain(v) for k, v in x.items()}
+        if isinstance(x, list | tuple):
+            return [plain(v) for v in x]
+        if isinstance(x, float):
+            return format(x, ".10g")
+        return x
+
+    text = json.dumps(plain(measured), sort_keys=True)
+    return hashlib.sha256(text.encode()).hexdigest()[:12]
 
 
 def _cid_key(cid: str) -> tuple:
@@ -373,11 +394,14 @@ def summarise(space: spaces.Space, rows: Sequence[Mapping[str, Any]], points: Se
     the premise fails somewhere, else ``not-checked``. Points where the premise fails or
     that were not checked are counted and shown, never counted as failures. The fraction
     holding and its Wilson interval are over the decided points, treated as a sample of
-    the declared space, but the interval counts each distinct (outcome, value) pair of the
-    decided points once: points that reproduce one evaluation are not independent samples.
-    ``evaluations`` counts the distinct (outcome, value) pairs of all its points: 1 means every
-    point gave the same outcome and value (the swept axes do not change it, whether or not they
-    enter it), so "holds everywhere" is one evaluation.
+    the declared space, but the interval counts each distinct evaluation of the decided points
+    once: points that reproduce one evaluation are not independent samples. An evaluation is
+    the outcome with the claim's whole measured record (``<id>.record``, a fingerprint: a
+    headline value shared by different experiments, such as a rate saturating at 1, does not
+    make them one evaluation; rows without records fall back to the headline value).
+    ``evaluations`` counts the distinct evaluations of all its points: 1 means every point gave
+    the same outcome and record (the swept axes do not change it, whether or not they enter
+    it), so "holds everywhere" is one evaluation.
 
     Parameters
     ----------
@@ -393,7 +417,7 @@ def summarise(space: spaces.Space, rows: Sequence[Mapping[str, Any]], points: Se
     dict
         Claim id -> ``verdict``, ``points`` (finished points with an outcome),
         ``decided`` (points with outcome holds or fails), ``evaluations`` (distinct
-        outcome-value pairs), ``failed_points`` (points that did not finish), ``outcomes``
+        evaluations), ``failed_points`` (points that did not finish), ``outcomes``
         (count per outcome), ``fraction_holds``, ``interval`` (a :func:`secest.repro.results.interval`
         entry), ``region`` (:func:`describe_region`) and ``axes`` (the axes it was
         described over). Claims without any finished point are left out.
@@ -412,9 +436,9 @@ def summarise(space: spaces.Space, rows: Sequence[Mapping[str, Any]], points: Se
         if n == 0:
             continue
         verdict, decided = _space_verdict(counts)
-        evaluations = len({(r[f"{cid}.outcome"], r.get(f"{cid}.value")) for r, _ in ok})
-        distinct = {(r[f"{cid}.outcome"], r.get(f"{cid}.value")) for r, _ in ok
-                    if r[f"{cid}.outcome"] in ("holds", "fails")}
+        evaluated = [_evaluation(r, cid) for r, _ in ok]
+        evaluations = len(set(evaluated))
+        distinct = {e for e in evaluated if e[0] in ("holds", "fails")}
         held = sum(o == "holds" for o, _ in distinct)
         lo, hi = wilson_interval(held, len(distinct)) if distinct else (0.0, 1.0)
         names = dict.fromkeys(name for _, p in ok for name in p)
@@ -440,6 +464,11 @@ def summarise(space: spaces.Space, rows: Sequence[Mapping[str, Any]], points: Se
             "axes": list(axes),
         }
     return summary
+
+
+def _evaluation(row: Mapping[str, Any], cid: str) -> tuple:
+    """A point's evaluation of ``cid``: its outcome with its whole record where tabulated."""
+    return (row[f"{cid}.outcome"], row.get(f"{cid}.record") or row.get(f"{cid}.value"))
 
 
 def _space_verdict(counts: Mapping[str, int]) -> tuple[str, int]:
