@@ -27,7 +27,7 @@ ROOT = repo_root()
 ATTACKED = ("sensor4", "sensor12")
 FIG = ROOT / "figures" / "ding2020"
 # claims whose headline value does not depend on the Monte Carlo size (fast vs paper mode)
-MODE_FREE = ("C2a", "X6", "C6", "C7", "X7", "X8", "X4")
+MODE_FREE = ("C2a", "X6", "C6", "C7", "X7", "X8", "X4", "C11")
 MC_RUNS = 50  # Monte Carlo runs of the default-point execution
 
 
@@ -109,11 +109,13 @@ def test_c2a_shift_against_own_error(claims) -> None:
         assert v["shift_fraction_of_axis"] == pytest.approx(v["shift"] / m["axis_range"])
         assert v["case_a_error_fraction_of_axis"] == pytest.approx(v["case_a_error"] / m["axis_range"])
         assert v["case_a_error"] > 0
-        ratios.append(v["shift"] / v["case_a_error"])
+        if s in m["compared_sensors"]:  # the plotted sensors free of Case-A lockout
+            ratios.append(v["shift"] / v["case_a_error"])
     assert m["sensor4"]["hops_to_attacked"] == m["sensor12"]["hops_to_attacked"] == 0
     assert m["sensor20"]["hops_to_attacked"] >= 1
-    assert m["max_shift_over_case_a_error"] == pytest.approx(max(ratios))
-    assert c["holds"] is (max(ratios) <= 1.0)
+    if ratios:
+        assert m["max_shift_over_case_a_error"] == pytest.approx(max(ratios))
+    assert c["holds"] is bool(ratios and max(ratios) <= 1.0)
 
 
 def test_x6_leak_by_hop_consistency(claims) -> None:
@@ -155,7 +157,7 @@ def test_c3_c4_monte_carlo_ratios(claims) -> None:
                                 max(m3["default_max_abs_error"].values()) <= 2.0)
     assert _inside(c4["measured"]["mc_median_ratio_vs_B_min"], c4["interval"])
     m4 = c4["measured"]
-    assert c4["holds"] is _and3(*(_decide(m4["mc_ci_lower"][s], m4["mc_ci_upper"][s], 2.5, "above") for s in ATTACKED))
+    assert c4["holds"] is _and3(*(_decide(m4["mc_ci_lower"][s], m4["mc_ci_upper"][s], 1.0, "above") for s in ATTACKED))
 
 
 def test_c5_bounds_against_exact_covariance(claims) -> None:
@@ -175,7 +177,8 @@ def test_c5_bounds_against_exact_covariance(claims) -> None:
         iv = c["interval"]
         assert _inside(m["mc_mean_sq_error_over_trP"], iv)
         cross = _and3(_decide(iv["low"], iv["high"], 0.9, "above"), _decide(iv["low"], iv["high"], 1.1, "below"))
-    assert c["holds"] is _and3(m["min_eig_rel"] >= -1e-9, cross)
+    # the cross-check is ours against ours: it can leave C5 unchecked, never make it fail
+    assert c["holds"] is ((m["min_eig_rel"] >= -1e-9) if cross is True else None)
 
 
 def test_c6_channel_rates(claims) -> None:
@@ -215,6 +218,27 @@ def test_c8b_growth_measured(claims) -> None:
     assert c["steps"] == 600  # fast mode
     assert c["growth"] == pytest.approx(c["max_trPi_second_half"] / c["max_trPi_first_half"])
     assert claims["C8b"]["holds"] is (c["growth"] <= 1.5)
+    assert not claims["C8b"].get("decides")  # its premise cannot hold at the example: C8c decides
+
+
+def test_c8c_theorem4_on_the_declared_instance(claims) -> None:
+    c = claims["C8c"]
+    m = c["measured"]
+    assert m["thm4_a_scale"] == 0.5
+    assert m["xi"]["printed"]["xi_q"] < 1 and m["xi"]["printed"]["xi_p"] < 1  # 0.5^2 zeta alpha^2 < 1 (theory)
+    assert c["premise"]["holds"] is True
+    assert m["growth"] == pytest.approx(m["max_trPi_second_half"] / m["max_trPi_first_half"])
+    assert c["holds"] is (m["growth"] <= 1.5)
+    assert c["decides"] is True
+
+
+def test_c11_gain_perturbations(claims) -> None:
+    c = claims["C11"]
+    m = c["measured"]
+    assert m["min_rel_change"] == min(m["min_rel_change_by_eps"].values())
+    assert sorted(map(float, m["min_rel_change_by_eps"])) == [1e-3, 1e-1, 1.0]
+    assert m["directions"] == 208
+    assert c["holds"] is (m["min_rel_change"] >= -1e-12)
 
 
 def test_c9_both_readings_of_the_comparison_filter(claims) -> None:
@@ -223,10 +247,10 @@ def test_c9_both_readings_of_the_comparison_filter(claims) -> None:
     for form in ("corrector", "predictor"):
         f = m[form]
         assert set(f["no_attack_median_ratio"]) == {"sensor4", "sensor12", "sensor20"}
-        assert f["similar"] is _and3(*(_and3(_decide(lo, hi, 0.8, "above"), _decide(lo, hi, 1.6, "below"))
-                                       for lo, hi in f["no_attack_ci"].values()))
-        assert f["more_reliable"] is _and3(*(_decide(lo, hi, 1.0, "above")
-                                             for lo, hi in f["attack_window_ci"].values()))
+        assert f["similar"] is _and3(*(_and3(_decide(*v, 0.8, "above"), _decide(*v, 1.6, "below")) if v else None
+                                       for v in f["no_attack_ci"].values()))
+        assert f["more_reliable"] is _and3(*(_decide(*v, 1.0, "above") if v else None
+                                             for v in f["attack_window_ci"].values()))
     assert m["attack_window_ratio_min"] == min(v for f in ("corrector", "predictor")
                                                for v in m[f]["attack_window_ratio"].values())
     assert _inside(m["attack_window_ratio_min"], c["interval"])
@@ -282,6 +306,13 @@ def test_attack_claims_need_the_measured_sensors_to_work_without_attack(claims) 
         assert claims["C4"]["premise"]["holds"] is True and claims["C9"]["premise"]["holds"] is True
     x1w = claims["X1"]["measured"]["working_runs"]
     assert claims["X1"]["premise"]["holds"] is (min(x1w.values()) > 0)
+    assert claims["X2"]["premise"]["holds"] is (min(x1w.values()) > 0)  # X2 uses X1's and C1's denominators
+    c2a = claims["C2a"]["measured"]
+    assert set(c2a["compared_sensors"]) <= {"sensor4", "sensor12", "sensor20"}
+    assert claims["C2a"]["premise"]["holds"] is bool(c2a["compared_sensors"])
+    if c2a["compared_sensors"]:
+        assert c2a["max_shift_over_case_a_error"] == pytest.approx(max(
+            c2a[s]["shift"] / c2a[s]["case_a_error"] for s in c2a["compared_sensors"]))
     for s in ATTACKED:  # working up to N implies working up to the window's end
         assert x1w[s] <= working[s]
 
@@ -291,8 +322,8 @@ def test_verdict_is_computed_from_the_deciding_claims(claims) -> None:
 
     entries = {k: v for k, v in claims.items() if not k.startswith("_")}
     v = rescience_verdict(entries)
-    assert set(v["deciding"]) == {"C1", "C2a", "C4", "C5", "C8b"}
-    assert v["deciding"]["C8b"]["example"] == "fails-premise"  # Theorem 4's condition cannot hold
+    assert set(v["deciding"]) == {"C1", "C2a", "C4", "C5", "C8c", "C11"}
+    assert claims["C8b"]["verdict"] == "fails-premise"  # Theorem 4's condition cannot hold at the example
 
 
 def test_x4_kappa0_control_is_exact(claims) -> None:
