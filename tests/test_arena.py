@@ -117,7 +117,7 @@ def test_extra_cards_are_checked(tmp_path: Path) -> None:
         scenarios.cards(tmp_path / "missing.toml")
     with pytest.raises(ValidationError, match="network 'nope' has no card"):
         scenarios.cards({"scenario": {"x": {"network": "nope", "attack": "none"}}})
-    with pytest.raises(ValidationError, match="unknown keys"):
+    with pytest.raises(ValidationError, match=r"scenario x: unknown key 'run' \(did you mean 'runs'"):
         scenarios.cards({"scenario": {"x": {"network": "inertia5", "attack": "none", "run": 3}}})
     with pytest.raises(ValidationError, match=r"networks \['nope'\] have no card"):
         scenarios.matrix(networks=["nope"])
