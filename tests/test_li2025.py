@@ -56,7 +56,7 @@ def _consistent(entry: dict) -> None:
             assert 0.0 < frac < 1.0 or len({k for k, v in rob["outcomes"].items() if v}) > 1
         elif rob["verdict"] == "holds":
             assert frac == 1.0 and entry["holds"] is True
-        elif rob["verdict"] == "fails-premise":  # no point decided: no fraction
+        elif rob["verdict"] in ("fails-premise", "not-checked"):  # no point decided: no fraction
             assert frac is None and point == rob["verdict"]
         else:
             assert frac == 0.0 and point == rob["verdict"]
@@ -367,7 +367,8 @@ def test_robustness_table_and_committed_verdicts() -> None:
     default = rows[0]
     assert (default["T"], default["weight_rule"], default["mc_seed"]) == ("100", "grid", "2025")
     for cid in CLAIM_IDS:
-        assert default[f"{cid}.holds"] == str(committed[cid]["holds"]), cid
+        holds = committed[cid]["holds"]
+        assert default[f"{cid}.holds"] == ("" if holds is None else str(holds)), cid  # CSV: None -> ""
         value = committed[cid]["measured"]
         if "key" in committed[cid] and value[committed[cid]["key"]] is not None:
             assert float(default[f"{cid}.value"]) == pytest.approx(
