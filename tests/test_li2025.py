@@ -26,8 +26,8 @@ from secest.repro.run import execute_notebook
 ROOT = repo_root()
 FIG = ROOT / "figures" / "li2025"
 NO_ATTACK = {"psi_check": [1.0, 1.0, 1.0], "T": 30}
-CLAIM_IDS = {"C1b", "C1c", "C2", "C3a", "C3b", "C4", "C5", "C7", "C8", "X1", "X2", "X3", "X4", "X5",
-             "X6", "X7", "X8"}
+CLAIM_IDS = {"C1b", "C1c", "C2", "C3", "C3a", "C3b", "C4", "C5", "C7", "C8", "C8b", "X1", "X2", "X3",
+             "X4", "X5", "X6", "X7", "X8"}
 
 
 @pytest.fixture(scope="module")
@@ -56,7 +56,7 @@ def _consistent(entry: dict) -> None:
             assert 0.0 < frac < 1.0 or len({k for k, v in rob["outcomes"].items() if v}) > 1
         elif rob["verdict"] == "holds":
             assert frac == 1.0 and entry["holds"] is True
-        elif rob["verdict"] == "fails-premise":  # no point decided: no fraction
+        elif rob["verdict"] in ("fails-premise", "not-checked"):  # no point decided: no fraction
             assert frac is None and point == rob["verdict"]
         else:
             assert frac == 0.0 and point == rob["verdict"]
@@ -128,6 +128,8 @@ def test_c1b_printed_coefficients_measured(claims) -> None:
     m = c["measured"]
     assert abs(m["max_share"] - (1 + 1e-9)) > _tolerance(c, m["max_share"])  # decided robustly
     assert c["holds"] is (m["max_share"] <= 1 + 1e-9)
+    # Theorem 1's premise: positive-definite solutions of (17)-(18) at every k
+    assert c["premise"]["holds"] is (m["min_eig_S"] is not None and m["min_eig_S"] > 0)
     # default weights: an exact counterexample from k = 2 on, the 'bound' 1e3-3e5 times too small
     assert m["max_share_per_target"] == pytest.approx([2869.6, 18319.7, 336498.6], rel=1e-4)
     assert m["first_violating_k"] == [2, 2, 2]
@@ -163,6 +165,11 @@ def test_c3_theorem3_premise_and_vacuous_envelope(claims) -> None:
     assert a["measured"]["rank_E_Et_max"] == 1
     assert a["measured"]["rank_Bsum_Bsum_t_per_target"] == [0, 2, 2]
     assert a["premise"]["holds"] is False and a["verdict"] == "fails-premise"
+    assert not a.get("decides")  # a failed premise on the example does not decide Theorem 3
+    # Theorem 3 decides as not-checked until an instance satisfying Assumption 1 is declared
+    c3 = claims["C3"]
+    assert c3["decides"] and c3["holds"] is None and c3["verdict"] == "not-checked"
+    assert c3["measured"]["rank_E_Et_max"] == a["measured"]["rank_E_Et_max"]
     # (36) asks Gamma_* I <= L Phi C H with Gamma_* > 0: the rank is at most m = 2 < 4
     assert a["measured"]["max_rank_L_Phi_C_H"] <= 2
     rows = a["measured"]["printed_weights_in_use"]
@@ -192,10 +199,10 @@ def test_deciding_claims_and_verdict_line(claims) -> None:
     """The main claims chosen in the notebook decide; the verdict line names exactly them."""
     claims = {cid: e for cid, e in claims.items() if not cid.startswith("_")}
     deciding = {cid for cid, e in claims.items() if e.get("decides")}
-    assert deciding == {"C1b", "C3a", "C7", "C8"}
+    assert deciding == {"C1b", "C3", "C7", "C8"}
     assert all(claims[cid]["basis"] == "measured" for cid in deciding)
     assert not any(claims[cid]["source"].startswith("ours") for cid in deciding)
-    for cid in ("C4", "C5", "X8"):
+    for cid in ("C4", "C5", "C8b", "X8"):
         assert claims[cid]["basis"] == "by-construction" and not claims[cid].get("decides"), cid
     assert all(claims[cid]["source"].startswith("ours") for cid in claims if cid.startswith("X"))
     line = rescience_verdict(claims)["line"]
@@ -229,23 +236,34 @@ def test_x8_kalman_limit(claims) -> None:
 
 def test_c8_theorem2_gain_perturbations(claims) -> None:
     """Theorem 2: the measured smallest change of tr S under perturbed gains, and its decision."""
-    c = claims["C8"]
+    c, cb = claims["C8"], claims["C8b"]
     m = c["measured"]
-    judged = [m["printed, Remark-4 weights"], m["printed, alpha2 > alpha3 weights"]]
-    assert m["min_relative_change"] == min(r["min_relative_change"] for r in judged)
+    grid = [m["printed, Remark-4 weights"], m["printed, alpha2 > alpha3 weights"]]
+    declared = m["printed, declared weights (thm2_weights)"]
+    assert m["min_relative_change"] == min(r["min_relative_change"] for r in grid + [declared])
     level = c["threshold"]
-    assert level == -1e-10
+    assert level == -1e-10 and cb["threshold"] == level
     assert abs(m["min_relative_change"] - level) > _tolerance(c, m["min_relative_change"])
     assert c["holds"] is (m["min_relative_change"] >= level)
-    for r in judged + [m["corrected, weights in use"]]:
+    for r in grid + [declared, m["corrected, weights in use"]]:
         # (28) is a stationary point of (18): the symmetric differences vanish to rounding
         assert r["max_relative_first_order"] <= 1e-10
         # second order: tr S cannot decrease in any direction iff Pi >= 0
         assert (r["min_eig_pi"] >= 0) is (r["min_relative_change"] >= level)
+        assert (r["steps_with_pi_indefinite"] == 0) is (r["min_eig_pi"] >= 0)
+    # C8b: our grid's weights have printed c0 > 0 and kappa_x >= 0, so Pi > 0 by construction
+    assert cb["basis"] == "by-construction" and not cb.get("decides")
+    assert cb["measured"]["min_c0"] > 0 and cb["measured"]["min_kappa_x"] >= 0
+    assert cb["measured"]["min_relative_change"] == min(r["min_relative_change"] for r in grid)
+    assert all(r["min_eig_pi"] > 0 for r in grid)
+    # the declared weights (0.1, 1, 9.5, 10, 0.01): printed c0 = 1 - 0.5 (1 - psi) > 0,
+    # kappa_x = psi - 0.89 < 0 at the paper's psi = 0.7, 0.5, 0.3
+    np.testing.assert_allclose(declared["c0_per_target"], [0.85, 0.75, 0.65], rtol=1e-12)
+    np.testing.assert_allclose(declared["kappa_x_per_target"], [-0.19, -0.39, -0.59], rtol=1e-12)
     # default point: Pi is positive definite along the printed design (min eigenvalue ~10)
-    assert judged[0]["min_eig_pi"] == pytest.approx(10.011, rel=1e-3)
+    assert grid[0]["min_eig_pi"] == pytest.approx(10.011, rel=1e-3)
     # (18)'s first factor read literally moves the minimiser away from (28)
-    assert judged[0]["literal_18_excess"] > 0.1
+    assert grid[0]["literal_18_excess"] > 0.1
 
 
 def test_c7_rows_measured_exactly(claims) -> None:
@@ -349,7 +367,8 @@ def test_robustness_table_and_committed_verdicts() -> None:
     default = rows[0]
     assert (default["T"], default["weight_rule"], default["mc_seed"]) == ("100", "grid", "2025")
     for cid in CLAIM_IDS:
-        assert default[f"{cid}.holds"] == str(committed[cid]["holds"]), cid
+        holds = committed[cid]["holds"]
+        assert default[f"{cid}.holds"] == ("" if holds is None else str(holds)), cid  # CSV: None -> ""
         value = committed[cid]["measured"]
         if "key" in committed[cid] and value[committed[cid]["key"]] is not None:
             assert float(default[f"{cid}.value"]) == pytest.approx(
