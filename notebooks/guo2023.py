@@ -25,8 +25,9 @@
 # constrained trace-optimal gain. Theorem 2: bounded mean-square error under collective
 # observability.
 #
-# **Verdict: [Re]** (by the one rule, computed in the verdict section; decided by C1, C2_nd, C3_u, C5,
-# C7_nd) — under one stated rule: a general result of the paper that its example cannot exercise (it
+# **Verdict:** the line computed in the verdict section by the one rule (README and ERRATA quote it; it
+# is not restated here, so that it cannot disagree with the computation), decided by C1 and C8 at the
+# paper's example and C2_nd, C3_u, C5, C7_nd on instances of ours — under one stated rule: a general result of the paper that its example cannot exercise (it
 # holds there vacuously or by identities) is decided on declared instances of ours that satisfy its
 # premises, and the example's evaluation is shown, not counted. The paper's example exercises only
 # Theorem 1: its gain is identically zero ($K\equiv0$, E6) and every node's local filter contracts
@@ -37,7 +38,11 @@
 #   and of the input estimates (C2, C7) holds there **by construction** — with $K\equiv0$ it reduces to
 #   the identities of C6 — and so does not decide; Theorem 2's check (C3) fails its precondition: every
 #   node's local error dynamics without fusion, $(I-KC)(I-JC)A_{k-1}$, contracts over a period (norms
-#   0.0026-0.0047), so a bounded error there says nothing about the theorem.
+#   0.0026-0.0047), so a bounded error there says nothing about the theorem. The numerical example's
+#   "track ... well" (C8, deciding, added in round 3): on run 0 every node's $\hat d$ and fused $\hat x$ beat
+#   the zero estimate (RMS error / signal RMS at most 0.38 for $\hat d$, 0.02 for $\hat x$) — our weakest
+#   reading of "well", which has no scale in the paper; its outcomes over the declared space are in the
+#   robustness section (C8 depends on the signals' size).
 # * **On instances of ours (deciding, by the rule):** Lemmas 1-2 (C5, on random general instances; also
 #   under our corrected reading E3-E5: with the printed symbol in (28) read literally the gain is far
 #   from optimal), the local estimate's and the input estimates' unbiasedness with $K\ne0$ (C2_nd, C7_nd,
@@ -46,7 +51,8 @@
 # * **Side statements:** Section V's "nodes 2 and 3" are locally unobservable (C4 holds), but read as the
 #   list of such nodes it fails: node 4 is too (C4b). The structural identities (C6) hold by construction.
 # * **What the sweep counts:** its 37 points are at most 5 independent evaluations (4 Sobol draws + the
-#   default); the 9 signal cells of a draw are exact replicates (X1). Our consequence X1: the errors do
+#   default) for every claim but C8; the 9 signal cells of a draw are exact replicates (X1) except for C8,
+#   which divides by the signals' RMS. Our consequence X1: the errors do
 #   not depend on the signals at all.
 # * **Not reproducible from the paper:** its Figs. 1-2 are not available to us, so no
 #   curve-by-curve comparison is possible; the unknown $d_k$, $a_k$ do not matter (X1), and X2 predicts,
@@ -739,11 +745,11 @@ for name, val in c1_ex.items():
 #    ours, `BIAS_TOL` = 0.5, stated once):** the part **fails** if some interval lies wholly outside
 #    $[-0.5,0.5]$; otherwise it records "no bias detected", which never makes the claim hold: the exact
 #    part (1) decides "holds" (issue #30, round-2 review: a Monte Carlo part whose "holds" depended on an
-#    interval of half-width $\approx0.19$ fitting inside $\pm0.5$ was a level matched to 500 runs). Why
+#    interval of half-width $\approx0.21$ fitting inside $\pm0.5$ was a level matched to 500 runs). Why
 #    0.5: a bias of half the error's sd adds a quarter of the variance to the mean-square error
 #    ($\sigma^2(1+\beta^2)$), a bias no plot of the estimates could pass off as scatter. **Its resolution at
 #    the run count** is printed (`mc_refutable_bias_sd` = 0.5 + the largest half-width): at 500 runs it can
-#    refute only $|\beta|\gtrsim0.69$ sd (the half-width is about 0.19 sd), at 10 runs nothing below about
+#    refute only $|\beta|\gtrsim0.71$ sd (the half-width is about 0.21 sd; measured, printed below), at 10 runs nothing below about
 #    3 sd. The level does not move with the run count; the resolution does. The round-1 reading of this
 #    part (equivalence: "holds" if every interval lies inside $\pm0.5$) is still recorded
 #    (`mc_part_old_equivalence_reading`), not used. The rule before round 1, "the 95 % Wilson lower
@@ -770,7 +776,7 @@ for name, val in c1_ex.items():
 # construction and **C7_nd decides**.
 
 # %%
-BIAS_TOL = 0.5  # ours: equivalence level of the normalised bias (reason in the text above)
+BIAS_TOL = 0.5  # ours: the refuter's level of the normalised bias, in sd (reason in the text above)
 
 
 def normalised_bias(err, var_exact, level=0.95):
@@ -938,7 +944,9 @@ display(Markdown(
 # are at most $1.01\times$ their maxima over the five periods before. (Why 1.01, ours: five periods are rounded to whole steps and $A_k, C_k$ are only quasi-periodic, so the maxima of a
 # bounded regime differ between windows by a sampling jitter well below 1 %; a growth of 1 % over five
 # periods is a rate of $3\cdot10^{-5}$ per step, and an unbounded error of the kind Theorem 2 excludes
-# grows far faster — in C3_u's instances the open loop grows by $e^{18.9}$ per period.)
+# grows far faster — in C3_u's instances the open loop's period-product norm is $4.26\cdot10^5=e^{12.96}$
+# (measured, `open_loop_period_norm_max`; an earlier version wrote $e^{18.9}$, which is $e^{6\pi}$, the
+# growth of the scale factor $e^{3h}$ alone over one period $2\pi/h$, not the measured product).)
 #
 # **This check cannot discriminate on the example, and C3 records that as its failed precondition.**
 # The measurement tests Theorem 2's mechanism — boundedness through collective observability and the
@@ -1610,6 +1618,59 @@ display(Markdown(
     "from their limits when it is larger."))
 
 # %% [markdown]
+# ## Tracking at the example (C8)
+#
+# The abstract's "a numerical example is provided to show the effectiveness of the proposed
+# estimation algorithm" and Sec. V's "the estimated values can track the actual unknown inputs,
+# deception attacks and states well" and "remains to be effective" (with nodes 2 and 3 locally
+# unobservable) are a main claim of the paper, made at its example (issue #30, round 3). **"Well" has no
+# scale in the paper**, so we test our weakest reading that can fail, the criterion ma2021 uses for its
+# attack estimate: the estimate must beat the trivial, no-information estimate (zero), i.e. per node
+# $i$ the ratio
+# $\rho^i_d=\sqrt{\textstyle\sum_k(\hat d^i_k-d_k)^2}\big/\sqrt{\textstyle\sum_k d_k^2}$ for the unknown
+# input (Fig. 1) and
+# $\rho^i_x=\sqrt{\textstyle\sum_k\|x_k-\hat x^i_k\|^2}\big/\sqrt{\textstyle\sum_k\|x_k\|^2}$ for the
+# fused state estimates (Fig. 2) is **below 1**, over every $k\ge0$ (burn-in 0: the paper's figures are
+# not available to us, so nothing says they start later), on run 0, the run our Figs. 1-2 show. The
+# level 1 is that of the trivial estimate; its reason does not depend on the outcome. Recorded, not
+# tested: the same for $\hat a$, per state component, and pooled over all Monte Carlo runs. Unlike
+# every other claim, C8 depends on the signals (the error does not, X1, but its scale does): the
+# sweep's 9 signal cells are not replicates for C8.
+
+# %%
+def tracking_ratios(case, u, runs=slice(0, 1)):
+    """RMS error over signal RMS per node (k >= 0): d_hat (u[:, 0]), a_hat (u[:, 1]), fused x_hat."""
+    u_err_r, err_r, x_r = case.u_err[:, :, runs], case.err[:, :, runs], case.x[runs]
+    sig_u = np.sqrt((u[:-1] ** 2).sum(axis=0) * u_err_r.shape[2])           # (nu,)
+    rms_u = np.sqrt((u_err_r ** 2).sum(axis=(0, 2)))                         # (N, nu)
+    sig_x = np.sqrt((x_r ** 2).sum(axis=(0, 1)))                             # (nx,)
+    rms_x = np.sqrt((err_r ** 2).sum(axis=(0, 2)))                           # (N, nx)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return {"d": rms_u[:, 0] / sig_u[0], "a": rms_u[:, 1] / sig_u[1],
+                "x": np.sqrt((rms_x ** 2).sum(axis=1)) / np.sqrt((sig_x ** 2).sum()),
+                "x_component": rms_x / sig_x, "signal_rms_d": float(sig_u[0] / np.sqrt(u_err_r.shape[0]
+                                                                                     * u_err_r.shape[2]))}
+
+
+u_chosen = np.column_stack(ex.sets["chosen"])
+trk0 = tracking_ratios(ex, u_chosen)
+trk_all = tracking_ratios(ex, u_chosen, slice(None))
+c8 = {"ratio_d_per_node": trk0["d"], "ratio_x_per_node": trk0["x"],
+      "ratio_max": float(max(trk0["d"].max(), trk0["x"].max())),
+      "ratio_a_per_node_recorded": trk0["a"], "ratio_x_per_node_component_recorded": trk0["x_component"],
+      "ratio_d_per_node_all_runs_recorded": trk_all["d"], "ratio_x_per_node_all_runs_recorded": trk_all["x"],
+      "signal_rms_d": trk0["signal_rms_d"], "burn_in": 0, "run": 0, "n_runs_pooled": int(ex.err.shape[2])}
+display(Markdown(
+    "Run 0, RMS error / signal RMS per node (nodes 1-4), $k\\ge0$: $\\hat d$: "
+    + ", ".join(f"{r:.3f}" for r in c8["ratio_d_per_node"]) + "; fused $\\hat x$: "
+    + ", ".join(f"{r:.3f}" for r in c8["ratio_x_per_node"]) + f" (level 1, the zero estimate; max "
+    f"{c8['ratio_max']:.3f}). Recorded: $\\hat a$ "
+    + ", ".join(f"{r:.3f}" for r in c8["ratio_a_per_node_recorded"]) + "; pooled over all "
+    f"{c8['n_runs_pooled']} runs, $\\hat d$ "
+    + ", ".join(f"{r:.3f}" for r in c8["ratio_d_per_node_all_runs_recorded"]) + ", $\\hat x$ "
+    + ", ".join(f"{r:.3f}" for r in c8["ratio_x_per_node_all_runs_recorded"]) + "."))
+
+# %% [markdown]
 # ## Extra figure — consistency (Theorem 1)
 #
 # Top: $\operatorname{tr}\bar P^i_k$ (solid), the exact $\operatorname{tr}P^i_k$ (dashed) and the
@@ -1664,7 +1725,9 @@ plt.show()
 # when it exists.
 #
 # **What the 37 points are.** The 9 signal cells of one Sobol point are exact replicates: the errors do not
-# depend on $d_k$, $a_k$ at all (X1), so every claim takes the same value in all 9 cells. The 37 points
+# depend on $d_k$, $a_k$ at all (X1), so every claim except C8 takes the same value in all 9 cells. (C8
+# divides the error by the RMS of $d_k$ and of the states, which depend on the signals: its 37 points
+# are distinct evaluations.) For every other claim the 37 points
 # are therefore **5 independent evaluations** — the 4 Sobol draws of (`n_steps`, `x0_spread`, the three
 # seeds) and the default point — and "holds at 37 of 37" means "holds at 5 of 5 draws". The sweep's
 # `evaluations` (the number of distinct outcome/value pairs of a claim over the points, printed below the
@@ -1696,7 +1759,7 @@ else:
 # | C1 (D) | Theorem 1: $(\hat x^i_k,\bar P^i_k)$ is consistent, $P^i_k\preceq\bar P^i_k$ | E | exact: $\lambda_{\min}(\bar P-P)\ge-10^{-12}$ for $k\ge1$, $\rho\le1+10^{-9}$ (fused and local); Monte Carlo: 95 % t-interval of the ANEES against 1 (three-way). Premise: `x0_spread` $\le1$. **Rests on our corrected reading** of (24)-(25) and Algorithm 1 (E1, E3, E7) |
 # | C1_nd | the same | V | the same |
 # | C2 (BC) | Sec. III-B, after (16): with $KU_1=0$ "the **local** estimate $\hat x^{i,i}_k$ is unbiased", whatever $d_k$, $a_k$ | E | as C2_nd; here $K\equiv0$ and the decoupling is by the identities C6 marks by construction: shown, not evidence |
-# | C2_nd (D) | the same sentence | V | local errors: exact bias (the error's response to $d,a$, same noise) $\le10^{-10}$ relative and $\max\|KU_1\|<10^{-10}$ (decides holds); Monte Carlo, a refuter only: fails if a simultaneous 95 % interval of the normalised bias lies wholly outside $\pm0.5$ sd (level ours), else "no bias detected" (resolution printed: $\gtrsim0.69$ sd at 500 runs) |
+# | C2_nd (D) | the same sentence | V | local errors: exact bias (the error's response to $d,a$, same noise) $\le10^{-10}$ relative and $\max\|KU_1\|<10^{-10}$ (decides holds); Monte Carlo, a refuter only: fails if a simultaneous 95 % interval of the normalised bias lies wholly outside $\pm0.5$ sd (level ours), else "no bias detected" (resolution printed: $\gtrsim0.71$ sd at 500 runs) |
 # | C3 | Lemma 3 / Theorem 2: $\bar P^i_k$ bounded, mean-square error uniformly bounded | E | exact over `n_steps_bound` steps: $\underline p>0$; maxima of $\lambda_{\max}(\bar P)$ and $\operatorname{tr}P$ over the last 5 periods $\le1.01\times$ those over the 5 before. Premise: Assumptions 1-2 and, as a precondition of the measurement, some node's local error dynamics without fusion $(I-KC)(I-JC)A_{k-1}$ does not contract over a period (it does at every node: **fails-premise**; does not decide) |
 # | C3_u (D) | the same, decided on instances of ours that satisfy its premises | U | the C3 rule on both unstable instances; premise and precondition evaluated there |
 # | C4 | Sec. V: nodes 2 and 3 are locally unobservable, the network is collectively observable | E | window ranks per node and collective; solvability of (13) |
@@ -1704,8 +1767,9 @@ else:
 # | C5 (D) | Lemmas 1-2: (28) satisfies $KU_1=0$ and minimises $\operatorname{tr}\bar P^{i,i}$; (29) | R | $\|KU_1\|<10^{-10}$ ((28), KKT, Lemma 2), $\le10^{-10}+10^{-12}\kappa\|S\Theta_\Gamma\|$ ((27), random $\Gamma$; round 2); relative trace gap of (28) to KKT $\le10^{-9}$, excess over cvxpy $\le10^{-9}$, gap to (27) with random $\Gamma$ $\le10^{-9}+10^{-12}\kappa$; $\lvert(29)-(25)\rvert<10^{-10}$. Decided on instances of ours (the example cannot exercise it). **Rests on our corrected reading** E3-E5 |
 # | C5_nd | the same | V | the same at every node on 50 evenly spaced steps (cvxpy at three of them) |
 # | C6 (BC) | Sec. III-B/C: $\bar G_1M_1T_1=0$ ($\hat A=A$, $\hat Q=Q$), (10), fusion weights (20) | E, V | max deviations $<10^{-12}$, with $\sum_jW^{i,j}=I$ and our $T_1RU_2=0$ (identities of our implementation) |
-# | C7 (BC) | Sec. III-B, before (10): "To ensure the unbiasedness of $\hat u_1$ and $\hat u_2$, it is required that (10)"; abstract, Sec. VI | E | as C7_nd; here by the identities of C6: shown, not evidence |
+# | C7 (BC) | Sec. III-B, before (10): "To ensure the unbiasedness of $\hat u_1$ and $\hat u_2$, it is required that (10)" (its unbiasedness: Sec. III-B; the joint estimate is contribution 1: abstract, Sec. VI) | E | as C7_nd; here by the identities of C6: shown, not evidence |
 # | C7_nd (D) | the same | V | input errors: exact response to $d,a$ $\le10^{-10}$ relative (decides holds); Monte Carlo refuter as in C2_nd |
+# | C8 (D) | abstract: "a numerical example is provided to show the effectiveness"; Sec. V: the estimates "track ... well" (Figs. 1-2), "remains to be effective" with nodes 2 and 3 locally unobservable | E | run 0, $k\ge0$: per node, RMS error / signal RMS $<1$ for $\hat d$ and for the fused $\hat x$ (the trivial, zero estimate's level; "well" has no scale in the paper: our weakest reading that can fail, ma2021's criterion) |
 # | X1 | ours, from (15)-(16) and (21): the errors do not depend on the signals at all | E, V | the second set, the random set and $d=a=0$ change the errors by $\le10^{-10}$ relative |
 # | X2 | ours: prediction for Fig. 1 — the scatter of $\hat d$, $\hat a$ is fixed by the example | E | exact sd per node; Monte Carlo/exact mean-square ratio: every 95 % t-interval inside $[0.9,1.1]$ (margin ours, reason in its section) |
 # | X3 | ours: C5 and C5_nd under the rule as first stated (also $\|KU_1\|<10^{-10}$ and the gap $\le10^{-9}$ for the random-$\Gamma$ gain) | R, V | the old rule's outcome, kept after the rule was changed |
@@ -1791,8 +1855,8 @@ def c2_claim(m, where, decides=False, basis="measured"):
 
 
 C7_PAPER = ("Sec. III-B, after (9): 'To ensure the unbiasedness of u_hat_{1,k}^i and u_hat_{2,k-1}^i, it "
-            "is required that (10)'; the joint state and input estimate (abstract; Sec. VI): the input "
-            "estimates are unbiased, whatever d_k and a_k")
+            "is required that (10)' (its unbiasedness: Sec. III-B); the joint state and input estimate is "
+            "contribution 1 (abstract, Sec. VI): the input estimates are unbiased, whatever d_k and a_k")
 
 
 def c7_claim(m, where, decides=False, basis="measured"):
@@ -1815,7 +1879,7 @@ def c7_claim(m, where, decides=False, basis="measured"):
         f"hold by itself); resolution at {u['n_runs']} runs: |bias| >~ {u['mc_refutable_bias_sd']:.2f} sd",
         measured=u, threshold={"relative_input_gap_max": 1e-10, "normalised_bias_level": BIAS_TOL},
         holds=holds, basis=basis,
-        source="Sec. III-B, (8)-(10) and the sentence before (10); abstract; Sec. VI",
+        source="Sec. III-B, (8)-(10) and the sentence before (10) (unbiasedness); abstract, Sec. VI (the joint estimate)",
         interval=results.interval(u["bias_ci_low"], u["bias_ci_high"], level=0.95,
                                   method="t, Bonferroni over every (k, node, component), envelope"),
         key="bias_ci_reach", tolerance=MC_TOL, runs=int(u["n_runs"]), decides=decides,
@@ -1866,6 +1930,26 @@ claims["C2_nd"] = c2_claim(c2_nd, " (on an instance of ours: the non-degenerate 
 claims["C7"] = c7_claim(c2_ex, " (the paper's example, where K == 0)", basis="by-construction")
 claims["C7_nd"] = c7_claim(c2_nd, " (on an instance of ours: the non-degenerate variant, K != 0)",
                            decides=True)
+claims["C8"] = results.claim(
+    paper="Abstract: 'a numerical example is provided to show the effectiveness of the proposed estimation "
+    "algorithm'; Sec. V: 'the estimated values can track the actual unknown inputs, deception attacks and "
+    "states well' (Figs. 1-2) and, with nodes 2 and 3 locally unobservable, the algorithm 'remains to be "
+    "effective to estimate the system states' (the paper's example)",
+    check="'well' has no scale in the paper, so this is our weakest reading that can fail (the criterion "
+    "ma2021 uses for its attack estimate): every node's estimate beats the trivial (zero, no-information) "
+    "estimate, i.e. RMS error / signal RMS < 1 per node for the unknown input d (Fig. 1: "
+    "sqrt(sum_k (d_hat^i_k - d_k)^2) / sqrt(sum_k d_k^2)) and for the fused states (Fig. 2: "
+    "sqrt(sum_k ||x_k - x_hat^i_k||^2) / sqrt(sum_k ||x_k||^2)), over every k >= 0 (burn-in 0: the paper's "
+    "figures are not available to us), on run 0 (the run Figs. 1-2 show; it does not depend on n_mc). "
+    "The level 1 is the trivial estimate's, not chosen from the outcome. Recorded, not tested: a_hat, "
+    "per state component, pooled over all runs. Premise: sum_k d_k^2 > 0 (otherwise the ratio of d is "
+    "undefined)",
+    measured=c8, threshold={"ratio": 1.0, "burn_in": 0}, holds=bool(c8["ratio_max"] < 1.0),
+    premise=("the unknown input is not identically zero over the horizon (sum_k d_k^2 > 0)",
+             bool(c8["signal_rms_d"] > 0)),
+    source="Abstract; Sec. V, Figs. 1-2 and the two paragraphs after them", key="ratio_max",
+    tolerance=MC_TOL, decides=True,
+    section="Tracking at the example (C8)")
 premise_c3 = bool(min_det_A > 0 and rank_coll.min() == model.nx)
 claims["C3"] = results.claim(
     paper="Lemma 3 / Theorem 2 (Sec. IV): p_lower I <= P_bar_k^i <= p_upper I and the fused error is "
@@ -1994,7 +2078,13 @@ claims["X4"] = results.claim(
     "under C5's rule as first stated",
     check="30 random instances from lemma_seed 29109 (as in paper mode), cvxpy skipped (its excess not "
     "tested here): first-stated rule (see X3); a fixed draw, the same at every point (one evaluation). "
-    "The current rule's outcome on it is recorded (holds_current_rule_without_cvxpy)",
+    "The current rule's outcome on it is recorded (holds_current_rule_without_cvxpy). The replay's "
+    "random-Gamma residual (max_KU1_lemma1_random_gamma, 1.194e-10 in the committed run) is not the "
+    "1.7e-10 quoted for this draw from the first sweep (commit 56c8733's message): the first sweep's "
+    "per-point records were not committed, so the difference cannot be traced; a residual at 1e-10 with "
+    "cond ~ 2e8 is round-off of the projector, whose last bits depend on the BLAS build and threading of "
+    "the machine, and whether cvxpy ran in the same process may change them as well; we do not know "
+    "which. Either value exceeds the first rule's 1e-10, so X4's outcome does not depend on it",
     measured=x4, threshold={"KU1": 1e-10, "rel_gap": 1e-9},
     holds=c5_holds_first_rule(x4),
     source="ours (the C5 rule as first stated, first-sweep draw)", key="max_KU1_lemma1_random_gamma",
@@ -2063,9 +2153,10 @@ for cid, c in written.items():
 # ## ReScience verdict
 #
 # The verdict follows the one written rule of `secest.repro.results.rescience_verdict`, the same for
-# all five papers: [Re] if every deciding claim holds at the paper's example and over the declared
-# space, [¬Re] if none holds at the example, [Re, partial] otherwise ("at the example" is the outcome of
-# the committed run, the paper's setting). The deciding claims are the paper's listed contributions
+# all five papers: [Re] if every deciding claim holds at the paper's example (for claims decided on
+# instances of ours, at the committed instances) and over the declared space, [¬Re] if none holds
+# there, [Re, partial] otherwise ("at the example" is the outcome of the committed run, the paper's
+# setting). The deciding claims are the paper's listed contributions
 # (Sec. I, "The main contributions of this paper are summarized as follows"; repeated in the abstract and
 # Sec. VI):
 #
@@ -2074,7 +2165,12 @@ for cid, c in written.items():
 #   $d_k$, $a_k$ (C2 / **C2_nd**), the input estimates are unbiased (C7 / **C7_nd**), the fused pair is
 #   consistent (Theorem 1, **C1**), the constrained trace-optimal gain (Lemmas 1-2, **C5**);
 # * "a sufficient condition is provided by showing that the estimation error in each node is uniformly
-#   bounded in mean square" — Theorem 2 (C3 / **C3_u**).
+#   bounded in mean square" — Theorem 2 (C3 / **C3_u**);
+# * "Finally, a numerical example is provided to show the effectiveness of the proposed estimation
+#   algorithm" (abstract; Sec. V: the estimates "track ... well", "remains to be effective") — **C8**, at
+#   the example, measured by our weakest reading of "well" that can fail (beat the zero estimate). Added in
+#   round 3 of issue #30 on the reviewer's finding that no claim covered it (lee2020's and li2025's
+#   simulation claims decide); its level is the trivial estimate's, fixed before it was run.
 #
 # **One stated rule for general results the example cannot exercise.** A general result of the paper
 # (a lemma or theorem, or a general statement of its design) that the paper's example cannot exercise —
@@ -2096,7 +2192,16 @@ for cid, c in written.items():
 #
 # This rule was fixed by the lead of issue #30 (round 2) on the reviewer's finding that C5 decided at
 # random instances while C3_u was barred from deciding for not being the example: one rule for both. The
-# verdict it gives is accepted whatever it is. The remaining `_nd` claims (C1_nd, C5_nd: the example or R
+# verdict it gives is accepted whatever it is.
+#
+# **History of the verdict.** Until round 2 of issue #30 the verdict was **[Re, partial]** (deciding: C1,
+# C2, C3, C5; C3 at the example decided, and it fails its premise). Under the one rule (the docstring of
+# `rescience_verdict`, round 2), C3_u, C2_nd and C7_nd decide instead of C3, C2 and C7 at the example —
+# and their outcomes were already known when the rule was applied: C3_u and C2_nd held at 37 of 37 points
+# of round 1's sweep (C7_nd is new in round 2, measured like C2_nd). That gave [Re]. The choice was
+# made by the lead's rule, not by us for its outcome, but it was made after the outcomes were known;
+# we say so rather than present it as chosen in advance. Round 3 adds C8 (the numerical example). The
+# remaining `_nd` claims (C1_nd, C5_nd: the example or R
 # already decides those results), C4, C4b (side statements of Sec. V), C6 (by construction) and the X
 # claims (ours) do not decide. C1 and C5 hold under our corrected reading of garbled equations (E3-E5, E7;
 # said in their check texts): the verdict rests on that reading. Computed from the claims just written:
@@ -2107,8 +2212,8 @@ print(VERDICT["line"])
 
 # %% [markdown]
 # The verdict is the line printed above, computed by the rule (README and ERRATA quote it). What it rests
-# on: C1 at the paper's example; C2_nd, C7_nd, C3_u and C5 at instances of ours (V, U, R), by the stated
-# rule, because the example exercises neither the gain design ($K\equiv0$) nor Theorem 2 (every local
+# on: C1 and C8 at the paper's example; C2_nd, C7_nd, C3_u and C5 at instances of ours (V, U, R), by the
+# stated rule, because the example exercises neither the gain design ($K\equiv0$) nor Theorem 2 (every local
 # filter contracts there). Further limits of the evidence, not of the rule: the paper's Figs. 1-2 are not
 # available to us, and the constants of (34) cannot be computed.
 # %% [markdown]

@@ -108,6 +108,7 @@ def _rule(cid: str, m: dict) -> bool | None:
                                    np.asarray(m["ratio_ci_per_node_component"])[..., 1] - 1.0, 0.1),
         "X3": lambda: m["C5_holds_first_rule"] and m["C5_nd_holds_first_rule"],
         "X4": lambda: first_rule(m),
+        "C8": lambda: max(max(m["ratio_d_per_node"]), max(m["ratio_x_per_node"])) < 1.0,
     }
     return rules[cid]()
 
@@ -115,7 +116,7 @@ def _rule(cid: str, m: dict) -> bool | None:
 def test_every_claim_recorded_with_its_source(claims) -> None:
     ids = {k for k in claims if not k.startswith("_")}
     assert ids == {"C1", "C1_nd", "C2", "C2_nd", "C3", "C3_u", "C4", "C4b", "C5", "C5_nd", "C6", "C7",
-                   "C7_nd", "X1", "X2", "X3", "X4"}
+                   "C7_nd", "C8", "X1", "X2", "X3", "X4"}
     for cid in ids:
         assert claims[cid]["source"], cid
         assert claims[cid]["section"], cid
@@ -239,7 +240,7 @@ def test_x3_x4_old_c5_rule_recorded(claims) -> None:
 
 def test_deciding_claims_runs_and_bases(claims) -> None:
     deciding = {cid for cid, e in claims.items() if not cid.startswith("_") and e.get("decides")}
-    assert deciding == {"C1", "C2_nd", "C3_u", "C5", "C7_nd"}
+    assert deciding == {"C1", "C2_nd", "C3_u", "C5", "C7_nd", "C8"}
     for cid in ("C2", "C6", "C7"):
         assert claims[cid]["basis"] == "by-construction" and not claims[cid].get("decides"), cid
     for cid in ("C1", "C1_nd", "C2", "C2_nd", "C7", "C7_nd", "X1", "X2"):
@@ -310,6 +311,10 @@ def test_other_signals_give_identical_errors(claims, claims_other_signals) -> No
         assert b[cid]["measured"][key] == pytest.approx(a[cid]["measured"][key], rel=1e-9), (cid, key)
     np.testing.assert_allclose(b["X2"]["measured"]["sd_mc_d"], a["X2"]["measured"]["sd_mc_d"], rtol=1e-9)
     assert b["X1"]["measured"]["max_relative_gap"] < 1e-12
+    # C8's ratio changes with the signals, its numerator (the RMS error of d_hat) does not
+    rms_d = [np.asarray(c["C8"]["measured"]["ratio_d_per_node"]) * c["C8"]["measured"]["signal_rms_d"]
+             for c in (a, b)]
+    np.testing.assert_allclose(rms_d[1], rms_d[0], rtol=1e-9)
 
 
 def test_figures_and_data_written(claims_other_signals) -> None:
@@ -408,5 +413,19 @@ def test_verdicts_follow_the_sweep() -> None:
             assert s["fraction_holds"] == 0.0 and entry["holds"] is False, cid
         elif s["verdict"] == "fails-premise":
             assert entry["premise"]["holds"] is False, cid
-        # the 9 signal cells of a Sobol point are exact replicates (X1): at most 4 draws + default
-        assert 1 <= s["evaluations"] <= 5, cid
+        # the 9 signal cells of a Sobol point are exact replicates (X1): at most 4 draws + default,
+        # except for C8, which divides the error by the signals' RMS
+        assert 1 <= s["evaluations"] <= (s["points"] if cid == "C8" else 5), cid
+
+
+def test_c8_tracking_ratios_against_the_zero_estimate(claims) -> None:
+    """C8 measures RMS error / signal RMS per node on run 0 (level 1: the zero estimate's)."""
+    c = claims["C8"]
+    m = c["measured"]
+    assert c["decides"] is True and c["basis"] == "measured"
+    assert m["run"] == 0 and m["burn_in"] == 0 and c["threshold"]["ratio"] == 1.0
+    assert len(m["ratio_d_per_node"]) == len(m["ratio_x_per_node"]) == 4
+    assert m["ratio_max"] == pytest.approx(max(max(m["ratio_d_per_node"]), max(m["ratio_x_per_node"])))
+    assert all(r >= 0 for r in m["ratio_d_per_node"] + m["ratio_x_per_node"])
+    assert c["holds"] is (m["ratio_max"] < 1.0)
+    assert m["signal_rms_d"] > 0 and c["premise"]["holds"] is True
