@@ -108,9 +108,13 @@ final_window = 5.0  # steady-state values are averages over the last final_windo
 offset_gammas = [2.0, 5.0, 20.0]  # gains of the offset-law check (ours)
 amplitude_sweep = [3.141592653589793, 10.0]  # further attack sizes [rad] (ours)
 id_attack_factors = [1.25, 2.0, 10.0]  # C7b: attack sizes as multiples of the smallest effective one (ours)
-pnp_time = 20.0  # C12: time at which agents (re)join with arbitrary states [s] (ours)
-pnp_agents = [1, 2, 4]  # C12: the (re)joining agents, 1-based (ours: the attacked one, a clean one observing v1, one not)
-pnp_state = [2.0, -1.0, -2.0, 1.0, 3.0, -3.0]  # C12: their arbitrary x_hat_i; z_i is W_i pnp_state (ours)
+pnp_time = 20.0  # C12, C13: time of the re-initialisation / of the agent's leaving [s] (ours)
+pnp_agents = [1, 2, 4]  # C12: the re-initialised agents, 1-based (ours: the attacked one, a clean one observing v1, one not)
+pnp_state = [2.0, -1.0, -2.0, 1.0, 3.0, -3.0]  # C12, C13: the arbitrary x_hat_i; z_i is W_i pnp_state (ours)
+pnp_K_radius = 3.0  # C12, C13: Theorem 2's compact set K for the arbitrary states, ||.||_inf <= this (ours)
+pnp_recovery = 45.0  # C12, C13: recovery window, twice the known 22.5 s transient of (5) with "near" poles [s] (ours)
+pnp_leave_agent = 4  # C13: the agent that leaves (links removed) and rejoins, 1-based (ours)
+pnp_leave_duration = 5.0  # C13: how long it stays away [s] (ours)
 accuracy_T = 20.0  # horizon of the integrator comparison [s] (ours)
 accuracy_ref_dt = 1e-4  # step of the reference solution [s] (ours)
 tanh_eps = [1e-3, 1e-2]  # widths of the smoothed sign for RK45 (ours)
@@ -795,15 +799,18 @@ lam2_ex = graphs.algebraic_connectivity(adj_ex)
 show_source(M.network_system, after="    n = A.shape[0]")
 
 
-def network_system(gains, gain_gamma, v_corr=None, w_corr=None, *, ob=None, gain_kappa=None):
+def network_system(gains, gain_gamma, v_corr=None, w_corr=None, *, ob=None, gain_kappa=None,
+                   lap=None):
     """Matrices M, E_w, E_s, R of the stacked system (1), (5), (6) [or (11) via v_corr, w_corr].
 
     ``ob`` is the reading (basis and partial observers; this run's by default), ``gains`` its L_i,
-    ``gain_kappa`` the kappa of (6) (``kappa`` by default); the example's A, B, banks and ring.
+    ``gain_kappa`` the kappa of (6) (``kappa`` by default), ``lap`` the Laplacian (the ring's by
+    default; C13 removes an agent's links for an interval); the example's A, B and banks.
     """
     ob = obs if ob is None else ob
     gain_kappa = kappa if gain_kappa is None else gain_kappa
-    system = M.network_system(A, B, banks, ob.V, S_ind, gains, gain_kappa, gain_gamma, lap_ex,
+    lap = lap_ex if lap is None else lap
+    system = M.network_system(A, B, banks, ob.V, S_ind, gains, gain_kappa, gain_gamma, lap,
                               v_corr=v_corr, w_corr=w_corr)
     return system.M, system.E_w, system.E_s, system.R
 
