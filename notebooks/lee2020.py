@@ -111,7 +111,7 @@ id_attack_factors = [1.25, 2.0, 10.0]  # C7b: attack sizes as multiples of the s
 pnp_time = 20.0  # C12, C13: time of the re-initialisation / of the agent's leaving [s] (ours)
 pnp_agents = [1, 2, 4]  # C12: the re-initialised agents, 1-based (ours: the attacked one, a clean one observing v1, one not)
 pnp_state = [2.0, -1.0, -2.0, 1.0, 3.0, -3.0]  # C12, C13: the arbitrary x_hat_i; z_i is W_i pnp_state (ours)
-pnp_K_radius = 3.0  # C12, C13: Theorem 2's compact set K for the arbitrary states, ||.||_inf <= this (ours)
+pnp_K_radius = 3.0  # C12, C13: half-width of the box K of Theorem 2 for the arbitrary states (ours)
 pnp_recovery = 45.0  # C12, C13: recovery window, twice the known 22.5 s transient of (5) with "near" poles [s] (ours)
 pnp_leave_agent = 4  # C13: the agent that leaves (links removed) and rejoins, 1-based (ours)
 pnp_leave_duration = 5.0  # C13: how long it stays away [s] (ours)
