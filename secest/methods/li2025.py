@@ -292,12 +292,7 @@ def gain_and_bound(
     ValidationError
         ``G`` whose columns do not match ``S_pred``, or ``coefs`` not a 4-tuple.
     """
-    if np.shape(G)[-1] != np.shape(S_pred)[-1]:
-        raise ValidationError(
-            f"G must have one column per state of S_pred: found {np.shape(G)} and {np.shape(S_pred)}")
-    if len(coefs) != 4:
-        raise ValidationError(
-            f"coefs must be (c0, kappa_x, kappa_xi, kappa_v), found {len(coefs)} values")
+    _check_bound_inputs(S_pred, G, coefs)
     c0, kx, kxi, kv = coefs
     rows, n = G.shape[-2], G.shape[-1]
     gsg = G @ S_pred @ _t(G)
@@ -312,6 +307,16 @@ def gain_and_bound(
     Mm = np.eye(n) - L @ G
     S_new = c0 * (Mm @ S_pred @ _t(Mm)) + L @ R @ _t(L)  # (18)
     return L, sym(S_new), R
+
+
+def _check_bound_inputs(S_pred: Array, G: Array, coefs: Coefficients) -> None:
+    """Refuse ``G`` whose columns do not match ``S_pred`` and ``coefs`` that are not 4 scalars."""
+    if np.shape(G)[-1] != np.shape(S_pred)[-1]:
+        raise ValidationError(
+            f"G must have one column per state of S_pred: found {np.shape(G)} and {np.shape(S_pred)}")
+    if len(coefs) != 4:
+        raise ValidationError(
+            f"coefs must be (c0, kappa_x, kappa_xi, kappa_v), found {len(coefs)} values")
 
 
 def bound_for_gain(
@@ -364,13 +369,11 @@ def bound_for_gain(
         Shapes of ``G`` and ``L`` that do not match ``S_pred``, or ``coefs`` not a 4-tuple.
     """
     rows_n = np.shape(G)[-1:] + np.shape(G)[-2:-1]  # (n, rows): the shape L must end with
-    if np.shape(G)[-1] != np.shape(S_pred)[-1] or np.shape(L)[-2:] != rows_n:
+    if np.shape(G)[-1] == np.shape(S_pred)[-1] and np.shape(L)[-2:] != rows_n:
         raise ValidationError(
             f"G (rows, n) and L (n, rows) must match S_pred (n, n): found {np.shape(G)}, "
             f"{np.shape(L)} and {np.shape(S_pred)}")
-    if len(coefs) != 4:
-        raise ValidationError(
-            f"coefs must be (c0, kappa_x, kappa_xi, kappa_v), found {len(coefs)} values")
+    _check_bound_inputs(S_pred, G, coefs)
     c0, kx, kxi, kv = coefs
     rows, n = G.shape[-2], G.shape[-1]
     Mm = np.eye(n) - L @ G

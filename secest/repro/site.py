@@ -40,6 +40,7 @@ from __future__ import annotations
 import json
 import os
 import re
+import subprocess
 import sys
 import tomllib
 from collections.abc import Iterable, Mapping
@@ -104,6 +105,17 @@ def mathjax_dir() -> Path:
     )
 
 
+def _git(root: Path, *args: str) -> subprocess.CompletedProcess:
+    """``git <args>`` in ``root``, output captured as bytes (never raises on a git error)."""
+    return subprocess.run(["git", *args], cwd=root, capture_output=True)
+
+
+def _git_text(root: Path, *args: str) -> str:
+    """The stripped output of ``git <args>`` in ``root``, or ``""`` when git fails."""
+    done = _git(root, *args)
+    return done.stdout.decode().strip() if done.returncode == 0 else ""
+
+
 def build_commit(root: Path = ROOT) -> str:
     """The commit the site is built from, as ``<short hash> (<date>)``, for every page's footer.
 
@@ -118,16 +130,10 @@ def build_commit(root: Path = ROOT) -> str:
         ``"1a2b3c4 (2026-12-03)"``, with ``" + uncommitted changes"`` when the work tree differs
         from it, or ``"unknown (not a git work tree)"``.
     """
-    import subprocess
-
-    def git(*args: str) -> str:
-        done = subprocess.run(["git", *args], cwd=root, capture_output=True, text=True)
-        return done.stdout.strip() if done.returncode == 0 else ""
-
-    commit = git("log", "-1", "--format=%h (%cs)")
+    commit = _git_text(root, "log", "-1", "--format=%h (%cs)")
     if not commit:
         return "unknown (not a git work tree)"
-    dirty = git("status", "--porcelain", "--untracked-files=no")
+    dirty = _git_text(root, "status", "--porcelain", "--untracked-files=no")
     return commit + (" + uncommitted changes" if dirty else "")
 
 
@@ -1619,18 +1625,12 @@ def source_archive(root: Path = ROOT) -> tuple[str, bytes] | None:
         ``("secest-<short hash>.tar.gz", data)`` with every path under ``secest-<short hash>/``,
         or None outside a git work tree.
     """
-    import subprocess
-
-    def git(*args: str) -> subprocess.CompletedProcess:
-        return subprocess.run(["git", *args], cwd=root, capture_output=True)
-
-    head = git("rev-parse", "--verify", "HEAD")
-    if head.returncode != 0:
+    head = _git_text(root, "rev-parse", "--verify", "HEAD")
+    if not head:
         return None
-    tree = git("stash", "create").stdout.strip() or head.stdout.strip()
-    short = git("rev-parse", "--short", tree.decode()).stdout.decode().strip()
-    name = f"secest-{short}"
-    done = git("archive", "--format=tar.gz", f"--prefix={name}/", tree.decode())
+    tree = _git_text(root, "stash", "create") or head
+    name = f"secest-{_git_text(root, 'rev-parse', '--short', tree)}"
+    done = _git(root, "archive", "--format=tar.gz", f"--prefix={name}/", tree)
     if done.returncode != 0:
         raise SiteError(f"git archive failed: {done.stderr.decode().strip()}")
     return f"{name}.tar.gz", done.stdout
