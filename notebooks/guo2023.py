@@ -1091,7 +1091,9 @@ for name, val in c3.items():
 # silently, **X3** keeps the outcome of the rule as first stated — $\|KU_1\|<10^{-10}$ and the (27) gap
 # $\le10^{-9}$ without allowance, for the random-$\Gamma$ gain too — at every point (the committed design
 # contains the draw `variant_seed` 994542 again, 9 points), and **X4** replays the failing draw
-# `lemma_seed` 29109 under it.) The same comparison runs on 50 evenly spaced steps of the
+# `lemma_seed` 29109 under it; its residuals lie inside the round-off band of that draw, where the first
+# rule cannot decide — $1.19\cdot10^{-10}$ and $1.65\cdot10^{-10}$ in two runs on one machine, $9.1\cdot10^{-11}$ on a CI machine — so X4
+# fails only on a residual beyond the current rule's allowance and is otherwise not-checked.) The same comparison runs on 50 evenly spaced steps of the
 # non-degenerate variant below (cvxpy on a few steps).
 
 
@@ -1773,7 +1775,7 @@ else:
 # | X1 | ours, from (15)-(16) and (21): the errors do not depend on the signals at all | E, V | the second set, the random set and $d=a=0$ change the errors by $\le10^{-10}$ relative |
 # | X2 | ours: prediction for Fig. 1 — the scatter of $\hat d$, $\hat a$ is fixed by the example | E | exact sd per node; Monte Carlo/exact mean-square ratio: every 95 % t-interval inside $[0.9,1.1]$ (margin ours, reason in its section) |
 # | X3 | ours: C5 and C5_nd under the rule as first stated (also $\|KU_1\|<10^{-10}$ and the gap $\le10^{-9}$ for the random-$\Gamma$ gain) | R, V | the old rule's outcome, kept after the rule was changed |
-# | X4 | ours: the first-sweep draw `lemma_seed` 29109 (removed from the design by commit 56c8733) under the first-stated rule | R | replayed, one evaluation |
+# | X4 | ours: the first-sweep draw `lemma_seed` 29109 (removed from the design by commit 56c8733) under the first-stated rule | R | replayed, one evaluation; fails only on a residual beyond the round-off allowance, else not-checked (the first rule's thresholds lie inside the round-off band there) |
 
 # %%
 MC_TOL = results.Tolerance(
@@ -2073,21 +2075,25 @@ claims["X3"] = results.claim(
     source="ours (the C5 rule as first stated)", key="max_KU1_all_gains", tolerance=CVX_TOL,
     section="Lemmas 1 and 2 on random general instances")
 x4 = {**lemma_measures(rows_29109), "holds_current_rule_without_cvxpy": c5_holds(lemma_measures(rows_29109))}
+x4_leak = bool(x4["max_KU1_L1_allowance_used"] > 1.0 or x4["max_L1_allowance_used"] > 1.0)
 claims["X4"] = results.claim(
     paper="(ours) the draw lemma_seed 29109 of the first sweep (removed from the design by commit 56c8733) "
     "under C5's rule as first stated",
     check="30 random instances from lemma_seed 29109 (as in paper mode), cvxpy skipped (its excess not "
-    "tested here): first-stated rule (see X3); a fixed draw, the same at every point (one evaluation). "
-    "The current rule's outcome on it is recorded (holds_current_rule_without_cvxpy). The replay's "
-    "random-Gamma residual (max_KU1_lemma1_random_gamma, 1.194e-10 in the committed run) is not the "
-    "1.7e-10 quoted for this draw from the first sweep (commit 56c8733's message): the first sweep's "
-    "per-point records were not committed, so the difference cannot be traced; a residual at 1e-10 with "
-    "cond ~ 2e8 is round-off of the projector, whose last bits depend on the BLAS build and threading of "
-    "the machine, and whether cvxpy ran in the same process may change them as well; we do not know "
-    "which. Either value exceeds the first rule's 1e-10, so X4's outcome does not depend on it",
-    measured=x4, threshold={"KU1": 1e-10, "rel_gap": 1e-9},
-    holds=c5_holds_first_rule(x4),
-    source="ours (the C5 rule as first stated, first-sweep draw)", key="max_KU1_lemma1_random_gamma",
+    "tested here); a fixed draw, the same at every point (one evaluation). Fails only if a residual "
+    "exceeds the round-off allowance of C5's current rule (a real leak of K U_1 or a real gap to (27)); "
+    "otherwise not-checked: at cond(Gamma Xi_breve Gamma^T) ~ 2e8 the round-off band eps cond ~ 4e-8 "
+    "contains the first rule's thresholds 1e-10 and 1e-9, so whether the replay passes them is a "
+    "property of the machine and the run, not of Lemma 1 (the residual max_KU1_lemma1_random_gamma was "
+    "1.7e-10 in the first sweep, 1.19e-10 and 1.65e-10 in two later runs on one machine, 9.1e-11 on a "
+    "CI machine under Python 3.13; the first sweep's per-point records were not committed). The "
+    "current rule's outcome on the draw is recorded (holds_current_rule_without_cvxpy)",
+    measured=x4, threshold={"KU1": 1e-10, "rel_gap": 1e-9, "allowance_used": 1.0},
+    holds=False if x4_leak else None,
+    not_checked=None if x4_leak else (
+        "the first rule's thresholds 1e-10 and 1e-9 lie inside this draw's round-off band (eps cond ~ 4e-8): "
+        "whether the replay passes them depends on the machine, not on Lemma 1"),
+    source="ours (the C5 rule as first stated, first-sweep draw)", key="max_KU1_L1_allowance_used",
     tolerance=CVX_TOL, section="Lemmas 1 and 2 on random general instances")
 checks_nd = step_checks(nd.run)
 c6 = {"max_abs_G1": max(checks_ex["G1"], checks_nd["G1"]),

@@ -89,11 +89,6 @@ def _rule(cid: str, m: dict) -> bool | None:
                 and mm["max_rel_excess_over_cvxpy"] <= 1e-9 and mm["max_L1_allowance_used"] <= 1.0
                 and mm["max_KU1_L1_allowance_used"] <= 1.0 and mm["max_eq29_vs_25"] < 1e-10)
 
-    def first_rule(mm):
-        return (mm["max_KU1"] < 1e-10 and mm["max_KU1_lemma1_random_gamma"] < 1e-10
-                and mm["max_rel_gap_kkt"] <= 1e-9 and mm["max_rel_excess_over_cvxpy"] <= 1e-9
-                and mm["max_rel_gap_lemma1_random_gamma"] <= 1e-9 and mm["max_eq29_vs_25"] < 1e-10)
-
     rules = {
         "C1": c1, "C1_nd": c1, "C2": c2, "C2_nd": c2, "C7": c7, "C7_nd": c7,
         "C3": lambda: c3(m),
@@ -107,7 +102,8 @@ def _rule(cid: str, m: dict) -> bool | None:
         "X2": lambda: _equivalence(np.asarray(m["ratio_ci_per_node_component"])[..., 0] - 1.0,
                                    np.asarray(m["ratio_ci_per_node_component"])[..., 1] - 1.0, 0.1),
         "X3": lambda: m["C5_holds_first_rule"] and m["C5_nd_holds_first_rule"],
-        "X4": lambda: first_rule(m),
+        "X4": lambda: (False if max(m["max_KU1_L1_allowance_used"], m["max_L1_allowance_used"]) > 1.0
+                       else None),
         "C8": lambda: max(max(m["ratio_d_per_node"]), max(m["ratio_x_per_node"])) < 1.0,
     }
     return rules[cid]()
@@ -230,12 +226,14 @@ def test_x3_x4_old_c5_rule_recorded(claims) -> None:
     assert m["C5_nd_holds_current_rule"] is claims["C5_nd"]["holds"]
     assert m["C5_max_rel_gap_lemma1_random_gamma"] == claims["C5"]["measured"]["max_rel_gap_lemma1_random_gamma"]
     assert not claims["X3"].get("decides")
-    # the first sweep's failing draw, replayed: the random-Gamma residual exceeds the old 1e-10 at
-    # cond ~ 2e8 (1.7e-10 on the machine of the first sweep)
+    # the first sweep's failing draw, replayed: its residuals sit inside the round-off band of the
+    # projector (cond ~ 2e8), where the first rule's 1e-10 / 1e-9 cannot decide (1.194e-10 in the
+    # committed run, 9.1e-11 on a CI machine): X4 fails on a real leak only, else it is not-checked
     m4 = claims["X4"]["measured"]
-    assert m4["max_KU1_lemma1_random_gamma"] > 1e-10
     assert m4["max_cond_lemma1_random_gamma"] > 1e8
-    assert claims["X4"]["holds"] is False and not claims["X4"].get("decides")
+    assert 0 < m4["max_KU1_lemma1_random_gamma"] < 1e-8
+    leak = max(m4["max_KU1_L1_allowance_used"], m4["max_L1_allowance_used"]) > 1.0
+    assert claims["X4"]["holds"] is (False if leak else None) and not claims["X4"].get("decides")
 
 
 def test_deciding_claims_runs_and_bases(claims) -> None:
@@ -393,7 +391,8 @@ def test_default_row_agrees_with_committed_claims() -> None:
     default = rows[0]  # the design lists the default point first
     assert default["n_steps"] == "200" and default["seed"] == "2023"
     for cid, entry in claims.items():
-        assert default[f"{cid}.holds"] == str(entry["holds"]), cid
+        # the sweep's CSV writes a not-checked point's holds as an empty cell
+        assert default[f"{cid}.holds"] == ("" if entry["holds"] is None else str(entry["holds"])), cid
         assert default[f"{cid}.outcome"] == point_verdict(entry), cid
         value = headline_value(entry)
         if value is not None:
