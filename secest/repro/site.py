@@ -1457,7 +1457,8 @@ LONG_PRINTOUT = 12
 FOLD_RULE = (
     "Code is folded (click to expand) except where a cell shows the algorithm: every code cell's "
     "input is folded unless the cell only calls `show_source`, whose output (never folded) is the "
-    "library's own code of the step the derivation has reached. Some outputs are folded too: the "
+    "library's own code of the step the derivation has reached (a listing longer than 32 lines "
+    "scrolls inside its own box). Some outputs are folded too: the "
     "parameter provenance table (`provenance_markdown`), the summary printed by the cell that "
     "writes `claims.json` (`write_claims`; the table above shows the same claims), and any "
     f"plain-text printout longer than {LONG_PRINTOUT} lines that is not a `show_source` listing. "
