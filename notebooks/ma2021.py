@@ -25,47 +25,27 @@
 # $P\{\tilde x_{i,k}\in\mathcal X(0,\mathfrak B_k)\}\ge p$.
 #
 # **Verdict: [Re, partial]**, by the project's one written rule (section "Verdict"), decided by
-# the paper's main claims C2, C3 and C5. At the paper's example (our default point) all three hold;
-# over the declared space C2 and C5 hold wherever they are checked, but the headline comparison
-# C3 is undetermined by the paper's missing values (it holds at 12 of the 57 points where it is
-# checked, only at the two smallest Taylor scales). And C3's "holds" says nothing for the
-# paper's mechanism: the NN compensator is never active (X3), and the levels where C3 holds were
-# placed knowing where it turns.
+# the paper's main claims C2 (the probability guarantee, Theorem 3), C3 (the NN-based estimator
+# beats the conventional one under the same falsified innovations) and C7 (the joint estimation of
+# the attacks, contribution iv). At the paper's example (our default point, the geometric centre
+# of the declared range of the missing Taylor scales) C2 holds over independent $\alpha_k$
+# realisations, very conservatively; C3 does not hold (the two estimators nearly coincide there),
+# and C7 does not hold: the NN's estimate of the attack is the zero estimate. **The NN
+# compensator, the paper's main contribution, is never active**, at the example or anywhere in
+# the declared space: with the paper's $Q_{ij,0}=20I$ and $e_1=3$ the tuning law's LMI (OP1) sets
+# $\hat W=0$ from the first step on (E4), and the robust gain design switches the neighbours' innovations
+# off (X3). Where C3 holds (only at the smallest Taylor scales, whose grid levels were placed
+# knowing where it turns) it holds through the attack-aware gains, not through the network.
 #
-# In detail, over the declared space of the missing Taylor scales $L_i=\aleph_i=sI$, two $\alpha_k$
-# realisations and the alternative OCR readings (section "The missing Taylor scales"): the
-# recursive LMIs are certified at every step at 57 of 70 points (C5); at the other 13 (all 10 at
-# the top scale 0.34, 3 of the 10 at 0.284) no solver reports a problem infeasible, the
-# solutions only use up the margin of our strict certificate, so C5 is *not checked* there (a
-# limit of ours, not the paper's failure) and its verdict over the space is "holds". The errors
-# stay in the probabilistic ellipsoid wherever Theorem 3's premise holds and the run is
-# Algorithm 1's (C2, very conservatively), Theorem 1's weight bound holds by construction (C4:
-# shown, not evidence), and the re-derived error dynamics and Theorem 2's bound check exactly
-# (X1, X4, X7). **C3 — "the conventional algorithm shows worse estimation performance" — is
-# undetermined:** it holds at 12 of the 57 points where both runs are Algorithm 1's, 8 of the
-# 10 at $s=0.116$, 4 of the 10 at $0.139$, none from $0.166$ on and none under the reading 0.05
-# of "0d5"; at the 13 points where our fallback drove a run it is not checked. The 70 points are
-# a fixed grid whose levels were placed knowing that the direction turns between 0.14 and 0.15,
-# so "12 of 57" describes the grid, not a probability. C3 needs the missing conventional design to
-# use its neighbours' innovations, through which the falsified ones reach it (X9), but that is
-# not enough: X9 holds at 22 points and C3 at 12 of them. Where the conventional design drops its
-# neighbours (from $0.166\,I$ on, $0.199\,I$ under the $g_1$ reading) the two estimators nearly
-# coincide (per-node RMSE ratios NN/conventional 0.988–1.052). Either way it is not learning: OP1
-# sets $\hat W$ to zero at the first step and OP2 switches the neighbours off
-# ($\|H_{ij}\|\le3.2\cdot10^{-3}$) at every point (X3), so the "NN-based estimator" never uses
-# its network. Figures 1–8 are reproduced qualitatively only: $f$, $g_i$, $\bar\alpha$ and the
-# initial values are reconstructions from a garbled OCR.
-#
-# The other verdicts over the declared space (points where the claim holds / where it is checked
-# with its premise holding, of 70): C1 holds, 60/60 (not checked at the 10 points at $s=0.34$,
-# where our fallback drove the NN run; at 0.284 only the conventional run was rejected); C2 holds,
-# 58/58 (its premise fails at the 2 points $s=0.116$ under the $g_1$ reading; not checked at the
-# 10 points at 0.34; its fraction is 1 at every checked point); X7 holds, 58/58 (its premise fails at
-# the same 2 points and at the 10 at 0.34); X2 undetermined, 68/70 (not at the 2
-# points where C2's premise fails); X6 holds, 58/58 (not checked at the 12 points where the
-# printed shared-multiplier LMI is not certified at $k=1$, under the readings of $E_1$, $f$,
-# $g_1$); X9 undetermined, 22/70 (at $s\le0.139$, and at 0.166 under the $g_1$ reading); X1,
-# X3, X4 hold at all 70; C4 holds at all 70 by construction. X1–X4 and X9 are ours.
+# The solvability of the recursive LMIs (C5) and Theorem 1's weight bound (C4) hold by
+# construction here (C5: every LMI is feasible in exact arithmetic; C4: the bound is fixed by the
+# data) and are shown, not counted as evidence. Our numerical limits (a solve our strict
+# certificate rejects, and the stale gains of our fallback after it) are recorded as not checked,
+# never as the paper's failures, and premises are evaluated on certified steps only. The counts
+# over the declared space (7 Taylor scales × 2 realisations × 5 OCR readings = 70 points) are
+# printed from the sweep in the sections "Claims" and "Verdict". Figures 1–8 are reproduced
+# qualitatively only: $f$, $g_i$, $\bar\alpha$ and the initial values are reconstructions from a
+# garbled OCR.
 
 # %% tags=["parameters"]
 mode = "paper"  # "paper": full runs; "fast": 8 steps and 3 Monte Carlo runs, for the tests (ours)
@@ -93,8 +73,8 @@ xhat0 = [[1.5, 1.8], [1.7, 1.9], [1.8, 1.5]]  # initial estimates (nodes 2-3 REC
 P0 = [[0.6887, -0.0588], [-0.0588, 0.7390]]  # Assumption 3 (PAPER)
 W0 = [[1.0, 0.0], [0.0, 1.0]]  # initial NN weights, every link (RECONSTRUCTED)
 Q0 = [[20.0, 0.0], [0.0, 20.0]]  # Assumption 3 weight-error shape (PAPER)
-L_scale = 0.116  # L_i is L_scale times I in (12) (MISSING); the lower end of its declared range
-aleph_scale = 0.116  # aleph_i is aleph_scale times I in (13) (MISSING); tied to L_scale in the sweep
+L_scale = 0.198595065397  # L_i is L_scale times I in (12) (MISSING); the geometric centre of its range
+aleph_scale = 0.198595065397  # aleph_i is aleph_scale times I in (13) (MISSING); tied to L_scale
 varpi_form = "sum"  # varpi of (17): "sum" over j in N_i as reconstructed, or "per_link" (H_ij only)
 shared_multipliers = False  # one Gamma_k for all nodes as printed (True) or one per node
 shared_diag_steps = 2  # steps of the printed shared-multiplier LMI (22) run as a diagnostic (ours)
@@ -105,10 +85,11 @@ cert_tol = 1e-8  # certificate: max eig of every solved LMI matrix at most -cert
 solver = "CLARABEL"  # primary SDP solver
 fallback_solver = "SCS"  # visible fallback
 c3_margin = 0.001  # C3: NN counts as better at a node when its RMSE is below 1 - c3_margin times the other (ours)
-settle_k = 10  # C1: errors measured from this step on
+attack_margin = 0.001  # C7: an attack estimate counts when its RMS error is below 1 - attack_margin of the attack RMS (ours)
+settle_k = 10  # C1: errors measured from this step on (ours: after the transient)
 track_tol = 0.2  # C1: |error| bound for "satisfactory precision" (ours: the paper states no number)
-extras = True  # OP3 run, Monte Carlo check of (29), certificate at the range's upper end (ours)
-mc_runs = 16  # alpha_k realisations of the Monte Carlo check X8; fast mode uses 3 (ours)
+extras = True  # OP3 run, DPP re-solve check X5, certificate at the range's upper end (ours)
+mc_runs = 16  # independent alpha_k realisations of C2 and C8b (Monte Carlo); fast mode uses 3 (ours)
 op3_scale = 2.0  # fixed ellipsoid B is op3_scale times I for the OP3 run (MISSING)
 figures = True  # False: no figure or data file is made (robustness sweep points) (ours)
 fig_dir = "figures/ma2021"
@@ -118,12 +99,14 @@ results_path = "figures/ma2021/claims.json"
 import copy
 import csv
 import json
+import re
 import warnings
 
 import cvxpy as cp
 import matplotlib.pyplot as plt
 import numpy as np
 from IPython.display import Markdown, display
+from scipy import stats
 
 from secest.core import graphs, montecarlo
 from secest.core.validation import ValidationError
@@ -539,7 +522,7 @@ show_source(M.weight_update, after="    return lam1")
 # (brief §7), and C5 reports the count.
 
 #
-# **An exact check of (29) (X7).** $\alpha_k$ is the only random quantity (E8). Given everything
+# **An exact check of (29) (C8a).** $\alpha_k$ is the only random quantity (E8). Given everything
 # up to step $k$, $\tilde x_{i,k+1}$ takes one of two values, for $\alpha_k=0$ and $\alpha_k=1$, so
 # $E_{\alpha_k}\{\tilde x_{i,k+1}^\top P_{k+1}^{-1}\tilde x_{i,k+1}\mid\text{past}\}=(1-\bar\alpha)q_{i,0}+\bar\alpha q_{i,1}$
 # is computed exactly at every step by running the update on both branches with the solved gains.
@@ -547,7 +530,7 @@ show_source(M.weight_update, after="    return lam1")
 # realised $\zeta_k$ satisfies the constraints of (23): $\tilde x_{l,k}^\top P_k^{-1}\tilde x_{l,k}\le1$ at
 # every node (the induction hypothesis), (12)–(13), $\|\delta\|\le e_3$ and Theorem 1's weight
 # ellipsoid. This is a deterministic check of Theorem 2 along the run; the Monte Carlo check over
-# realisations (X8) is an extra below.
+# independent realisations (C8b) is below, with C2's.
 
 # %%
 show_source(M.run_algorithm1, after="    th = _theta(theta)")
@@ -613,7 +596,7 @@ def compensation(H: dict, What: dict, ph: np.ndarray, abar: float) -> float:
 
 
 def conditional_expectation(F, G, H, xh_k, z, What, abar, compensate, x_next, P_next):
-    """E_{alpha_k}{x~_(i,k+1)^T P_(k+1)^-1 x~_(i,k+1) | past} per node, exactly (X7): the
+    """E_{alpha_k}{x~_(i,k+1)^T P_(k+1)^-1 x~_(i,k+1) | past} per node, exactly (C8a): the
     update on both branches alpha_k = 0 and 1, weighted 1 - abar and abar."""
     out = np.zeros(N)
     for a, weight in ((0.0, 1.0 - abar), (1.0, abar)):
@@ -679,7 +662,7 @@ def weight_stats(run_: M.Algorithm1Run) -> dict:
 def step_checks(run_: M.Algorithm1Run, x: np.ndarray, alpha: np.ndarray, nn: bool, abar: float,
                 scale: tuple, check_dynamics: bool) -> dict:
     """What the claims measure at every step of a run: the largest gain and the compensation
-    (X3), the remainder ratios (X2), the exact conditional expectation of (29) (X7) and, with
+    (X3), the remainder ratios (X2), the exact conditional expectation of (29) (C8a) and, with
     `check_dynamics`, the residual of (54) (X1), the sampled bound (X4) and ||delta|| (C2)."""
     n_steps = run_.z.shape[0]
     Ls, As = scale[0] * np.eye(NX), scale[1] * np.eye(NY, NX)
@@ -784,30 +767,33 @@ def rmse(res: dict) -> np.ndarray:
 #   $\le+10^{-8}$. The LMIs are now certified strict (largest eigenvalue $\le-10^{-8}$, see
 #   "Solves"), and under it CLARABEL's solutions at $0.34$ use up the margin $10^{-6}$ to within
 #   $10^{-8}$ at some step at every point: the sweep finds uncertified steps at all 10 points at
-#   $0.34$ and at 3 of the 10 at $0.284$; no solver reports any of them infeasible, so C5 records
-#   them as not checked (our certificate's limit, section "Claims"). The range was not changed
-#   after seeing this; on the
-#   as-read example the last level certified at every step is now $0.284$.
+#   $0.34$ and at 3 of the 10 at $0.284$ (the sweep before issue #30's round 4); no solver
+#   reports any of them infeasible, so C5 records them as not checked (our certificate's limit,
+#   section "Claims"). The range was not changed after seeing this; on the as-read example the
+#   last level certified at every step is now $0.284$.
 # * **Levels.** The sweep steps the range geometrically ($s$ is a scale) in 7 levels, 0.116,
 #   0.139, 0.166, 0.199, 0.238, 0.284 and 0.340: the fewest whose neighbouring levels bracket the
 #   reversal of C3 between 0.14 and 0.15 reported in issue 15. The levels were thus placed knowing
 #   where C3 turns (the ends were not: they come from the premise and the certificate), so the
 #   number of points where C3 holds is set by this choice (5 of the 7 levels lie above the turn)
 #   and is reported per level, not as a sampled fraction. With 2 seeds and 5 OCR readings
-#   (one alternative at a time) that is 70 points. Each point is a papermill run of about 7–9 s of
-#   CPU (kernel start included, measured on a loaded machine), so the sweep takes about 4–5 min on
-#   2 idle cores, this notebook's budget. Denser designs cost in proportion: 13 levels (a factor
-#   1.1 apart) × 4 seeds × 5 readings = 260 points, about 17 min; the 16 combinations of the four
-#   alternative readings instead of one at a time, × 7 levels × 2 seeds = 224 points, about 15 min.
+#   (one alternative at a time) that is 70 points. Each point is a papermill run of the two
+#   designs plus the 15 further NN runs of the Monte Carlo of C2 (issue #30's round 4), about
+#   1.5 min of CPU, so the sweep takes about 50 min on 2 idle cores; denser designs cost in
+#   proportion (13 levels × 4 seeds, or the 16 combinations of the readings, would take 3–4 times as long).
 #   Sweep points run without the SCS fallback (`fallback_solver = "none"` in the TOML's `[sweep]
 #   base`), a change made after the first sweep, for cost: there SCS was tried 68 times and
 #   certified no step (it stops at its iteration cap short of the $10^{-8}$ certificate), while
 #   its attempts took more CPU than the rest of the sweep. An uncertified step is counted the same
 #   way with or without the attempt, so no claim changes.
-# * **Default.** `L_scale` = `aleph_scale` = 0.116, the lower end: the least conservative scale
-#   the premise admits, i.e. the earlier rule "the smallest scale satisfying (12)–(13)" without
-#   its 0.05 grid. It is one point of the range and decides no verdict: the claims' verdicts are
-#   taken over the declared space.
+# * **Default.** `L_scale` = `aleph_scale` = $\sqrt{0.116\cdot0.34}=0.198595$, the geometric
+#   centre of the range (a scale multiplies, so its centre is geometric), which is the middle
+#   level. Until issue #30's round 4 the default was the lower end, 0.116, "the least
+#   conservative scale the premise admits"; that is also the scale most favourable to C3 (it holds
+#   only at the two smallest levels), so a default there put the headline comparison's best case
+#   in the paper's example. Neither end is a neutral choice: the upper end is the least certified.
+#   The default is one point of the range; the claims' verdicts are taken over the declared space,
+#   and the example's outcomes (which the rule also reads) are those at the centre.
 #
 # **How the scale was chosen before, and when.** The first version of this notebook (commit
 # 6acd55d) used $s=0.1$, the brief's "usual size", under which the premise fails at $k=0$; it
@@ -882,7 +868,7 @@ for name, r in (("NN (8)", nn_run), ("conventional (3)", conv_run)):
           f"uncertified steps = {len(r['failures'])}")
 print("RMSE ratio NN / conventional per node:", np.round(rmse(nn_run) / rmse(conv_run), 4).tolist())
 print(f"X4: max sampled E_alpha x~'P^-1 x~ over admissible zeta = {nn_run['sampled_q'].max():.4f}")
-print(f"X7: max exact E_alpha(k) x~'P^-1 x~ = {np.nanmax(nn_run['cond']):.4f} (NN design), "
+print(f"C8a: max exact E_alpha(k) x~'P^-1 x~ = {np.nanmax(nn_run['cond']):.4f} (NN design), "
       f"{np.nanmax(conv_run['cond']):.4f} (conventional design, not a bound under attack)")
 
 # %% [markdown]
@@ -1250,115 +1236,134 @@ if extras and mode == "paper":
               f"tr B_T = {np.trace(chk['Bell'][-1]):.3g}")
 
 # %% [markdown]
-# ## Extra — Monte Carlo check of (29) over $\alpha_k$ realisations (X8)
+# ## Monte Carlo over independent $\alpha_k$ realisations (C2, C8b)
 #
-# Theorem 2 states $E\{\tilde x_{i,k+1}^\top P_{k+1}^{-1}\tilde x_{i,k+1}\}\le1$ (29), the expectation
-# being over $\alpha$ (E8). The NN design is run on `mc_runs` independent realisations (the first
-# is the main run); each run has its own data-dependent $P_k$. Per node and step the mean of
-# $\tilde x^\top P_k^{-1}\tilde x$ over the runs gets a Student-t 95 % interval; **X8 holds if the
-# largest upper bound over $(i,k)$ is at most 1**. The fraction of runs inside $\mathfrak B_k$ is
-# reported per $(i,k)$ with its Wilson interval (Theorem 3 per node and step), not decided: when
-# every run is inside, the interval's lower end is above $p=0.8$ only from 16 runs on (0.806 with 16,
-# 0.44 with the 3 of fast mode).
+# $\alpha_k$ is the only random quantity (E8), so the probability of Theorem 3 and the expectation
+# of Theorem 2 are over its realisations. Within one run the (node, step) pairs are **not**
+# independent samples (they share the realisation and the recursion), so the Monte Carlo claims
+# take **one statistic per run** and their intervals over the `mc_runs` independent runs (16; the
+# first is the main run; each run has its own data-dependent $P_k$ and $\mathfrak B_k$):
 #
-# **This Monte Carlo is nearly degenerate.** The NN design barely uses its neighbours
-# ($\|H_{ij}\|\approx3\cdot10^{-4}$, X3), and the neighbours' innovations are the only place where
-# $\alpha_k$ enters, so the realisations give almost the same errors and ellipsoids: the Student-t
-# interval at the worst $(i,k)$ is about $10^{-11}$ wide (printed below). X8 confirms (29) but adds
-# little to the exact check X7 along one run.
+# * **C2 (Theorem 3).** Run $r$'s statistic is $f_r$, the fraction of its pairs $(i,k)$, $k=1..T$,
+#   with $\tilde x_{i,k}^\top\mathfrak B_k^{-1}\tilde x_{i,k}\le1$. Theorem 3 gives
+#   $P\{\cdot\}\ge p$ at every pair, hence $E f_r\ge p$. $k=0$ is left out and is no evidence:
+#   $\mathfrak B_0=P_0/(1-p)$, so Assumption 3 (the premise) alone puts its forms below $1-p$.
+#   The interval of $E f_r$ over the runs is the Wilson score interval (95 %, the level is ours;
+#   valid for a statistic in $[0,1]$, whose variance is at most the binomial $\mu(1-\mu)$ the score
+#   interval assumes). Each pair is also tested alone: the fraction of runs inside at $(i,k)$ gets
+#   a Wilson interval at the Bonferroni level $1-0.05/m$ over the $m=NT$ pairs tested. **C2 fails**
+#   if the upper end for $E f_r$ is below $p$ or some pair's Bonferroni interval lies wholly below
+#   $p$; **holds** if the lower end for $E f_r$ is $\ge p$ and no pair fails; else it is **not
+#   checked** (too few runs to decide). The rule is on intervals, so it means the same at any run
+#   count: with every run inside at every pair, 16 runs are the fewest that decide (lower end
+#   0.806), and the 3 runs of fast mode leave C2 not checked (0.44).
+# * **C8b (Theorem 2, (29)).** Per pair, the Student-t interval of the mean of
+#   $\tilde x^\top P_k^{-1}\tilde x$ over the runs at the Bonferroni level $1-0.05/m$: holds if every
+#   upper end is $\le1$, fails if some lower end is $>1$, else not checked.
+#
+# **This Monte Carlo is nearly degenerate.** The NN design barely uses its neighbours (X3), and the
+# neighbours' innovations are the only place where $\alpha_k$ enters, so the realisations give
+# almost the same errors and ellipsoids (the spread is printed below). The runs are independent, so
+# the intervals are valid; they are narrow because the runs barely differ.
 
 # %%
-mc = None
-if extras:
-    mc_alphas = [alpha_sequence(r, T_run, ALPHA_BAR) for r in montecarlo.spawn_rngs(seed, n_mc)]
-    mc_runs_list = [nn_run] + [simulate(alpha=a, estimator="nn") for a in mc_alphas[1:]]
-    qP_mc = np.stack([r["qP"][1:] for r in mc_runs_list])  # (runs, k = 1..T, node)
-    inside = np.stack([r["qf"][1:] <= 1.0 for r in mc_runs_list])
-    mean_qP = qP_mc.mean(axis=0)
-    upper = np.array([[montecarlo.mean_interval(qP_mc[:, k, i])[1] for i in range(N)]
-                      for k in range(T_run)])
-    k_w, i_w = np.unravel_index(int(np.argmax(upper)), upper.shape)
-    frac_ki = inside.mean(axis=0)
-    k_f, i_f = np.unravel_index(int(np.argmin(frac_ki)), frac_ki.shape)
-    mc = {"runs": n_mc, "max_upper": float(upper.max()), "max_mean": float(mean_qP.max()),
-          "worst": (int(k_w) + 1, int(i_w) + 1),
-          "interval": montecarlo.mean_interval(qP_mc[:, k_w, i_w]),
-          "min_fraction_inside": float(frac_ki.min()),
-          "wilson_min_fraction": montecarlo.wilson_interval(int(inside[:, k_f, i_f].sum()), n_mc),
-          "uncertified": sum(len(r["failures"]) for r in mc_runs_list)}
-    print(f"X8: {n_mc} realisations; max over (i, k) of the mean of x~'P^-1 x~ = "
-          f"{mc['max_mean']:.4f}, largest 95 % upper bound = {mc['max_upper']:.4f} "
-          f"(interval width {mc['max_upper'] - mc['interval'][0]:.1e}) "
-          f"(node {mc['worst'][1]}, k = {mc['worst'][0]}); smallest fraction inside B_k = "
-          f"{mc['min_fraction_inside']:.3f} (Wilson {np.round(mc['wilson_min_fraction'], 3).tolist()})")
+def score_interval(mean: float, n: int, level: float) -> tuple[float, float]:
+    """Wilson score interval of the mean of n independent statistics in [0, 1] (their variance is
+    at most mean (1 - mean), the binomial variance the score interval assumes)."""
+    zq = stats.norm.ppf(0.5 + level / 2.0)
+    centre = (mean + zq**2 / (2 * n)) / (1 + zq**2 / n)
+    half = zq * np.sqrt(mean * (1 - mean) / n + zq**2 / (4 * n * n)) / (1 + zq**2 / n)
+    return float(max(centre - half, 0.0)), float(min(centre + half, 1.0))
+
+
+mc_alphas = [alpha_sequence(r, T_run, ALPHA_BAR) for r in montecarlo.spawn_rngs(seed, n_mc)]
+mc_runs_list = [nn_run] + [simulate(alpha=a, estimator="nn") for a in mc_alphas[1:]]
+assert np.array_equal(mc_alphas[0], alpha_main)  # the main run is run 0
+n_pairs = T_run * N  # pairs (i, k), k = 1..T, tested per run
+bonf_level = 1.0 - 0.05 / n_pairs
+inside_mc = np.stack([r["qf"][1:] <= 1.0 for r in mc_runs_list])  # (runs, k = 1..T, node)
+f_runs = inside_mc.reshape(n_mc, -1).mean(axis=1)  # one statistic per run (C2)
+c2_lo, c2_hi = score_interval(float(f_runs.mean()), n_mc, 0.95)
+pair_hi = np.array([[montecarlo.wilson_interval(int(inside_mc[:, k, i].sum()), n_mc,
+                                                level=bonf_level)[1] for i in range(N)]
+                    for k in range(T_run)])
+qP_mc = np.stack([r["qP"][1:] for r in mc_runs_list])  # (runs, k = 1..T, node), C8b
+qP_iv = np.array([[montecarlo.mean_interval(qP_mc[:, k, i], level=bonf_level) for i in range(N)]
+                  for k in range(T_run)])  # (k, node, 2)
+print(f"{n_mc} runs; per-run fraction inside B_k: min {f_runs.min():.4f}, mean {f_runs.mean():.4f}, "
+      f"Wilson 95 % [{c2_lo:.3f}, {c2_hi:.3f}]; smallest Bonferroni upper end over pairs "
+      f"{pair_hi.min():.3f} (level {bonf_level:.5f}, m = {n_pairs})")
+print(f"C8b: largest mean of x~'P^-1 x~ {qP_mc.mean(axis=0).max():.4f}, largest Bonferroni upper "
+      f"end {qP_iv[..., 1].max():.4f}; spread over the runs (max - min, worst pair) "
+      f"{np.max(qP_mc.max(axis=0) - qP_mc.min(axis=0)):.1e}; uncertified solves over the runs: "
+      f"{sum(len(r['failures']) for r in mc_runs_list)}")
 
 # %% [markdown]
 # ## Claims
 #
-# | id | paper | what we measure, and the rule |
-# |---|---|---|
-# | C1 | each node tracks both states "with a satisfactory precision" with the NN estimator (Figs. 1–4); the conventional one "with certain precision" (Figs. 5–8) | $\max|\tilde x^{(l)}_{i,k}|$ of (8) for $k\ge$ `settle_k` against `track_tol` (0.2), **ours**: the paper states no number (its OCR keeps only the error axes' ticks, −0.8 to 1); the conventional value and which of the two is smaller are reported |
-# | C2 | the errors stay in the required region with probability $\ge p$ (Theorem 3, (11)) | fraction of (node, step) pairs with $\tilde x^\top\mathfrak B_k^{-1}\tilde x\le1$, NN design, $k=1..T$; holds if its Wilson 95 % lower bound (level ours) is $\ge p$. $k=0$ is left out: $\mathfrak B_0=P_0/(1-p)$, so Assumption 3 alone puts its forms below $1-p$ (reported). **Premise** (checked): Assumption 3, (12)–(13) along the NN run, $\|\delta\|\le e_3$ |
-# | C3 | the conventional estimator "shows worse estimation performance" than the NN-based one under the same falsified innovations (Figs. 5–8 vs 1–4) | per-node RMSE of $\|\tilde x\|$ over $k=1..T$: holds if $\mathrm{RMSE}_{NN}<(1-$`c3_margin`$)\,\mathrm{RMSE}_{conv}$ at **every** node; headline: the worst node's ratio |
-# | C4 | $\mathrm{tr}[\tilde W^\top Q^{-1}\tilde W]\le1$ for all $k$ (Theorem 1) | max over links and steps, with $W=W^\star$. Holds **by construction** here: the maximum is at $k=0$, fixed by the data ($\|I-W^\star\|_F^2/20$), and from $k=1$ on $\hat W\approx0$, $Q=e_1^2I$, so (19) holds for any $W$ allowed by Assumption 2; recorded with `basis="by-construction"`: shown, never evidence, never deciding |
-# | C5 | (implied by the example) the RLMIs are solvable at every step: Theorems 1–3 are conditional on it, Algorithm 1 assumes it | steps without a certified solution (both designs and OP1), and the certificate: largest eigenvalue of every solved LMI matrix $\le-10^{-8}$ (strict). Where a solve is not certified, the first uncertified solve of each run decides: **fails** if a solver reported that problem infeasible, **not checked** otherwise (see below) |
-# | X1 | (ours) the error dynamics (54) | $\max|\tilde x_{i,k+1}-(\Xi_i+\tilde\alpha_k\tilde\Xi_i)\zeta_k|$ at the actual $\zeta_k$ |
-# | X2 | (ours) the premise (12)–(13) at this point's $L_i=\aleph_i$ | worst ratio $\|\text{remainder}\|/(s\|\tilde x\|)$ over both runs $\le1$ |
-# | X3 | (ours, E4–E5) the NN mechanism is not reproduced: OP1 collapses the weights, OP2 drops the neighbours | $\max_k|\lambda^{(2)}|$, $\max_{k\ge1}\|\hat W_{ij,k}\|_F$ and $\max\|H_{ij}\|$ of the NN design |
-# | X4 | (ours) Theorem 2: the solved (30) bounds $E_\alpha\{\tilde x^\top P^{-1}\tilde x\}$ by 1 (29) for admissible $\zeta$ | the quadratic form on 256 random admissible $\zeta$ per step (boundary of every constraint) |
-# | X5 | (ours) DPP re-solve equals a fresh build | $\max|P_{k+1}|$ difference at the last step (premise: that step is certified) |
-# | X6 | (ours) the printed shared multipliers (22) against per-node multipliers | $\mathrm{tr}\,\mathfrak B_k$ of both over the first `shared_diag_steps` steps; not checked unless every compared solve is certified |
-# | X7 | (ours) (29) along the run, exactly | $E_{\alpha_k}\{\tilde x_{i,k+1}^\top P_{k+1}^{-1}\tilde x_{i,k+1}\mid\text{past}\}\le1$ at every node and step (premise: the constraints of (23) hold at every step) |
-# | X8 | (ours, extra) (29) over realisations | Monte Carlo over `mc_runs` realisations: largest Student-t 95 % upper bound of the mean of $\tilde x^\top P_k^{-1}\tilde x$ over $(i,k)$ $\le1$ |
-# | X9 | (ours, brief E5) the attack-unaware conventional design uses its neighbours | median over $k$ of $\max_{ij}\|H_{ij,k}\|$ of the conventional design $\ge0.5$ |
+# | id | paper | what we measure, and the rule | decides |
+# |---|---|---|---|
+# | C1 | each node tracks both states "with a satisfactory precision" with the NN estimator (Figs. 1–4); the conventional one "with certain precision" (Figs. 5–8) | $\max|\tilde x^{(l)}_{i,k}|$ of (8) for $k\ge$ `settle_k` against `track_tol` = 0.2, **ours** (the paper states no number; 0.2 is the brief's reading of the tick residue of Fig. 4, data within about ±0.2); the conventional value is reported. **Premise**: the example's assumptions (below) on the NN run | no: its level is ours |
+# | C2 | the errors stay in the required region with probability $\ge p$ (Theorem 3, (11)) | one statistic per independent run, the fraction $f_r$ of its pairs $(i,k)$, $k=1..T$, inside $\mathfrak B_k$; Wilson interval of $E f_r$ over the `mc_runs` runs, and per pair at the Bonferroni level (section "Monte Carlo"); holds / fails / not checked by that three-way rule. **Premise**: the example's assumptions on every run | **yes** |
+# | C3 | the conventional estimator "shows worse estimation performance" than the NN-based one under the same falsified innovations (Figs. 5–8 vs 1–4) | per-node RMSE of $\|\tilde x\|$ over $k=1..T$: holds if $\mathrm{RMSE}_{NN}<(1-$`c3_margin`$)\,\mathrm{RMSE}_{conv}$ at **every** node (margin ours: a tie within solver noise is not "worse"); headline: the worst node's ratio. **Premise**: the example's assumptions on both runs | **yes** |
+# | C4 | $\mathrm{tr}[\tilde W^\top Q^{-1}\tilde W]\le1$ for all $k$ (Theorem 1) | max over links and steps, with $W=W^\star$. **By construction**: the maximum is at $k=0$, fixed by the data, and from $k=1$ on $Q=e_1^2I$ holds (19) for any $W$ that Assumption 2 allows | no: by construction |
+# | C5 | the recursive LMIs are solvable at every step (Algorithm 1, Theorems 1–3) | every solve certified by our strict certificate. **By construction**: OP2/OP3 and OP1 are feasible in exact arithmetic ($\mathfrak B_{k+1}$, $Q_{ij,k+1}$ free), so only our certificate is measured; where it rejects a solve, **not checked** (a limit of ours) | no: by construction |
+# | C7 | the attacks are estimated jointly with the states (abstract; Sec. I, contribution iv) | per link $i\leftarrow j$, $k=1..T-1$: RMS of $\chi(z_{j,k})-\hat W_{ij,k}\phi(z_{i,k})$ over the RMS of $\chi(z_{j,k})$ (the zero estimate's ratio is 1); holds if below $1-$`attack_margin` (ours: more than solver round-off) at every link where the premise's oracle fits. **Premise**: the NN class can fit the attack at all: an oracle of the same class, $W\phi(z_{i,k})$ with $W$ fitted by least squares to the true attack (two-fold cross-validated over the steps), beats the zero estimate by the same margin on at least one link; and the example's assumptions | **yes** |
+# | C8a | Theorem 2, (29), exactly along the run | $E_{\alpha_k}\{\tilde x_{i,k+1}^\top P_{k+1}^{-1}\tilde x_{i,k+1}\mid\text{past}\}\le1$ at every node and certified step (both branches of $\alpha_k$ computed). **Premise**: the constraints of (23) hold at every certified step | no: a step of Theorem 3, which C2 decides |
+# | C8b | Theorem 2, (29), over realisations | per pair, Student-t interval of the mean of $\tilde x^\top P_k^{-1}\tilde x$ over the runs at the Bonferroni level: holds if every upper end $\le1$, fails if some lower end $>1$, else not checked | no: as C8a |
+# | X1 | (ours) the error dynamics (54) | $\max|\tilde x_{i,k+1}-(\Xi_i+\tilde\alpha_k\tilde\Xi_i)\zeta_k|$ at the actual $\zeta_k$, certified steps, $\le10^{-10}$ (round-off) | no: ours |
+# | X2 | (ours) the premise (12)–(13) at this point's $L_i=\aleph_i$ | worst ratio $\|\text{remainder}\|/(s\|\tilde x\|)$ over the certified steps of both runs $\le1$ | no: ours |
+# | X3 | (ours, E4–E5) the NN mechanism is not reproduced: OP1 collapses the weights, OP2 drops the neighbours | $\max_k|\lambda^{(2)}|\le10^{-6}$, $\max_{k\ge1}\|\hat W_{ij,k}\|_F\le10^{-6}$, $\max\|H_{ij}\|\le10^{-2}$ (levels ours: orders of magnitude above round-off, below any active compensation) | no: ours |
+# | X4 | (ours) Theorem 2's Schur step: the solved (30) bounds the quadratic form by 1 for admissible $\zeta$ | 256 random admissible $\zeta$ per certified step (boundary of every constraint) | no: ours |
+# | X5 | (ours) DPP re-solve equals a fresh build | $\max|P_{k+1}|$ difference at the last step $\le10^{-6}$ (premise: that step is certified) | no: ours |
+# | X6a | (ours) our solvers certify the printed shared-multiplier LMI (22) at the first `shared_diag_steps` steps | uncertified shared solves $=0$ (a statement about our numerics, not the paper's) | no: ours |
+# | X6b | (ours) the printed (22) is never less conservative than per-node multipliers | $\mathrm{tr}\,\mathfrak B_k$ shared $\ge$ per-node $-10^{-6}$ at $k=1..$`shared_diag_steps`; $k=1$ holds by construction (same data, a special case), $k\ge2$ is measured (the data differ); not checked unless every compared solve is certified | no: ours |
+# | X9 | (ours, brief E5) the attack-unaware conventional design uses its neighbours | median over $k$ of $\max_{ij}\|H_{ij,k}\|$ of the conventional design $\ge0.5$ (ours: a third of the 1.5 the brief reports, 500 times the NN design's $\sim10^{-3}$) | no: ours |
 #
 # C6 (the cost per step, Remark 7) is a timing and belongs to the benchmark suite (`make bench`).
 #
+# **The example's assumptions** (the premise of C1, C2, C3 and C7): Assumption 3 at $k=0$, and
+# (12)–(13) with $L_i=\aleph_i=sI$ and $\|\delta_j\|\le e_3$ at every **certified** step of the
+# runs the claim is measured on. Premises are evaluated on certified steps only: after the first
+# solve that our certificate rejects, our fallback keeps the previous gains and doubles $P$ (brief
+# §7), so the run is no longer Algorithm 1's, and what it does says nothing about the paper.
+#
 # **Our numerical limits are not the paper's failures.** OP2 is feasible in exact arithmetic
-# ($\mathfrak B_{k+1}$ is a free variable, brief §7), so a step our strict certificate rejects is
-# not evidence against the paper unless a solver says the problem is infeasible. The criterion,
-# fixed from the solvers' statuses before looking at which points it moves: a solve is *not
-# certified* when no solver returns status "optimal" with every LMI's largest eigenvalue
-# $\le-10^{-8}$; the first such solve of a run is *infeasible* if a solver reported the problem
-# infeasible, else *numerical* (an "optimal" solution that used up the margin, an
-# "optimal_inaccurate" one, or a solver error). Only the first counts: after it our fallback keeps
-# the previous gains and doubles $P$ (brief §7), so the run is no longer Algorithm 1's. Hence C5
-# fails only on an infeasibility report and is **not checked** on a numerical one; C1, C2, C3
-# and X7, measured on the trajectories, are **not checked** wherever our fallback drove the
-# NN run (C3: either run); X6 is not checked unless every compared solve is certified. X1 and X4
-# use certified steps only; X3 and X9 read the gains, which after a rejected step are copies of
-# the last certified ones, and stand as measured.
+# ($\mathfrak B_{k+1}$ is a free variable, brief §7), and so is OP1 ($Q_{ij,k+1}$ free), so a
+# rejected solve is ours, whatever the solver's status. A solve is *not certified* when no solver
+# returns status "optimal" with every LMI's largest eigenvalue $\le-10^{-8}$; C5's
+# `first_failure` records whether a solver called the first one "infeasible" or "numerical". C5 is
+# then not checked; C1, C2, C3, C7 and C8a, measured on the trajectories, are **not checked**
+# wherever our fallback drove a run they are measured on (after their premise, which decides
+# first); X6b is not checked unless every compared solve is certified. X1 and X4 use certified
+# steps only; X3 and X9 read the gains, which after a rejected step are copies of the last
+# certified ones, and stand as measured.
+#
+# **Which claims decide** (`results.rescience_verdict`, the one rule for all five papers): the
+# paper's main contributions, from its abstract, introduction and conclusion, each a measured
+# statement that can fail: the probability guarantee (C2, Theorem 3), the NN-based mechanism that
+# mitigates the falsified innovations, shown by the example's comparison (C3), and the joint
+# estimation of the attacks (C7, contribution iv). The solvability of the recursive LMIs (C5) and
+# Theorem 1's weight bound (C4) hold by construction here and cannot decide; C1's level is ours;
+# C8a/C8b are Theorem 2's intermediate step towards Theorem 3, which C2 decides.
 #
 # Every claim is measured at this run's point; `make robustness` measures it at every point of the
 # declared space, and the verdict written to `claims.json` is the one over that space, decided on
-# the points where the claim is checked and its premise holds (X5 and X8 are extras, not swept:
-# their verdict is this point's). Over the 70 points of the grid (counts, not sampled fractions:
-# the levels are fixed, see "The missing Taylor scales"): **C3 undetermined, holds at 12 of the
-# 57 checked** (8 of 10 at $s=0.116$, 4 of 10 at 0.139, none from 0.166 on, none under "0d5" =
-# 0.05; not checked at the 13 points where our fallback drove a run); C5 holds at the 57 points
-# where it is decided, not checked at 13 (all 10 at $s=0.34$, and at 0.284 under "0d5" = 0.05
-# and with $\bar\alpha=0.6$, seed 0: our strict certificate, no solver reports infeasibility);
-# C1 holds at 60, not checked at the 10 at $s=0.34$ (our fallback drove the NN run; at 0.284
-# only the conventional run was rejected); C2 and X7 hold at 58, fail their premise at 2
-# ($s=0.116$ under the $g_1$ reading), C2 not checked at the 10 at 0.34, where X7's premise fails
-# (a failed premise decides before a check that could not be made); X2 undetermined, 68 (not where C2's premise
-# fails); X6 holds at 58, not checked at 12 (the shared LMI is not certified at $k=1$ under the
-# readings of $E_1$, $f$, $g_1$); X9 undetermined, 22 (at $s\le0.139$, and at 0.166 under the
-# $g_1$ reading); C4 (by construction), X1, X3, X4 hold at all 70. The cell below prints each
-# verdict with the sweep's count and region.
+# the points where the claim is checked and its premise holds (X5 is an extra, not swept: its
+# verdict is this point's). The counts over the space are printed below from
+# `figures/ma2021/robustness.json`, and per Taylor-scale level in the section "Verdict".
 
 # %%
 SEC_EXAMPLE = "The example (Section IV): both estimators under the same falsified innovations"
+SEC_MC = r"Monte Carlo over independent $\alpha_k$ realisations (C2, C8b)"
+SEC_TAYLOR = r"The missing Taylor scales $L_i$, $\aleph_i$: a declared range"
+TOL_LMI = results.LMI_ITERATES  # every value below driven by interior-point LMI solves
 
 
 def first_failure(res: dict) -> str | None:
     """How the first uncertified solve of a run failed: None (every solve certified),
     "infeasible" (a solver reported the problem infeasible) or "numerical" (no solver reported
-    infeasibility; each returned an inaccurate or uncertified solution, or a solver error).
-
-    Only the first counts: after it our fallback keeps the previous gains and doubles P (brief
-    §7), so later solves are of our fallback's trajectory, not of Algorithm 1's.
-    """
+    infeasibility; each returned an inaccurate or uncertified solution, or a solver error)."""
     if not res["failures"]:
         return None
     return "infeasible" if "infeasible" in res["failure_outcomes"][0].values() else "numerical"
@@ -1369,63 +1374,106 @@ def failure_place(msg: str) -> str:
     return msg.splitlines()[0].split(" at ", 1)[-1]
 
 
+def certified_steps(res: dict) -> int:
+    """The leading steps k = 0, 1, ... before the first uncertified solve (OP2/OP3 or OP1): the
+    steps that are Algorithm 1's (after it our fallback drives the run)."""
+    steps = [re.search(r"step (\d+),", msg) for msg in res["failures"]]
+    if not all(steps):
+        raise ValidationError(f"an uncertified solve names no step: {res['failures']}")
+    return min((int(m.group(1)) for m in steps), default=res["Hn"].size)
+
+
 def fallback_note(*runs: tuple[str, dict]) -> str | None:
     """The not-checked reason of a claim measured on runs where our fallback fired, else None."""
-    fired = [f"{name} at {failure_place(r['failures'][0])}" for name, r in runs if r["failures"]]
+    fired = [(name, r) for name, r in runs if r["failures"]]
     if not fired:
         return None
-    return ("our fallback (previous gains kept, P doubled, brief §7) drove the run after an "
-            "uncertified solve (" + ", ".join(fired) + "): the trajectory is not Algorithm 1's")
-SEC_TAYLOR = r"The missing Taylor scales $L_i$, $\aleph_i$: a declared range"
-TOL_LMI = results.LMI_ITERATES  # every value below driven by interior-point LMI solves
+    first = ", ".join(f"{name} at {failure_place(r['failures'][0])}" for name, r in fired[:2])
+    return (f"our fallback (previous gains kept, P doubled, brief §7) drove {len(fired)} of the "
+            f"{len(runs)} run(s) measured after an uncertified solve ({first}"
+            + (", ..." if len(fired) > 2 else "") + "): the trajectory is not Algorithm 1's")
+
+
+def example_premise(runs: list, what: str) -> tuple[str, bool]:
+    """The example's assumptions: Assumption 3 at k = 0; (12)-(13) and ||delta_j|| <= e3 on the
+    certified steps of every run in `runs` (premise of C1, C2, C3, C7)."""
+    wf = wg = wd = 0.0
+    for res in runs:
+        n_c = certified_steps(res)
+        wf = max(wf, res["ratio_f"].reshape(-1, N)[:n_c].max(initial=0.0) / L_scale)
+        wg = max(wg, res["ratio_g"].reshape(-1, N)[:n_c].max(initial=0.0) / aleph_scale)
+        wd = max([wd] + [float(np.linalg.norm(chi(zj) - W_star @ phi(zj)))
+                         for zk in res["run"].z[:n_c] for zj in zk])
+    n_cert = sum(certified_steps(r) for r in runs)
+    text = (f"Assumption 3 at k = 0 (quadratic forms {np.round(A3_forms, 3).tolist()} <= 1, weight "
+            f"part {A3_weight:.3f} <= 1); on the certified steps of {what} ({n_cert} of "
+            f"{sum(r['Hn'].size for r in runs)}): (12)-(13) with L_i = aleph_i = {L_scale:g} I (worst "
+            f"||remainder|| / (s ||x~||): f {wf:.3f}, g {wg:.3f} <= 1) and ||delta_j|| <= e3 "
+            f"(max {wd:.3f} <= {e3:g})")
+    return text, bool(A3_holds and wf <= 1.0 and wg <= 1.0 and wd <= e3)
+
+
 claims = {}
 late = k_axis >= min(settle_k, T_run)
 max_late = {name: float(np.max(np.abs(r["err"][late]))) for name, r in
             (("nn", nn_run), ("conv", conv_run))}
+note_nn = fallback_note(("NN", nn_run))
 claims["C1"] = results.claim(
     paper="Figs. 1-4: the NN-based estimator (8) estimates both state components at every node "
     "'with a satisfactory precision' (the conventional one, Figs. 5-8, is 'also capable of providing "
     "state estimation with certain precision')",
     check=f"max |x~^(l)_(i,k)| of (8) over nodes, components and k >= {min(settle_k, T_run)} "
-    f"<= track_tol = {track_tol} (ours: the paper states no number for 'satisfactory precision', "
-    "and its OCR keeps no figure data, only the error axes' tick labels -0.8..1); the conventional "
-    "estimator's value is reported (it may exceed track_tol: the paper claims only 'certain "
-    "precision' for it)",
+    f"<= track_tol = {track_tol:g}. track_tol is ours: the paper states no number for 'satisfactory "
+    "precision' and its OCR keeps no figure data; 0.2 is the brief's reading of the tick residue "
+    "of Fig. 4 (data within about +-0.2), about a tenth of the state's level (1.2-2); settle_k "
+    f"= {settle_k} is ours (after the transient). The conventional estimator's value is reported, "
+    "not judged (the paper claims only 'certain precision' for it)",
     measured={**max_late, "nn_smaller_than_conv": max_late["nn"] < max_late["conv"]}, key="nn",
-    threshold=track_tol,
-    holds=None if fallback_note(("NN", nn_run)) else max_late["nn"] <= track_tol,
-    not_checked=fallback_note(("NN", nn_run)),
+    threshold=track_tol, holds=None if note_nn else max_late["nn"] <= track_tol,
+    not_checked=note_nn, premise=example_premise([nn_run], "the NN run"),
     source="Sec. IV, Figs. 1-4 (and Figs. 5-8)", section=SEC_EXAMPLE, tolerance=TOL_LMI,
 )
-inside = nn_run["qf"][1:] <= 1.0  # k = 1..T: x~_0^T B_0^-1 x~_0 <= 1 - p by Assumption 3
-c2_lo, c2_hi = montecarlo.wilson_interval(int(inside.sum()), inside.size)
-ratio_f_nn = nn_run["ratio_f"].max() / L_scale
-ratio_g_nn = nn_run["ratio_g"].max() / aleph_scale
-premise_c2 = A3_holds and max(ratio_f_nn, ratio_g_nn) <= 1.0 and nn_run["delta_n"].max() <= e3
+note_mc = fallback_note(*((f"NN run {r_}", res) for r_, res in enumerate(mc_runs_list)))
+pairs_below = int((pair_hi < p).sum())
+if note_mc:
+    c2_holds, c2_note = None, note_mc
+elif c2_hi < p or pairs_below:
+    c2_holds, c2_note = False, None
+elif c2_lo >= p:
+    c2_holds, c2_note = True, None
+else:
+    c2_holds, c2_note = None, (
+        f"{n_mc} runs cannot decide: the Wilson interval [{c2_lo:.3f}, {c2_hi:.3f}] of E f_r "
+        "contains p and no pair's Bonferroni interval lies below p (with every run inside at every "
+        "pair, 16 runs decide)")
 claims["C2"] = results.claim(
     paper="Theorem 3, (10)-(11): P{x~_(i,k)^T B_k^-1 x~_(i,k) <= 1} >= p = 0.8 at every node and "
     "step ('both the estimation errors are confined within the required range')",
-    check="fraction of (node, step) pairs, k = 1..T, inside the OP2 ellipsoid B_k of the NN design "
-    "on this realisation (k = 0 left out: B_0 = P_0 / (1 - p), so Assumption 3 alone puts its forms "
-    "below 1 - p; reported as max_quadratic_form_k0); holds if the lower end of the Wilson 95 % "
-    "interval (level ours) is >= p (the interval treats the pairs as a sample; they are not "
-    "independent, so it overstates the confidence)",
-    measured={"fraction": float(inside.mean()), "inside": int(inside.sum()), "pairs": inside.size,
-              "max_quadratic_form": float(nn_run["qf"][1:].max()),
+    check=f"one statistic per independent alpha_k realisation (NN design, {n_mc} runs, each with "
+    "its own B_k): f_r, the fraction of its (node, step) pairs, k = 1..T, inside B_k; E f_r >= p "
+    "by Theorem 3. k = 0 is left out and is no evidence: B_0 = P_0 / (1 - p), so the premise "
+    "(Assumption 3) alone puts its forms below 1 - p (reported: max_quadratic_form_k0). Fails if "
+    "the upper end of the Wilson score interval of E f_r over the runs (95 %, level ours; valid "
+    "for a statistic in [0, 1]) is below p, or if at some pair the Wilson interval of the fraction "
+    f"of runs inside at the Bonferroni level 1 - 0.05/{n_pairs} (the {n_pairs} pairs tested) lies "
+    "wholly below p; holds if the lower end for E f_r is >= p and no pair fails; else not checked "
+    "(too few runs to decide)",
+    measured={"mean_fraction": float(f_runs.mean()), "min_run_fraction": float(f_runs.min()),
+              "runs": n_mc, "pairs_per_run": n_pairs, "pairs_below_p_bonferroni": pairs_below,
+              "min_pair_upper_bonferroni": float(pair_hi.min()),
+              "fraction_main_run": float(inside_mc[0].mean()),
+              "max_quadratic_form": float(np.max([r["qf"][1:].max() for r in mc_runs_list])),
               "max_quadratic_form_k0": float(nn_run["qf"][0].max()),
-              "fraction_conventional_design": float(np.mean(conv_run["qf"] <= 1.0))},
-    key="fraction", interval=results.interval(c2_lo, c2_hi, method="wilson"),
-    threshold=p, holds=None if fallback_note(("NN", nn_run)) else c2_lo >= p,
-    not_checked=fallback_note(("NN", nn_run)), decides=True,
-    premise=(f"Assumption 3 at k = 0 (quadratic forms {np.round(A3_forms, 3).tolist()} <= 1, "
-             f"weight part {A3_weight:.3f} <= 1), (12)-(13) along the NN run (worst remainder "
-             f"ratio over the scale: f {ratio_f_nn:.3f}, g {ratio_g_nn:.3f} <= 1) and "
-             f"||delta_j|| <= e3 (max {nn_run['delta_n'].max():.3f})", bool(premise_c2)),
-    source="Theorem 3, (10)-(11); Sec. IV, Figs. 3-4", section=SEC_EXAMPLE, tolerance=TOL_LMI,
+              "fraction_conventional_design": float(np.mean(conv_run["qf"][1:] <= 1.0))},
+    key="mean_fraction", interval=results.interval(c2_lo, c2_hi, method="wilson score over runs"),
+    threshold=p, holds=c2_holds, not_checked=c2_note, decides=True, runs=n_mc,
+    premise=example_premise(mc_runs_list, f"the {n_mc} NN runs"),
+    source="Theorem 3, (10)-(11); Sec. IV, Figs. 3-4", section=SEC_MC, tolerance=TOL_LMI,
 )
 e_nn, e_conv = rmse(nn_run), rmse(conv_run)
 ratio_c3 = e_nn / e_conv
 nodes_better = [i + 1 for i in range(N) if ratio_c3[i] < 1.0 - c3_margin]
+note_c3 = fallback_note(("NN", nn_run), ("conventional", conv_run))
 claims["C3"] = results.claim(
     paper="Sec. IV: 'in comparison to our developed approach, the conventional algorithm shows "
     "worse estimation performance in the existence of falsified innovations' (Figs. 5-8 against "
@@ -1440,10 +1488,9 @@ claims["C3"] = results.claim(
               "mean_nn": float(e_nn.mean()), "mean_conventional": float(e_conv.mean()),
               "taylor_scale": float(L_scale)},
     key="worst_node_ratio", threshold=1.0 - c3_margin,
-    holds=None if fallback_note(("NN", nn_run), ("conventional", conv_run)) else len(nodes_better) == N,
-    not_checked=fallback_note(("NN", nn_run), ("conventional", conv_run)), decides=True,
-    source="Sec. IV, last paragraph; Figs. 1-8", section=SEC_EXAMPLE,
-    tolerance=TOL_LMI,
+    holds=None if note_c3 else len(nodes_better) == N, not_checked=note_c3, decides=True,
+    premise=example_premise([nn_run, conv_run], "both runs"),
+    source="Sec. IV, last paragraph; Figs. 1-8", section=SEC_EXAMPLE, tolerance=TOL_LMI,
 )
 thm1_max = float(nn_run["Wq"].max())
 claims["C4"] = results.claim(
@@ -1465,12 +1512,12 @@ c5_holds = n_uncert == 0 and worst is not None and worst <= -cert_tol
 claims["C5"] = results.claim(
     paper="Algorithm 1 / Theorems 1-3 (conditional on the solvability of (18) and (30); the example "
     "implies it): the recursive LMIs are solvable at every step",
-    check="number of steps without a certified solution (OP2 of both designs, OP1) == 0, and the "
-    f"largest eigenvalue of every solved LMI matrix <= -{cert_tol:g} (the strict LMIs hold). "
-    "Where a solve is not certified, the first uncertified solve of each run decides (later ones "
-    "follow our fallback): fails if a solver reported that problem infeasible; not checked if "
-    "none did (every solver returned an inaccurate or uncertified solution: a limit of our "
-    "certificate, since OP2 is feasible in exact arithmetic with B_(k+1) free, brief §7)",
+    check="By construction: OP2/OP3 (30) is feasible in exact arithmetic (B_(k+1) is free, brief "
+    "§7) and so is OP1 (18) (Q_(ij,k+1) free), so solvability cannot fail; what is measured is our "
+    "strict certificate: every solve of both designs (OP2, OP1) certified, largest eigenvalue of "
+    f"every solved LMI matrix <= -{cert_tol:g}. Holds if every solve is certified; where one is not, "
+    "a limit of our numerics: not checked (first_failure records whether a solver called the "
+    "first rejected solve of each run infeasible or numerical)",
     measured={"uncertified_steps": n_uncert, "solves": len(all_reports) + n_uncert,
               "max_eigenvalue": worst, "fallbacks_to_scs": sum(r.fallback for r in all_reports),
               "statuses": sorted({r.status for r in all_reports}),
@@ -1478,13 +1525,13 @@ claims["C5"] = results.claim(
               "max_residual": max((max(r.residual.values()) for r in all_reports), default=0.0),
               "first_failure": {k_: v_ or "none" for k_, v_ in c5_first.items()}},
     key="uncertified_steps", threshold={"uncertified_steps": 0, "max_eigenvalue": -cert_tol},
-    holds=(c5_holds if c5_holds or "infeasible" in c5_first.values() else None),
-    not_checked=(None if c5_holds or "infeasible" in c5_first.values() else
-                 "no solver reported an uncertified step infeasible: our strict certificate cannot "
-                 "decide it (first uncertified solve: " + ", ".join(
-                     f"{k_} at {failure_place(r_['failures'][0])}" for k_, r_ in
-                     (("NN", nn_run), ("conventional", conv_run)) if r_["failures"]) + ")"),
-    decides=True,
+    holds=True if c5_holds else None,
+    not_checked=None if c5_holds else (
+        "our strict certificate rejected a solve of a problem that is feasible in exact arithmetic "
+        "(first uncertified solve: " + ", ".join(
+            f"{k_} at {failure_place(r_['failures'][0])}" for k_, r_ in
+            (("NN", nn_run), ("conventional", conv_run)) if r_["failures"]) + ")"),
+    basis="by-construction",
     source="Algorithm 1 (step 3 'solve (30)'); Theorems 1-3", section=SEC_EXAMPLE,
     tolerance=results.Tolerance(
         rtol=0.25, atol=1e-6,
@@ -1493,29 +1540,105 @@ claims["C5"] = results.claim(
         "end the count of uncertified steps depends on the last digits of the data; the "
         "certification itself is compared exactly through holds"),
 )
+
+
+def rms_ratio(a: np.ndarray, est: np.ndarray) -> float:
+    """RMS of the error of `est` over the RMS of `a` (the zero estimate's ratio is 1)."""
+    return float(np.sqrt(np.sum((a - est) ** 2) / np.sum(a**2)))
+
+
+def oracle_ratio(X: np.ndarray, a: np.ndarray) -> float:
+    """rms_ratio of the least-squares fit a ~ W x (rows of X), two-fold cross-validated over the
+    steps (the even steps' fit predicts the odd ones and back), so that it is not in-sample."""
+    test_even = np.arange(len(a)) % 2 == 0
+    pred = np.zeros_like(a)
+    for test in (test_even, ~test_even):
+        W = np.linalg.lstsq(X[~test], a[~test], rcond=None)[0]
+        pred[test] = X[test] @ W
+    return rms_ratio(a, pred)
+
+
+def attack_estimates(res: dict) -> dict:
+    """Per link i <- j over k = 1..T-1 (C7): the ratio of the NN's estimate W^_(ij,k) phi(z_(i,k))
+    of the injected signal chi(z_(j,k)), and of the oracle fits with inputs phi(z_i) (8) and
+    phi(z_j) (the model (6))."""
+    run_, ks = res["run"], np.arange(1, res["run"].z.shape[0])
+    out = {"nn": [], "oracle": [], "oracle_model6": []}
+    for i, j in LINKS:
+        a = np.array([chi(run_.z[k, j]) for k in ks])
+        out["nn"].append(rms_ratio(a, np.array([run_.W_hat[k][(i, j)] @ run_.phi[k, i]
+                                                for k in ks])))
+        out["oracle"].append(oracle_ratio(run_.phi[ks, i], a))
+        out["oracle_model6"].append(oracle_ratio(run_.phi[ks, j], a))
+    return {key: np.array(val) for key, val in out.items()}
+
+
+att = attack_estimates(nn_run) if T_run >= 5 else None  # the oracle needs >= 2 steps per fold
+fit_links = [] if att is None else [a for a in range(len(LINKS))
+                                    if att["oracle"][a] < 1.0 - attack_margin]
+link_names = [f"{i + 1}<-{j + 1}" for i, j in LINKS]
+prem_ex = example_premise([nn_run], "the NN run")
+c7_note = note_nn or (None if att is not None else
+                      f"T = {T_run}: too few steps for the two-fold oracle fit (needs >= 5)")
+claims["C7"] = results.claim(
+    paper="Abstract: 'to jointly estimate the system states as well as the unknown deception "
+    "attacks'; Sec. I, contribution iv): 'a joint estimation algorithm is provided to "
+    "simultaneously estimate the system state and falsified innovations' (the NN (6) approximates "
+    "the injected signal chi; (8) subtracts its expectation)",
+    check="the attack estimate on link i <- j is the NN output W^_(ij,k) phi(z_(i,k)) that (8) uses "
+    "for the injected signal chi(z_(j,k)) (ours: the paper names no measure). Per link over "
+    "k = 1..T-1 (W^_0 = I is Assumption 3's given initial guess, not an estimate): ratio = RMS of "
+    "the error over RMS of chi(z_j), the zero estimate's ratio being 1. Holds if the ratio is "
+    f"below 1 - attack_margin = {1 - attack_margin:g} (ours: beats the zero estimate by more than "
+    "solver round-off) at every link where the premise's oracle fits. Premise: the NN class can "
+    "fit the attack at all: an oracle of the same class, W phi(z_(i,k)), with W fitted by least "
+    "squares to the true attack (two-fold cross-validated over the steps, so not in-sample), "
+    "beats the zero estimate by the same margin on at least one link; the oracle with the model "
+    "(6)'s input phi(z_j) is reported. Headline: the worst NN ratio over the links where the "
+    "oracle fits (over every link if none does)",
+    measured={} if att is None else {
+        "worst_nn_ratio": float(max(att["nn"][fit_links] if fit_links else att["nn"])),
+        "nn_ratio": att["nn"], "oracle_ratio": att["oracle"],
+        "oracle_ratio_model6": att["oracle_model6"], "links": link_names,
+        "links_oracle_fits": [link_names[a] for a in fit_links],
+        "nn_minus_one": att["nn"] - 1.0},
+    key=None if att is None else "worst_nn_ratio", threshold=1.0 - attack_margin,
+    holds=None if c7_note else bool(all(att["nn"][a] < 1.0 - attack_margin for a in fit_links)),
+    not_checked=c7_note, decides=True,
+    premise=(("the NN class fits the attack on at least one link (oracle, cross-validated ratio < "
+              f"{1 - attack_margin:g}): " + ("not evaluated (too few steps)" if att is None else
+              ", ".join(f"{n_} {v_:.4f}" for n_, v_ in zip(link_names, att["oracle"], strict=True)))
+              + "; and " + prem_ex[0]), bool(prem_ex[1] and (att is None or fit_links))),
+    source="Abstract; Sec. I, contribution iv); (6), (8), (17)", section=SEC_EXAMPLE,
+    tolerance=results.Tolerance(rtol=1e-3, atol=1e-6, reason="ratios of LMI-driven trajectories; "
+                                "the NN part sits at solver round-off (~1e-11)"),
+)
 dyn = float(nn_run["dyn_res"].max()) if nn_run["dyn_res"].size else None
 claims["X1"] = results.claim(
     paper="(ours) error dynamics (54) with the row blocks re-derived from (15)-(16)",
     check="max |x~_(i,k+1) - (Xi_i + (alpha_k - alpha_bar) Xi~_i) zeta_k| over nodes and certified "
     "steps (an uncertified step keeps the previous gains, so (54) with its solution does not apply), "
-    "zeta_k built from the actual remainders, delta = chi - W* phi and r = Mbar^-1 rho(W* - W_hat)",
+    "zeta_k built from the actual remainders, delta = chi - W* phi and r = Mbar^-1 rho(W* - W_hat); "
+    "<= 1e-10 (ours: round-off)",
     measured=dyn, threshold=1e-10, holds=dyn is not None and dyn <= 1e-10,
     source="ours; (15)-(16), (24)-(28), (54)", section=SEC_EXAMPLE,
     tolerance=results.Tolerance(rtol=1.0, atol=1e-12, reason="a residual at round-off level"),
 )
-rat_f = np.concatenate([nn_run["ratio_f"], conv_run["ratio_f"]])
-rat_g = np.concatenate([nn_run["ratio_g"], conv_run["ratio_g"]])
-x2_worst = float(max(rat_f.max() / L_scale, rat_g.max() / aleph_scale))
+n_cert_nn, n_cert_conv = certified_steps(nn_run), certified_steps(conv_run)
+rat_f = np.concatenate([nn_run["ratio_f"][: n_cert_nn * N], conv_run["ratio_f"][: n_cert_conv * N]])
+rat_g = np.concatenate([nn_run["ratio_g"][: n_cert_nn * N], conv_run["ratio_g"][: n_cert_conv * N]])
+x2_worst = float(max(rat_f.max(initial=0.0) / L_scale, rat_g.max(initial=0.0) / aleph_scale))
 claims["X2"] = results.claim(
     paper="(ours) the premise of Theorems 2-3: Taylor remainders (12)-(13) with ||Delta|| <= 1, "
     "i.e. ||remainder|| <= s ||x~|| with L_i = L_scale I and aleph_i = aleph_scale I",
-    check="worst ratio ||remainder|| / (s ||x~||) over the (node, step) pairs of the NN and the "
-    "conventional run, for f with L_scale and g_i with aleph_scale, <= 1; the k = 0 ratios (the "
-    "lower end of the declared range) and the coverage fractions are reported",
+    check="worst ratio ||remainder|| / (s ||x~||) over the (node, step) pairs of the certified "
+    "steps of the NN and the conventional run, for f with L_scale and g_i with aleph_scale, <= 1; "
+    "the k = 0 ratios (the lower end of the declared range) and the coverage fractions are reported",
     measured={"worst_ratio_over_scale": x2_worst,
-              "fraction_f": float(np.mean(rat_f <= L_scale)),
-              "fraction_g": float(np.mean(rat_g <= aleph_scale)),
-              "max_ratio_f": float(rat_f.max()), "max_ratio_g": float(rat_g.max()),
+              "fraction_f": float(np.mean(rat_f <= L_scale)) if rat_f.size else 1.0,
+              "fraction_g": float(np.mean(rat_g <= aleph_scale)) if rat_g.size else 1.0,
+              "max_ratio_f": float(rat_f.max(initial=0.0)),
+              "max_ratio_g": float(rat_g.max(initial=0.0)),
               "k0_ratio_f": r0_f, "k0_ratio_g": r0_g,
               "max_delta": float(nn_run["delta_n"].max())},
     key="worst_ratio_over_scale", threshold=1.0, holds=x2_worst <= 1.0,
@@ -1530,8 +1653,9 @@ claims["X3"] = results.claim(
     "symmetric in lambda2, so OP1 returns lambda2 = 0 and (with Q_0 = 20 I > e1^2 I) lambda1 = 0, "
     "W_hat = 0 from k = 1 on; and the robust OP2 (30) drops the neighbour innovations",
     check="max_k |lambda2| <= 1e-6, max_(k>=1) ||W_hat_(ij,k)||_F <= 1e-6 and max_k ||H_ij,k|| of "
-    "the NN design <= 1e-2; reported: the compensation actually subtracted in (8), lambda1 at "
-    "k = 0 and the deviation of tr Q_(ij,k), k >= 1, from n_y e1^2 (E4 predicts Q = e1^2 I)",
+    "the NN design <= 1e-2 (levels ours: orders of magnitude above solver round-off, ~1e-11, and "
+    "below any compensation that could act); reported: the compensation actually subtracted in "
+    "(8), lambda1 at k = 0 and the deviation of tr Q_(ij,k), k >= 1, from n_y e1^2",
     measured={"max_What_after_k0": w_after, "max_abs_lambda2": lam2, "max_H_nn": h_nn,
               "lambda1_k0": nn_run["lam"][0, :, 0],
               "max_compensation": float(nn_run["comp"].max()),
@@ -1558,83 +1682,106 @@ if extras:
     claims["X5"] = results.claim(
         paper="(ours) DPP: the per-step problem built once with cp.Parameters and re-solved gives the "
         "same solution as a freshly built problem",
-        check="max |P_(k+1) re-solved - P_(k+1) fresh| at the last step <= 1e-6",
+        check="max |P_(k+1) re-solved - P_(k+1) fresh| at the last step <= 1e-6 (ours: far above "
+        "the solvers' 1e-7 tolerances' effect on P)",
         measured=dpp_gap, threshold=1e-6, holds=dpp_gap is not None and dpp_gap <= 1e-6,
         premise=("the last step of the NN run is certified (else there is no solution to compare)",
                  last_certified),
         source="ours", section=SEC_EXAMPLE,
         tolerance=results.Tolerance(rtol=1.0, atol=1e-6, reason="difference of two solver runs"),
     )
+SEC_SHARED = "The printed shared multipliers (22), first steps"
+claims["X6a"] = results.claim(
+    paper="(ours) our solvers certify the printed LMI (22), with one multiplier set Gamma_k shared "
+    "by all nodes, at the first shared_diag_steps steps (a statement about our numerics; OP2 with "
+    "shared multipliers is feasible in exact arithmetic, B_(k+1) being free)",
+    check=f"uncertified solves of the shared-multiplier design over k = 0..{n_sh - 1} == 0",
+    measured={"uncertified_steps_shared": len(shared_run["failures"]), "steps": n_sh},
+    key="uncertified_steps_shared", threshold=0, holds=len(shared_run["failures"]) == 0,
+    source="ours; (22) as printed", section=SEC_SHARED, tolerance=TOL_LMI,
+)
 x6_uncert = [msg for msg in shared_run["failures"] + nn_run["failures"]
              if any(f"step {k_}," in msg for k_ in range(n_sh))]
 x6_note = (f"not every compared solve is certified (at {failure_place(x6_uncert[0])}): no certified "
            "pair of solutions to compare (a limit of our solver, not a counter-example)"
            if x6_uncert else None)
-claims["X6"] = results.claim(
+excess = trB_shared - trB_node
+claims["X6b"] = results.claim(
     paper="(ours) the printed LMI (22) with one multiplier set Gamma_k shared by all nodes is a "
     "special case of per-node multipliers, so it is never less conservative",
-    check=f"tr B_k of the shared design >= that of the per-node design - 1e-6 at every step "
-    f"k = 0..{n_sh} on the same data (min_excess); checked only where every compared solve of both "
-    "designs is certified (else not checked: without two certified solutions there is nothing to "
-    "compare). Headline: uncertified shared steps",
-    measured={"min_excess": float(np.min(trB_shared - trB_node)), "trB_shared": trB_shared,
-              "trB_per_node": trB_node, "uncertified_steps_shared": len(shared_run["failures"])},
-    key="uncertified_steps_shared", threshold=0,
-    holds=None if x6_note else bool(np.all(trB_shared >= trB_node - 1e-6)), not_checked=x6_note,
-    source="ours; (22) as printed", section="The printed shared multipliers (22), first steps",
-    tolerance=TOL_LMI,
+    check=f"tr B_k of the shared design >= that of the per-node design - 1e-6 at k = 1..{n_sh} on "
+    "the same data; k = 1 holds by construction (both start from B_0, P_0 and x^_0, and the shared "
+    "LMI is a special case), k >= 2 is measured (the two runs' data differ from k = 1 on). "
+    "Headline: the smallest excess at k >= 2 (at k = 1 if only one step is run). Checked only where "
+    "every compared solve is certified (else not checked)",
+    measured={"min_excess_measured": float(np.min(excess[2:] if n_sh >= 2 else excess[1:])),
+              "min_excess": float(np.min(excess)), "trB_shared": trB_shared,
+              "trB_per_node": trB_node},
+    key="min_excess_measured", threshold=-1e-6,
+    holds=None if x6_note else bool(np.all(excess >= -1e-6)), not_checked=x6_note,
+    source="ours; (22) as printed", section=SEC_SHARED, tolerance=TOL_LMI,
 )
-steps = np.arange(T_run)
 step_ok = ((nn_run["qP"][:-1] <= 1.0).all(axis=1)
            & (nn_run["ratio_f"].reshape(T_run, N) <= L_scale).all(axis=1)
            & (nn_run["ratio_g"].reshape(T_run, N) <= aleph_scale).all(axis=1)
            & (nn_run["delta_n"].reshape(T_run, N) <= e3).all(axis=1)
            & (nn_run["Wq"][:-1] <= 1.0).all(axis=1)
-           & np.isfinite(nn_run["cond"]).all(axis=1))
-cond_ok = nn_run["cond"][step_ok]
-x7 = float(cond_ok.max()) if cond_ok.size else None
-claims["X7"] = results.claim(
-    paper="(ours) Theorem 2, (29): E{x~_(i,k+1)^T P_(k+1)^-1 x~_(i,k+1)} <= 1, the expectation over "
-    "alpha_k (E8), given the past",
-    check="max over nodes and the steps whose premise holds of the exact conditional expectation "
-    "(1 - alpha_bar) q_0 + alpha_bar q_1 (both branches of alpha_k computed) <= 1; the premise of a "
-    "step: x~_(l,k)^T P_k^-1 x~_(l,k) <= 1 at every node, (12)-(13), ||delta|| <= e3, Theorem 1's "
-    "ellipsoid, a certified solve",
-    measured={"max_conditional_expectation": x7, "steps_checked": int(step_ok.sum()),
-              "steps": T_run,
+           & np.isfinite(nn_run["cond"]).all(axis=1))[:n_cert_nn]  # certified steps only
+cond_ok = nn_run["cond"][:n_cert_nn][step_ok]
+c8a = float(cond_ok.max()) if cond_ok.size else None
+claims["C8a"] = results.claim(
+    paper="Theorem 2, (29): E{x~_(i,k+1)^T P_(k+1)^-1 x~_(i,k+1)} <= 1; by its proof ((55)-(57)) "
+    "for every zeta_k satisfying the constraints of (23), the expectation over alpha_k (E8)",
+    check="max over nodes and certified steps of the exact conditional expectation given the past, "
+    "(1 - alpha_bar) q_0 + alpha_bar q_1 (both branches of alpha_k computed), <= 1 (the paper's "
+    "level). Premise: at every certified step the constraints of (23) hold: "
+    "x~_(l,k)^T P_k^-1 x~_(l,k) <= 1 at every node, (12)-(13), ||delta|| <= e3, Theorem 1's "
+    "ellipsoid. Not checked where our fallback drove the run",
+    measured={"max_conditional_expectation": c8a, "steps_checked": int(step_ok.sum()),
+              "certified_steps": n_cert_nn, "steps": T_run,
               "max_conventional_design": float(np.nanmax(conv_run["cond"]))
               if np.isfinite(conv_run["cond"]).any() else None},
     key="max_conditional_expectation", threshold=1.0,
-    holds=None if fallback_note(("NN", nn_run)) else x7 is not None and x7 <= 1.0,
-    not_checked=fallback_note(("NN", nn_run)),
-    premise=("the constraints of (23) hold at every step of the run "
-             f"({int(step_ok.sum())} of {T_run} steps)", bool(step_ok.all())),
-    source="ours; Theorem 2, (29), E8", section=SEC_EXAMPLE, tolerance=TOL_LMI,
+    holds=None if note_nn else c8a is not None and c8a <= 1.0, not_checked=note_nn,
+    premise=("the constraints of (23) hold at every certified step of the NN run "
+             f"({int(step_ok.sum())} of {n_cert_nn} certified steps; {T_run} steps)",
+             bool(step_ok.all())),
+    source="Theorem 2, (29), proof (55)-(57); E8", section=SEC_EXAMPLE, tolerance=TOL_LMI,
 )
-if mc is not None:
-    claims["X8"] = results.claim(
-        paper="(ours) Theorem 2, (29): E{x~_(i,k+1)^T P_(k+1)^-1 x~_(i,k+1)} <= 1 over the "
-        "realisations of alpha",
-        check=f"Monte Carlo over {mc['runs']} realisations (NN design, each with its own P_k): "
-        "per node and step the Student-t 95 % interval of the mean of x~^T P_k^-1 x~; holds if the "
-        "largest upper bound over (i, k >= 1) is <= 1. Reported: the smallest fraction of runs "
-        "inside B_k over (i, k) with its Wilson interval (Theorem 3 per node and step; not decided). "
-        "Nearly degenerate: the NN design ignores alpha (||H|| ~ 3e-4), so the runs barely differ",
-        measured={"max_upper_95": mc["max_upper"], "max_mean": mc["max_mean"],
-                  "worst_step_node": list(mc["worst"]), "runs": mc["runs"],
-                  "min_fraction_inside": mc["min_fraction_inside"],
-                  "wilson_min_fraction": list(mc["wilson_min_fraction"]),
-                  "uncertified_steps": mc["uncertified"]},
-        key="max_upper_95", interval=results.interval(*mc["interval"], method="student-t"),
-        threshold=1.0, holds=mc["max_upper"] <= 1.0,
-        source="ours; Theorem 2, (29)", section="Extra — Monte Carlo check of (29) over "
-        r"$\alpha_k$ realisations (X8)", tolerance=TOL_LMI,
-    )
+k_w, i_w = np.unravel_index(int(np.argmax(qP_iv[..., 1])), qP_iv.shape[:2])
+if note_mc:
+    c8b_holds, c8b_note = None, note_mc
+elif (qP_iv[..., 0] > 1.0).any():
+    c8b_holds, c8b_note = False, None
+elif (qP_iv[..., 1] <= 1.0).all():
+    c8b_holds, c8b_note = True, None
+else:
+    c8b_holds, c8b_note = None, (f"{n_mc} runs cannot decide: some pair's Bonferroni interval "
+                                 "contains 1 and none lies above it")
+claims["C8b"] = results.claim(
+    paper="Theorem 2, (29): E{x~_(i,k+1)^T P_(k+1)^-1 x~_(i,k+1)} <= 1, the expectation over the "
+    "realisations of alpha",
+    check=f"Monte Carlo over {n_mc} independent realisations (NN design, each with its own P_k): "
+    "per pair (node, k = 1..T) the Student-t interval of the mean of x~^T P_k^-1 x~ over the runs at "
+    f"the Bonferroni level 1 - 0.05/{n_pairs}; holds if every upper end is <= 1, fails if some "
+    "lower end is > 1, else not checked. Nearly degenerate: the NN design ignores alpha (X3), so "
+    "the runs barely differ",
+    measured={"max_upper_bonferroni": float(qP_iv[..., 1].max()),
+              "max_mean": float(qP_mc.mean(axis=0).max()),
+              "worst_step_node": [int(k_w) + 1, int(i_w) + 1], "runs": n_mc,
+              "max_spread_over_runs": float(np.max(qP_mc.max(axis=0) - qP_mc.min(axis=0))),
+              "uncertified_steps": sum(len(r["failures"]) for r in mc_runs_list)},
+    key="max_upper_bonferroni",
+    interval=results.interval(*qP_iv[k_w, i_w], level=bonf_level, method="student-t"),
+    threshold=1.0, holds=c8b_holds, not_checked=c8b_note, runs=n_mc,
+    source="Theorem 2, (29)", section=SEC_MC, tolerance=TOL_LMI,
+)
 h_conv_med = float(np.median(conv_run["Hn"]))
 claims["X9"] = results.claim(
     paper="(ours, brief E5) the attack-unaware conventional design uses its neighbours' innovations "
     "(||H|| ~ 1.5-2 in the brief), which the attack then reaches",
-    check="median over k of max_ij ||H_ij,k|| of the conventional design >= 0.5 (ours)",
+    check="median over k of max_ij ||H_ij,k|| of the conventional design >= 0.5 (ours: a third of "
+    "the 1.5 the brief reports for this design, 500 times the NN design's ~1e-3)",
     measured={"median_H_conventional": h_conv_med, "max_H_conventional": float(conv_run["Hn"].max()),
               "median_H_nn": float(np.median(nn_run["Hn"]))},
     key="median_H_conventional", threshold=0.5, holds=h_conv_med >= 0.5,
@@ -1646,63 +1793,101 @@ for cid, c in written.items():
     extra_info = ""
     if "robustness" in c:
         rb = c["robustness"]
-        extra_info = (f"; over the declared space: {c['verdict']} ({rb['outcomes']['holds']}/"
-                      f"{rb['points']}" + (f": {rb['region']})" if c["verdict"] == "undetermined"
-                                           else ")"))
+        extra_info = f"; over the declared space: {c['verdict']} ({results.counts_text(rb['outcomes'])})"
     print(f"{cid}: at this point {results.point_verdict(c)}{extra_info}")
 
 # %% [markdown]
 # ## Verdict
 #
-# The paper's main claims, from its abstract and conclusion, decide: the errors reside in the
-# required ellipsoids with the prescribed probability (C2, Theorem 3), the recursive matrix
-# inequalities that give the gains are solvable (C5, Algorithm 1), and the NN-based mechanism
-# mitigates the falsified innovations, which the example shows as the conventional estimator's
-# "worse estimation performance" (C3). C4 (Theorem 1's weight bound) holds by construction here and
-# cannot decide; C1's threshold is ours; the X claims are ours. The written rule
-# (`results.rescience_verdict`) gives the line below.
+# The deciding claims (section "Claims") are the paper's main contributions that numbers can
+# check and that can fail: the probability guarantee (C2, Theorem 3), the NN-based mechanism's
+# advantage shown by the example's comparison (C3), and the joint estimation of the attacks (C7,
+# contribution iv). C4 and C5 hold by construction and do not decide; C1's level is ours; C8a/C8b
+# are Theorem 2's step towards C2; the X claims are ours. The written rule
+# (`results.rescience_verdict`) gives the line below, then the sweep's summary per claim (counts
+# over the 70 points, in the form README and ERRATA quote) and, for the claims measured on the
+# trajectories, the outcomes per level of the Taylor scale $s$ (holds / fails / fails-premise /
+# not-checked, of 10 points per level).
 
 # %%
-print(results.rescience_verdict(json.loads(results.resolve(results_path).read_text()))["line"])
+verdict_now = results.rescience_verdict(json.loads(results.resolve(results_path).read_text()))
+print(verdict_now["line"])
+SUMMARY = (json.loads(results.resolve(ROBUSTNESS).read_text())
+           if results.resolve(ROBUSTNESS).exists() else {})
+for cid, s_ in SUMMARY.items():
+    print(f"{cid} {results.counts_text(s_['outcomes'])} -> {s_['verdict']}")
+if results.robustness_markdown("ma2021"):
+    display(Markdown(results.robustness_markdown("ma2021")))
+
+
+def level_table(rows: list[dict], ids: list[str]) -> str:
+    """Outcomes per level of L_scale (holds / fails / fails-premise / not-checked) per claim."""
+    levels = sorted({float(r["L_scale"]) for r in rows})
+    head = "| claim | " + " | ".join(f"s = {v:.3f}" for v in levels) + " |\n"
+    head += "|---|" + "---|" * len(levels) + "\n"
+    body = ""
+    for cid in ids:
+        if f"{cid}.outcome" not in rows[0]:
+            continue
+        cells = []
+        for v in levels:
+            outs = [r[f"{cid}.outcome"] for r in rows if float(r["L_scale"]) == v]
+            cells.append(" / ".join(str(outs.count(o)) for o in results.POINT_OUTCOMES))
+        body += f"| {cid} | " + " | ".join(cells) + " |\n"
+    return head + body
+
+
+SWEEP_ROWS = []
+if results.resolve("figures/ma2021/robustness.csv").exists():
+    with results.resolve("figures/ma2021/robustness.csv").open(newline="") as fh:
+        SWEEP_ROWS = [row for row in csv.DictReader(fh) if row["status"] == "ok"]
+if SWEEP_ROWS:
+    display(Markdown(level_table(SWEEP_ROWS, ["C1", "C2", "C3", "C5", "C7", "C8a", "C8b", "X2",
+                                              "X6a", "X6b", "X9"])))
 
 # %% [markdown]
-# It is **[Re, partial]**, not [Re]: at the paper's example (our default point) every deciding
-# claim is measured to hold, so [¬Re] does not apply, but C3 holds only in part of the declared
-# space. And C3's "holds" is not evidence for the mechanism the paper puts forward: the NN
-# compensator is never active (X3: $\hat W=0$ from $k=1$ on, the neighbours switched off), so where
-# C3 holds it holds through the attack-aware gains, and the grid levels at which it holds were
-# placed knowing where it turns. The rule counts claims, not mechanisms; this paragraph says what
-# its [Re, partial] contains.
+# **What the verdict contains.** The rule counts claims, not mechanisms, so it is said here what
+# the claims show.
+#
+# * **The NN compensator, the paper's main contribution, is never active**, at the example or at
+#   any point of the declared space (X3 at every point; C7 measures its output as an estimate of
+#   the attack). This is not a level of ours: with the paper's $Q_{ij,0}=20I$ and $e_1=3$, OP1's
+#   optimum has $\lambda^{(2)}=0$ (the feasible set of (18) is symmetric in it, E4) and
+#   $\lambda^{(1)}=0$ (the S-procedure radius $\lambda^{(1)}\sqrt{20}+(1-\lambda^{(1)})3$ is smallest
+#   there), so $\hat W_{ij,k}=0$ from $k=1$ on, whatever the Taylor scale, the realisation or the
+#   OCR reading; and the robust OP2 switches the neighbours off ($\|H_{ij}\|\sim10^{-3}$), so even a
+#   non-zero $\hat W$ would be multiplied by almost nothing. We found no declared point where it
+#   is active and did not search for one outside the declared space; the verdict follows the rule.
+# * **C7 (joint estimation of the attacks)** can only be judged where the paper's NN class can fit
+#   the attack at all. The attack's energy is almost all in $0.3\cos z^{(2)}\approx0.3$, an even,
+#   nearly constant function that a bias-free $\tanh$ layer fits only through a non-zero mean of
+#   the innovations (E6); the cross-validated oracle of the premise says where that is possible.
+#   Where it is, the NN's estimate is the zero estimate (ratio $1-O(10^{-11})$) and C7 fails; where
+#   no link can be fitted, C7 fails its premise.
+# * **C3 (the comparison)** holds only at part of the declared space and says nothing about the
+#   NN mechanism: where it holds it holds through the attack-aware gains (the robust design drops
+#   the falsified neighbour innovations that the attack-unaware conventional design still uses,
+#   X9), and the grid levels at which it holds were placed knowing where it turns (section "The
+#   missing Taylor scales"). The default scale is the geometric centre of the declared range, not
+#   its lower end, which is the scale most favourable to C3.
+# * **C2 (the probability guarantee)** is measured over independent runs and is very
+#   conservative where its premise holds (the largest quadratic form is printed with the claims).
 
 # %% [markdown]
 # ## C3 over the declared space: the map
 #
-# **C3 is undetermined.** Over the 70 points of the declared space (7 Taylor scales × 2
-# realisations × 5 OCR readings) it is checked at 57 (at the other 13 our fallback drove a run)
-# and holds at 12. These are counts on a fixed grid whose levels were placed knowing where C3
-# turns (section "The missing Taylor scales"), not a sampled fraction. Per scale level, out of 10
-# points: 8 at $s=0.116$, 4 at 0.139, none from 0.166 to 0.340 (at 0.284 7 of the 10 are
-# checked, at 0.34 none). Per reading, out of 14 (2 or 3 of them not checked): 3 as read, 2 with $\bar\alpha=0.6$, 3 with $E_1$'s "+0.1cos", none with "0d5" read 0.05, 4 with
-# $\sin 2x^{(2)}$ in $g_1$. Under "0d5" = 0.05 at the two smallest scales NN is worse at node 2
-# by 0.4–1.6 % (worst-node ratios 1.004–1.016) and better at nodes 1 and 3; over all 14 points of
-# that reading the worst node's ratio is 1.00009–1.154, the largest at $s=0.34$, where our
-# fallback drove the runs (not checked). Where C3 holds, NN's per-node RMSE is 0.6–44 % below the conventional one. The
-# sweep's best one-axis rule, "L_scale ≤ 0.116", is right at 91 % of the points.
+# Over the 70 points of the declared space (7 Taylor scales × 2 realisations × 5 OCR readings) the
+# outcomes of C3 per scale level are in the table of the section "Verdict"; they are counts on a
+# fixed grid whose levels were placed knowing where C3 turns (section "The missing Taylor
+# scales"), not a sampled fraction. The cell below prints, per OCR reading, the range of the worst
+# node's RMSE ratio at the points where C3 is decided and where our fallback drove a run.
 #
-# The lower panels show what C3 needs, not what decides it. C3 holds only where the attack-unaware
-# conventional design leans on its neighbours (X9: median $\max\|H_{ij,k}\|$ 1.29–1.53 there), so
-# that the falsified innovations reach it. That is necessary, not sufficient: X9 holds at 22
-# points, and at 10 of them C3 still fails (the conventional design's median gain 1.01–1.44): all 4
-# under "0d5" = 0.05 at $s\le0.139$, both seeds under the $g_1$ reading at 0.166, and 4 points at
-# 0.139 (seed 1 as read and under $E_1$'s "+0.1cos", both seeds with $\bar\alpha=0.6$). From
-# $s=0.166$ on (0.199 under the $g_1$ reading) the conventional design switches its neighbours off
-# as well (median $\le0.38$), and the two estimators nearly coincide: per-node RMSE ratios
-# between 0.988 and 1.052 at the 35 of those 48 points where every step is certified (worst node
-# 1.006–1.052); at the other 13 (C3 not checked) the runs follow our fallback, not either
-# design, and the ratios spread from 0.78 to 1.15. So the direction of C3 is
-# set by the missing scales $L_i$, $\aleph_i$, the missing conventional design and the
-# realisation, not by the paper's method. The scale 0.15 of the earlier rule lies between the
-# levels 0.139 and 0.166, where the direction turns.
+# The lower panels show what C3 needs, not what decides it: C3 can hold only where the
+# attack-unaware conventional design leans on its neighbours (X9), so that the falsified
+# innovations reach it; that is necessary, not sufficient. Where the conventional design drops
+# its neighbours as well, the two estimators nearly coincide. So the direction of C3 is set by
+# the missing scales $L_i$, $\aleph_i$, the missing conventional design and the realisation, not by
+# the paper's method.
 #
 # The figure is drawn from `figures/ma2021/robustness.csv`, the table `make robustness` writes
 # (one row per point of the design: each claim's outcome and headline value). Top: the worst
@@ -1780,6 +1965,13 @@ if not sweep_rows:
     print("figures/ma2021/robustness.csv not found: run `make robustness NB=ma2021` for the map")
 elif plotting.figures_enabled():
     map_figure(sweep_rows)
+for reading_ in dict.fromkeys(r["ocr_reading"] for r in sweep_rows):
+    sel = [r for r in sweep_rows if r["ocr_reading"] == reading_ and r["C3.value"] != ""]
+    for label_, outs in (("decided", ("holds", "fails")), ("not checked", ("not-checked",))):
+        vals = [float(r["C3.value"]) for r in sel if r["C3.outcome"] in outs]
+        if vals:
+            print(f"{reading_:>18}, C3 {label_}: {len(vals)} points, worst node's ratio "
+                  f"{min(vals):.5f}-{max(vals):.5f}")
 
 # %% [markdown]
 # ## Discussion
@@ -1790,66 +1982,58 @@ elif plotting.figures_enabled():
 #   interior-point solver returns the symmetric point. With $Q_0=20I$ and $e_1=3$ the S-procedure
 #   radius $\lambda^{(1)}\sqrt{20}+(1-\lambda^{(1)})\cdot3$ is smallest at $\lambda^{(1)}=0$. Hence
 #   $\hat W_{ij,1}=0$, $Q_{ij,k}=e_1^2I$ from $k=1$ on, and the compensation
-#   $\bar\alpha\hat W\phi(z_i)$ is zero from then on (X3, panel d; the compensation actually
-#   subtracted is below $10^{-13}$ after $k=0$ at every point of the sweep). The robust design (30)
+#   $\bar\alpha\hat W\phi(z_i)$ is zero from then on (X3, panel d; C7). The robust design (30)
 #   pays a worst-case price $\approx\sqrt{\bar\alpha}e_3\|H\|$ for every neighbour innovation, so it
-#   sets $\|H_{ij}\|$ between $2\cdot10^{-4}$ and $3.2\cdot10^{-3}$ (panel c) and the network decouples. The attack-unaware
-#   design uses its neighbours (X9) while the Taylor scale is small: their innovations partly
-#   cancel the shared measurement noise $\mu_k$, and they carry the attack when $\alpha_k=1$, since
-#   $0.3\cos z^{(2)}\approx0.3$ is almost a constant bias. A larger $s$ inflates the remainder terms
-#   of the attack-unaware LMI as well, until it drops the neighbours too.
+#   keeps $\|H_{ij}\|$ near $10^{-3}$ (panel c; X3's `max_H_nn`) and the network decouples. The
+#   attack-unaware design uses its neighbours (X9) while the Taylor scale is small: their
+#   innovations partly cancel the shared measurement noise $\mu_k$, and they carry the attack when
+#   $\alpha_k=1$, since $0.3\cos z^{(2)}\approx0.3$ is almost a constant bias. A larger $s$ inflates
+#   the remainder terms of the attack-unaware LMI as well, until it drops the neighbours too.
 # * **The record.** The earlier verdict "C3 does not hold" rested on the scale 0.15 that a
-#   0.05-grid rule picked after the reversal at 0.15 was known (section "The missing Taylor
-#   scales"); the map shows that the same rule on a finer grid would have picked a scale where
-#   C3 holds. Neither choice is the paper's: it gives no $L_i$, $\aleph_i$.
-# * **Premises.** C2 is Theorem 3's statement; it is recorded with its premise (Assumption 3,
-#   (12)–(13) along the run, $\|\delta\|\le e_3$). In the declared space the premise fails only
-#   at $s=0.116$ under the $g_1$ reading $\sin 2x^{(2)}$, whose remainder ratio at $k=0$ exceeds
-#   0.116 (X2): there C2 is "fails-premise", not "holds". At $x_0=[2;1]$ (outside the declared
-#   space, run by the tests) Assumption 3 fails at nodes 1–2 (quadratic forms 1.14 and 1.17), and
-#   so does C2's premise. C2 never fails where its premise holds. There it is very conservative,
-#   and part of that is fixed by the premise: at $k=0$, $\mathfrak B_0=P_0/(1-p)$, so Assumption
-#   3 alone puts the forms below $1-p=0.2$ (0.089 at the default). C2 therefore counts $k=1..T$
-#   only, where Theorem 3 is what bounds them (the largest form there is printed with the claims);
-#   the LMI budgets for $V_k=1$ while $|v_k|\le0.3$ and for $e_3=3$ while $\|\delta\|\le0.3$. The
-#   LMI itself is tight: on sampled $\zeta$ at the boundary of every S-procedure constraint the
-#   quadratic form of (55) reaches 0.99–0.999 (X4), and along the run the exact conditional
-#   expectation of (29) stays below 0.25 (X7).
+#   0.05-grid rule picked after the reversal at 0.15 was known; the next default, 0.116, was the
+#   lower end of the declared range, the scale most favourable to C3 (issue #30). The default is
+#   now the range's geometric centre, 0.1986, the middle level (section "The missing Taylor
+#   scales"). None of these is the paper's: it gives no $L_i$, $\aleph_i$; C3 is judged over the range.
+# * **Premises.** C1, C2, C3 and C7 carry the example's assumptions as their premise (Assumption
+#   3, (12)–(13) and $\|\delta\|\le e_3$ on the certified steps of the runs measured). Where the
+#   premise fails they are "fails-premise", not "holds" or "fails" (the sweep's table gives
+#   where: the $g_1$ reading $\sin 2x^{(2)}$ has a $k=0$ remainder ratio above the lowest scale,
+#   X2). At $x_0=[2;1]$ (outside the declared space, run by the tests) Assumption 3 fails at
+#   nodes 1–2 (quadratic forms 1.14 and 1.17). C2 is very conservative where its premise holds,
+#   and part of that is fixed by the premise: at $k=0$, $\mathfrak B_0=P_0/(1-p)$, so Assumption 3
+#   alone puts the forms below $1-p=0.2$ (0.089 here, independent of the design). C2 therefore
+#   counts $k=1..T$ only, where Theorem 3 is what bounds them; the LMI budgets for $V_k=1$ while
+#   $|v_k|\le0.3$ and for $e_3=3$ while $\|\delta\|\le0.3$. The LMI itself is tight: on sampled
+#   $\zeta$ at the boundary of every S-procedure constraint the quadratic form of (55) comes
+#   close to 1 (X4, printed above), while along the run the exact conditional expectation of
+#   (29) stays far below (C8a).
 # * **The upper end of the scale range: our certificate's limit.** Under the strict certificate
-#   no point at $s=0.34$ is certified at every step (4 to 38 uncertified steps per point), nor 3 of
-#   the 10 at 0.284 (under "0d5" = 0.05 and with $\bar\alpha=0.6$, seed 0). No solver reports any
-#   of these problems infeasible (C5's `first_failure` is "numerical" at all 13): OP2 is feasible
-#   in exact arithmetic ($\mathfrak B_{k+1}$ is free, brief §7), CLARABEL reports "optimal", and at
-#   the first rejected step of each run the largest eigenvalue of an LMI matrix lies between
-#   $-10^{-8}$ and $0$: the solver used up the margin $10^{-6}$ it was given, and the strict
-#   certificate ($\le-10^{-8}$) rejects it, where the earlier one ($\le+10^{-8}$) accepted it. After
-#   that our fallback keeps the previous gains and doubles $P$ (brief §7), and later steps drift
-#   further (largest eigenvalues up to $4\cdot10^{-2}$). So these 13 points are **not checked**
-#   for C5 (an earlier version recorded them as C5 "fails", and C1 "fails" at 2 of them, from the
-#   stale gains: our limits, recorded as the paper's failures), and the claims measured on runs
-#   our fallback drove are not checked there either: C3 at all 13, C1 and C2 at the 10 at
-#   $s=0.34$ (at 0.284 only the conventional run was rejected; X7's premise fails there).
-# * **Shared multipliers (X6).** The printed (22) with one $\Gamma_k$ roughly doubles
-#   $\mathrm{tr}\,\mathfrak B_k$ per step over the two steps run, while per-node multipliers keep
-#   it near 6–7. The shared LMI is not certified at $k=1$ at 12 of the 70 points (under the
-#   alternative readings of $E_1$, $f$ and $g_1$): there X6 is not checked (an earlier version
-#   counted those 12 as fails), since there is no certified solution to compare; wherever the
-#   shared LMI is certified it is never less conservative (58 points). What happens later is not
-#   claimed.
+#   the solutions near the top scale use up the margin $10^{-6}$ the solver was given: CLARABEL
+#   reports "optimal" and the largest eigenvalue of an LMI matrix lies between $-10^{-8}$ and 0 at
+#   the first rejected step (C5's `first_failure` says whether any solver called it
+#   infeasible). OP2 and OP1 are feasible in exact arithmetic, so these are limits of ours: C5 is
+#   **not checked** there, and the claims measured on runs our fallback then drove (previous
+#   gains, $P$ doubled) are not checked either, after their premises, which are evaluated on the
+#   certified steps only. An earlier version recorded such points as C5 "fails" and C1 "fails"
+#   from the stale gains: our limits, recorded as the paper's failures.
+# * **Shared multipliers (X6a, X6b).** The printed (22) with one $\Gamma_k$ grows
+#   $\mathrm{tr}\,\mathfrak B_k$ much faster than per-node multipliers over the steps run (printed
+#   above). Whether our solvers certify the printed LMI (X6a, ours, a numerical statement) and
+#   whether it is never less conservative (X6b) are two claims: X6b is not checked wherever a
+#   compared solve is not certified (an earlier version counted those points as fails), and its
+#   first step holds by construction. What happens later is not claimed.
 # * **C1's bound is ours.** The paper says the NN estimator tracks "with a satisfactory precision"
 #   and the conventional one "with certain precision", with no number; `track_tol` = 0.2 is our
-#   reading (the OCR keeps no data of Figs. 3–4, only tick labels from −0.8 to 1). At the default
-#   point the conventional estimator's late error reaches 0.202, just above it: reported, not
+#   reading of the tick residue of Fig. 4. The conventional estimator's value is reported, not
 #   judged, since the paper claims only "certain precision" for it.
-# * **C4 holds by construction.** Its maximum is at $k=0$ and is fixed by the data,
-#   $\|I-W^\star\|_F^2/20$. From $k=1$ on $\hat W\approx0$ and $Q=e_1^2I$, so (19) holds for any
-#   $W$ that Assumption 2 allows: the check cannot fail on this example. It is recorded with
-#   `basis="by-construction"` (shown, not counted as evidence, never deciding): Theorem 1 is not
-#   tested by it.
-# * **OP3 and the Monte Carlo check (extras, paper mode).** With the fixed ellipsoid
-#   $\mathfrak B=2I$ the guaranteed probability $p_k$ of the corrected OP3 is printed above and
-#   drawn in panel (f); steps with $\rho_k\ge1$ are void. X8 checks (29) over `mc_runs`
-#   realisations, each with its own data-dependent $P_k$ (printed above).
+# * **C4 and C5 hold by construction.** C4's maximum is at $k=0$ and is fixed by the data,
+#   $\|I-W^\star\|_F^2/20$; from $k=1$ on $\hat W\approx0$ and $Q=e_1^2I$, so (19) holds for any
+#   $W$ that Assumption 2 allows. C5's LMIs are feasible in exact arithmetic. Both are recorded
+#   with `basis="by-construction"` (shown, not counted as evidence, never deciding), and the
+#   README does not count them as reproduced results.
+# * **OP3 (extra, paper mode).** With the fixed ellipsoid $\mathfrak B=2I$ the guaranteed
+#   probability $p_k$ of the corrected OP3 is printed above and drawn in panel (f); steps with
+#   $\rho_k\ge1$ are void.
 
 # %% [markdown]
 # ## Deviations from the paper
@@ -1858,7 +2042,7 @@ elif plotting.figures_enabled():
 # |---|---|---|---|
 # | E1, Lemma 4 (CORRECTED) | $P_k$ defined with a factor $\tfrac1{1-p}$ | $P_k=(1-p)\mathfrak B_k$ | the only reading under which Markov's inequality yields (11) |
 # | E2, OP3 (33) (CORRECTED) | min $q_k=1/(1-p_k)$, "1 < q < +∞" | min $\rho=1-p_{k+1}$ with $-\rho\mathfrak B$ in (30) | as printed the problem is not convex and points the wrong way |
-# | E3, multipliers (DEVIATION, design choice) | one $\Gamma_k$ shared by all $N$ inequalities (22) | one $\Gamma_{i,k}$ per node (`shared_multipliers=False`) | the printed form is not wrong, only more conservative; per-node multipliers are a valid relaxation (a separate S-procedure per inequality). The printed LMI is run for 2 steps (X6): at the default $\mathrm{tr}\,\mathfrak B$ 7.1 → 14.7 → 25.8 against 7.1 → 6.1 → 6.0; at 12 of the 70 points of the sweep its step $k=1$ is not certified |
+# | E3, multipliers (DEVIATION, design choice) | one $\Gamma_k$ shared by all $N$ inequalities (22) | one $\Gamma_{i,k}$ per node (`shared_multipliers=False`) | the printed form is not wrong, only more conservative; per-node multipliers are a valid relaxation (a separate S-procedure per inequality). The printed LMI is run for 2 steps (X6a: certified by our solvers?; X6b: never less conservative; the values are printed in its section) |
 # | (24)–(28) (RECONSTRUCTED) | OCR damaged | row blocks re-derived from (15)–(16) (table above) | where legible the printed blocks agree; checked to machine precision on every certified step (X1) |
 # | $\varrho$, $\bar M$ | $\varrho$ stacks rows; $Q_{ij}\otimes I$ | `A.flatten()`; $\bar M=\mathrm{chol}(Q)\otimes I_{n_\phi}$ | consistent with $\mathrm{tr}[W^\top Q^{-1}W]=\varrho^\top(Q^{-1}\otimes I)\varrho$ |
 # | $r$-vector | all $N^2$ ordered pairs ($d=63$) | links only ($d=43$), bound $r^\top r\le N^2$ kept | the dropped columns are identically zero |
@@ -1866,11 +2050,12 @@ elif plotting.figures_enabled():
 # | OP1 | $\lambda^{(1)},\lambda^{(2)}$ "positive" | free, with $|\lambda^{(2)}|\le10^3$ | the box removes an unbounded optimal face when $\varpi\approx0$ and is never active; $\lambda^{(2)}=0$ is optimal anyway (E4) |
 # | OP1 | one problem per link | one separable problem (sum of traces) | same minimisers, one solve per step |
 # | conventional design (MISSING) | "characterised by (3)" | attack-unaware analogue of OP2 | MISSING in the paper; other designs are plausible (e.g. attack-aware OP2 without the NN terms) and are not swept; C3 needs this one to use its neighbours (X9), so C3's map is conditional on it |
-# | $L_i$, $\aleph_i$ (MISSING) | not given | $sI_2$ with $s$ in a declared range [0.116, 0.34] (7 geometric levels), tied; default 0.116 | from the premise's $k=0$ limit to the last certified scale; claims are judged over the range. Earlier versions used 0.1 (premise fails at $k=0$) and then 0.15, picked by a 0.05-grid rule written after the reversal of C3 at 0.15 was known |
+# | $L_i$, $\aleph_i$ (MISSING) | not given | $sI_2$ with $s$ in a declared range [0.116, 0.34] (7 geometric levels), tied; default the geometric centre $\sqrt{0.116\cdot0.34}=0.1986$ (the middle level) | from the premise's $k=0$ limit to the last certified scale; claims are judged over the range. Earlier versions used 0.1 (premise fails at $k=0$), then 0.15, picked by a 0.05-grid rule written after the reversal of C3 at 0.15 was known, then 0.116, the lower end, the scale most favourable to C3 |
+# | C7 criterion (ours) | "jointly estimate … the unknown deception attacks" | per-link RMS error of $\hat W_{ij,k}\phi(z_{i,k})$ against $\chi(z_{j,k})$ over the attack's RMS, below $1-$`attack_margin`, on the links where a cross-validated oracle of the same class fits | the paper names no measure; the zero estimate's ratio 1 is the natural level, the margin keeps round-off from deciding |
 # | C3 criterion (ours) | "worse estimation performance" | per-node RMSE over $k=1..T$, NN better at every node by more than `c3_margin` = 0.1 % | the paper names no measure; a tie within solver noise is not "worse" |
 # | $x_0^{(2)}$ (MISSING) | illegible ("R [ O I") | 2.0 | Assumption 3 holds for a 2nd entry in [1.08, 2.31]; not swept (budget), although the brief (§6) reports node 2 turning in favour of the conventional design at $x_0=[2;1]$, so C3's map is conditional on it; the tests run [2, 1], where Assumption 3 fails |
 # | $\bar\alpha$, $E_1$, "0d5", "sin(2z" (RECONSTRUCTED) | partly illegible | as read: 0.67, 0.01, 0.45, $\sin x^{(2)}$; each alternative (0.6, 0.1, 0.05, $\sin 2x^{(2)}$) is a level of `ocr_reading`, swept one at a time | OCR; combinations are not swept (budget) |
-# | $\alpha_k$ realisation (MISSING) | one realisation shown, no seed | seeds 0 and 1 swept | only 2 (budget), yet C3 turns with the seed at $s=0.139$ (as read and under $E_1$'s "+0.1cos"): more seeds could move the counts |
+# | $\alpha_k$ realisation (MISSING) | one realisation shown, no seed | seeds 0 and 1 swept (the main run's); C2 and C8b run 16 independent realisations from each seed | only 2 seeds (budget), yet C3 turns with the seed at $s=0.139$ in the earlier sweep: more seeds could move the counts |
 # | $\varpi$ in (17) (RECONSTRUCTED) | "a Z 9in5,;€‘1’2;€+12@1€+1 JEN;" | sum over $j\in\mathcal N_i$ (`varpi_form`) | immaterial: $\lambda^{(2)}=0$ at every point (E4, X3), so $\varpi$ drops out of (17) |
 # | $W_{ij}$ | not given | $W^\star$, least-squares fit of $\chi$ | needed to evaluate C4 and X1 |
 # | figures | curves of the paper | qualitative comparison only | the paper's figures survive only as tick residue; the reconstructed $f,g_i$ cannot be checked against them |

@@ -83,17 +83,50 @@ def check_holds(entry: dict, rule: bool) -> None:
 
 
 def check_c2(c2: dict, p: float = 0.8) -> None:
+    """C2's three-way rule over independent runs: the Wilson score interval of E f_r and the
+    per-pair Bonferroni test (a pair below p fails it), recomputed from the recorded values."""
     m = c2["measured"]
-    assert m["fraction"] == pytest.approx(m["inside"] / m["pairs"])
-    lo, hi = wilson_interval(m["inside"], m["pairs"])
-    assert c2["interval"]["low"] == pytest.approx(lo) and c2["interval"]["high"] == pytest.approx(hi)
+    runs = m["runs"]
+    assert c2["runs"] == runs >= 2
+    assert 0.0 <= m["min_run_fraction"] <= m["mean_fraction"] <= 1.0
+    lo, hi = c2["interval"]["low"], c2["interval"]["high"]
+    if m["mean_fraction"] == 1.0:  # every run inside at every pair: the binomial Wilson interval
+        assert (lo, hi) == pytest.approx(wilson_interval(runs, runs), rel=1e-9)
+    assert lo <= m["mean_fraction"] <= hi
     assert c2["threshold"] == p
-    check_holds(c2, lo >= p)
-    assert c2["decides"] is True
+    assert (m["pairs_below_p_bonferroni"] > 0) is (m["min_pair_upper_bonferroni"] < p)
+    fails = hi < p or m["pairs_below_p_bonferroni"] > 0
+    if c2["holds"] is None:
+        assert c2["not_checked"] and point_verdict(c2) in ("not-checked", "fails-premise")
+        assert "fallback" in c2["not_checked"] or (not fails and lo < p)
+    else:
+        assert c2["holds"] is (not fails and lo >= p)
+        assert not fails or c2["holds"] is False
+    assert c2["decides"] is True and c2["basis"] == "measured"
     assert 0.0 <= m["max_quadratic_form"]
     assert 0.0 <= m["max_quadratic_form_k0"]
-    assert (m["max_quadratic_form"] <= 1.0) is (m["inside"] == m["pairs"])
     assert "Assumption 3" in c2["premise"]["statement"]
+    assert "certified steps" in c2["premise"]["statement"]
+
+
+def check_c7(c7: dict) -> None:
+    """C7: the links decided are those where the oracle fits; the rule on them; the premise."""
+    m = c7["measured"]
+    margin = 1.0 - c7["threshold"]
+    assert c7["decides"] is True and c7["basis"] == "measured"
+    if not m:  # too few steps for the oracle
+        assert c7["holds"] is None and "too few steps" in c7["not_checked"]
+        return
+    nn, oracle = np.asarray(m["nn_ratio"]), np.asarray(m["oracle_ratio"])
+    assert nn.shape == oracle.shape == (4,) and len(m["links"]) == 4
+    fits = [m["links"][a] for a in range(4) if oracle[a] < 1.0 - margin]
+    assert m["links_oracle_fits"] == fits
+    decided = [a for a in range(4) if m["links"][a] in fits]
+    assert m["worst_nn_ratio"] == pytest.approx(max(nn[decided] if decided else nn), rel=1e-9)
+    np.testing.assert_allclose(m["nn_minus_one"], nn - 1.0, atol=1e-10)  # nn: 11 digits
+    if not fits:
+        assert c7["premise"]["holds"] is False and point_verdict(c7) == "fails-premise"
+    check_holds(c7, bool(all(nn[a] < 1.0 - margin for a in decided)))
 
 
 def check_common(entries: dict) -> None:
@@ -113,17 +146,24 @@ def check_common(entries: dict) -> None:
 
 def test_claims_are_complete_and_consistent(claims) -> None:
     check_common(claims)
-    assert set(claims) - {"_fig_dir"} == {f"C{i}" for i in range(1, 6)} | {
-        f"X{i}" for i in range(1, 10)}
+    assert set(claims) - {"_fig_dir"} == {"C1", "C2", "C3", "C4", "C5", "C7", "C8a", "C8b", "X1",
+                                          "X2", "X3", "X4", "X5", "X6a", "X6b", "X9"}
     check_c2(claims["C2"])
     check_c3(claims["C3"])
+    check_c7(claims["C7"])
+    deciding = {cid for cid, c in claims.items() if not cid.startswith("_") and c.get("decides")}
+    assert deciding == {"C2", "C3", "C7"}
 
 
 def test_assumption3_and_the_premise_at_the_default(claims) -> None:
     c2 = claims["C2"]
     assert c2["premise"]["holds"] is True  # x0 = [2, 2]: forms 0.443, 0.152, 0.422 (exact arithmetic)
     assert "[0.443, 0.152, 0.422]" in c2["premise"]["statement"]
-    assert point_verdict(c2) == ("holds" if c2["holds"] else "fails")
+    # fast mode: 3 runs cannot make the Wilson lower end reach p = 0.8 (at most 3 / (3 + 1.96^2))
+    assert c2["runs"] == 3 and c2["interval"]["low"] < 0.8
+    assert point_verdict(c2) in ("not-checked", "fails")
+    for cid in ("C1", "C3", "C7"):
+        assert "Assumption 3" in claims[cid]["premise"]["statement"], cid
     # k = 0 is left out of C2: B_0 = P0 / (1 - p), so its forms are (1 - p) times Assumption 3's
     assert c2["measured"]["max_quadratic_form_k0"] == pytest.approx((1 - 0.8) * 0.443, abs=1e-3)
 
@@ -137,8 +177,10 @@ def test_c5_every_accepted_solution_is_certified(claims) -> None:
     certified = m["uncertified_steps"] == 0 and m["max_eigenvalue"] <= -CERT_TOL
     assert set(m["first_failure"].values()) <= {"none", "infeasible", "numerical"}
     assert (m["uncertified_steps"] == 0) is (set(m["first_failure"].values()) == {"none"})
-    if certified or "infeasible" in m["first_failure"].values():
-        assert claims["C5"]["holds"] is certified  # a solver's infeasibility report decides
+    # feasible in exact arithmetic: by construction, never deciding, never the paper's failure
+    assert claims["C5"]["basis"] == "by-construction" and not claims["C5"].get("decides")
+    if certified:
+        assert claims["C5"]["holds"] is True
     else:
         assert claims["C5"]["holds"] is None and claims["C5"]["not_checked"]  # our certificate
 
@@ -181,38 +223,46 @@ def test_x3_symmetry_argument_of_e4(claims) -> None:
                                      and m["max_H_nn"] <= 1e-2)
 
 
-def test_x4_x7_theorem2_on_certified_steps(claims) -> None:
+def test_x4_c8a_theorem2_on_certified_steps(claims) -> None:
     # (30) => (29): on sampled admissible zeta and, exactly, along the run where the premise holds
     assert 0.5 < claims["X4"]["measured"] <= 1.0 + 1e-6
-    m = claims["X7"]["measured"]
-    assert m["steps_checked"] <= m["steps"]
+    c8a = claims["C8a"]
+    m = c8a["measured"]
+    assert m["steps_checked"] <= m["certified_steps"] <= m["steps"]
+    assert c8a["source"].startswith("Theorem 2") and not c8a.get("decides")
     if m["steps_checked"]:
         assert m["max_conditional_expectation"] <= 1.0 + 1e-6
-    check_holds(claims["X7"], m["max_conditional_expectation"] is not None
+    check_holds(c8a, m["max_conditional_expectation"] is not None
                 and m["max_conditional_expectation"] <= 1.0)
 
 
 def test_x6_shared_multipliers_never_less_conservative(claims) -> None:
-    m = claims["X6"]["measured"]
+    a, b = claims["X6a"], claims["X6b"]
+    assert a["holds"] is (a["measured"]["uncertified_steps_shared"] == 0)
+    m = b["measured"]
     shared, node = np.asarray(m["trB_shared"]), np.asarray(m["trB_per_node"])
     assert shared.shape == node.shape and shared.size >= 2
     assert shared[0] == pytest.approx(node[0])  # the same B_0 = P0 / (1 - p)
-    if m["uncertified_steps_shared"] == 0 and claims["X6"]["holds"] is not None:
-        assert np.all(shared >= node - 1e-6)  # a special case of per-node multipliers
-    if m["uncertified_steps_shared"]:
-        assert claims["X6"]["holds"] is None and claims["X6"]["not_checked"]
-    assert m["min_excess"] == pytest.approx(np.min(shared - node))
+    excess = shared - node
+    assert m["min_excess"] == pytest.approx(np.min(excess))
+    assert m["min_excess_measured"] == pytest.approx(np.min(excess[2:] if shared.size > 2 else excess[1:]))
+    if a["measured"]["uncertified_steps_shared"]:
+        assert b["holds"] is None and b["not_checked"]  # no certified pair: not a counter-example
+    elif b["holds"] is not None:
+        assert b["holds"] is bool(np.all(excess >= -1e-6))
+        assert excess[1] >= -1e-6  # k = 1: the shared LMI is a special case on the same data
 
 
-def test_x8_monte_carlo_interval_is_consistent(claims) -> None:
-    x8 = claims["X8"]
-    m = x8["measured"]
-    assert m["runs"] == 3  # fast mode
-    assert x8["interval"]["high"] == pytest.approx(m["max_upper_95"])
-    assert x8["interval"]["low"] <= m["max_mean"] + 1e-12 <= m["max_upper_95"] + 2e-12
-    assert x8["holds"] is (m["max_upper_95"] <= 1.0)
-    lo, hi = m["wilson_min_fraction"]
-    assert lo <= m["min_fraction_inside"] <= hi
+def test_c8b_monte_carlo_interval_is_consistent(claims) -> None:
+    c8b = claims["C8b"]
+    m = c8b["measured"]
+    assert m["runs"] == c8b["runs"] == 3  # fast mode
+    assert c8b["interval"]["high"] == pytest.approx(m["max_upper_bonferroni"])
+    assert c8b["interval"]["low"] <= c8b["interval"]["high"]
+    assert c8b["interval"]["level"] > 0.95  # Bonferroni over the pairs tested
+    if c8b["holds"] is not None:
+        assert c8b["holds"] is (m["max_upper_bonferroni"] <= 1.0)
+    assert not c8b.get("decides")
 
 
 def test_figure_data_written(claims_x0_21) -> None:
@@ -234,7 +284,10 @@ def test_c2_premise_fails_at_x0_2_1(claims_x0_21) -> None:
     assert "[1.14" in c2["premise"]["statement"]
     assert point_verdict(c2) == "fails-premise"
     check_c3(claims_x0_21["C3"])
-    assert "X8" not in claims_x0_21 and "X5" not in claims_x0_21  # extras off
+    assert "X5" not in claims_x0_21  # extras off
+    assert claims_x0_21["C8b"]["runs"] == claims_x0_21["C2"]["runs"]  # the Monte Carlo runs anyway
+    check_c7(claims_x0_21["C7"])
+    assert point_verdict(claims_x0_21["C7"]) == "fails-premise"  # Assumption 3 fails
 
 
 # ---------------------------------------------------------------- committed claims and the sweep
@@ -244,7 +297,8 @@ def test_committed_claims_are_complete(committed) -> None:
     check_common(committed)
     check_c2(committed["C2"])
     check_c3(committed["C3"])
-    assert committed["X8"]["measured"]["runs"] == 16
+    check_c7(committed["C7"])
+    assert committed["C8b"]["runs"] == committed["C2"]["runs"] == 16
 
 
 def test_robustness_table_shape(sweep_rows) -> None:
@@ -252,7 +306,8 @@ def test_robustness_table_shape(sweep_rows) -> None:
     assert len(sweep_rows) == len(spaces.design(space))
     columns = set(sweep_rows[0])
     assert {"point", "L_scale", "aleph_scale", "seed", "ocr_reading", "status"} <= columns
-    for cid in ("C1", "C2", "C3", "C4", "C5", "X1", "X2", "X3", "X4", "X6", "X7", "X9"):
+    for cid in ("C1", "C2", "C3", "C4", "C5", "C7", "C8a", "C8b", "X1", "X2", "X3", "X4", "X6a",
+                "X6b", "X9"):
         assert {f"{cid}.outcome", f"{cid}.holds", f"{cid}.value"} <= columns, cid
     assert all(r["status"] == "ok" for r in sweep_rows)
     assert all(r["L_scale"] == r["aleph_scale"] for r in sweep_rows)  # tied
@@ -286,7 +341,7 @@ def test_default_point_row_agrees_with_the_committed_claims(committed, sweep_row
         assert default[name] == axis.label(space.parameters[name].default), name
     for cid, claim in committed.items():
         if f"{cid}.holds" not in default:
-            continue  # the extras (X5, X8) are not swept
+            continue  # the extra X5 is not swept
         assert default[f"{cid}.outcome"] == point_verdict(claim), cid
         if claim["holds"] is not None:
             assert default[f"{cid}.holds"] == str(claim["holds"]), cid
