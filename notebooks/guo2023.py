@@ -1748,13 +1748,10 @@ display(Markdown(
 # scale in the paper**, so the rule is our weakest reading that can fail, the criterion ma2021 uses for
 # its attack estimate: every estimate the sentence names beats the trivial, no-information estimate
 # (zero), i.e. per node $i$ the ratios
-# $
-ho^i_d=\sqrt{	extstyle\sum_k(\hat d^i_k-d_k)^2}ig/\sqrt{	extstyle\sum_k d_k^2}$ (unknown input),
-# $
-ho^i_a$ likewise for the deception attack $\hat a$ (Fig. 1; the sentence names it, so it is in the
+# $\rho^i_d=\sqrt{\textstyle\sum_k(\hat d^i_k-d_k)^2}\big/\sqrt{\textstyle\sum_k d_k^2}$ (unknown input),
+# $\rho^i_a$ likewise for the deception attack $\hat a$ (Fig. 1; the sentence names it, so it is in the
 # rule since round 4) and
-# $
-ho^i_x=\sqrt{	extstyle\sum_k\|x_k-\hat x^i_k\|^2}ig/\sqrt{	extstyle\sum_k\|x_k\|^2}$ (fused states,
+# $\rho^i_x=\sqrt{\textstyle\sum_k\|x_k-\hat x^i_k\|^2}\big/\sqrt{\textstyle\sum_k\|x_k\|^2}$ (fused states,
 # Fig. 2) are **below 1**, over every $k\ge0$ (burn-in 0), on run 0, the run our Figs. 1-2 show.
 #
 # **Why C8 is not-checked (round 4 of issue #30).** The numerators do not depend on the signals at all

@@ -442,8 +442,8 @@ def _axis(name: str, spec: Mapping[str, Any]) -> Axis:
         raise ValidationError(f"space of {name}: draw must be true or false, found {draw!r}")
     if "same_as" in spec:
         if draw:
-            raise ValidationError(f"space of {name}: a tied axis takes its kind from {spec['same_as']!r}; "
-                                  "declare draw there")
+            raise ValidationError(f"space of {name}: a tied axis takes its kind from "
+                                  f"{spec['same_as']!r}; declare draw there")
         return Axis(same_as=str(spec["same_as"]))
     if "values" in spec:
         values = tuple(spec["values"])
