@@ -73,12 +73,29 @@ def _rule(cid: str, m: dict) -> bool | None:
         assert mm["mc_refutable_bias_sd"] == pytest.approx(0.5 + mm["mc_half_width_sd_max"])
         return mm["mc_part"] != "fails"
 
+    def on_mc(exact, mm):
+        # C2_nd / C7_nd (round 4): the exact part holds by identities; decided on the refuter
+        return False if not exact or not refuter(mm) else None
+
     def c2():
         exact = m["relative_local_gap_max"] <= 1e-10 and m["max_KU1"] < 1e-10
-        return bool(exact and refuter(m))
+        return on_mc(exact, m) if cid.endswith("_nd") else bool(exact and refuter(m))
 
     def c7():
-        return bool(m["relative_input_gap_max"] <= 1e-10 and refuter(m))
+        exact = m["relative_input_gap_max"] <= 1e-10
+        return on_mc(exact, m) if cid.endswith("_nd") else bool(exact and refuter(m))
+
+    def first_rule(mm):
+        # X3 / X4 (round 4): the first rule's thresholds, three-way with the round-off band
+        shared = (mm["max_KU1"] < 1e-10 and mm["max_rel_gap_kkt"] <= 1e-9
+                  and mm["max_rel_excess_over_cvxpy"] <= 1e-9 and mm["max_eq29_vs_25"] < 1e-10)
+        if not shared or mm["first_rule_rows_above"] > 0:
+            return False
+        return True if mm["first_rule_rows_inside_band"] == 0 else None
+
+    def x3():
+        a, b = m["C5_first_rule_three_way"], m["C5_nd_first_rule_three_way"]
+        return False if False in (a, b) else (True if a is True and b is True else None)
 
     def c3(mm):
         return (mm["p_lower"] > 0 and mm["growth_lambda_max_Pbar"] <= 1.01
@@ -95,29 +112,29 @@ def _rule(cid: str, m: dict) -> bool | None:
         "C3_u": lambda: all(c3({k: m[f"{inst}_{k}"] for k in ("p_lower", "growth_lambda_max_Pbar",
                                                                 "growth_tr_P_exact")})
                             for inst in ("unstable_example", "unstable_variant")),
-        "C4b": lambda: m["locally_unobservable_nodes"] == [2, 3],
+        "X5": lambda: m["locally_unobservable_nodes"] == [2, 3],
         "C5": lambda: c5(m), "C5_nd": lambda: c5(m),
         "C6": lambda: m["max_deviation"] < 1e-12,
         "X1": lambda: m["max_relative_gap"] <= 1e-10,
         "X2": lambda: _equivalence(np.asarray(m["ratio_ci_per_node_component"])[..., 0] - 1.0,
                                    np.asarray(m["ratio_ci_per_node_component"])[..., 1] - 1.0, 0.1),
-        "X3": lambda: m["C5_holds_first_rule"] and m["C5_nd_holds_first_rule"],
-        "X4": lambda: (False if max(m["max_KU1_L1_allowance_used"], m["max_L1_allowance_used"]) > 1.0
-                       else None),
-        "C8": lambda: max(max(m["ratio_d_per_node"]), max(m["ratio_x_per_node"])) < 1.0,
+        "X3": x3,
+        "X4": lambda: first_rule(m),
+        "C8": lambda: None,  # round 4: not-checked (the ratio is set by our invented signals' size)
     }
     return rules[cid]()
 
 
 def test_every_claim_recorded_with_its_source(claims) -> None:
     ids = {k for k in claims if not k.startswith("_")}
-    assert ids == {"C1", "C1_nd", "C2", "C2_nd", "C3", "C3_u", "C4", "C4b", "C5", "C5_nd", "C6", "C7",
-                   "C7_nd", "C8", "X1", "X2", "X3", "X4"}
+    assert ids == {"C1", "C1_nd", "C2", "C2_nd", "C3", "C3_u", "C4", "C5", "C5_nd", "C6", "C7",
+                   "C7_nd", "C8", "X1", "X2", "X3", "X4", "X5"}
     for cid in ids:
         assert claims[cid]["source"], cid
         assert claims[cid]["section"], cid
     assert claims["X1"]["source"] == "ours" and claims["X2"]["source"].startswith("ours")
     assert claims["X3"]["source"].startswith("ours") and claims["X4"]["source"].startswith("ours")
+    assert claims["X5"]["source"] == "ours (exhaustive reading of Sec. V, last paragraph)"
     for cid in ("C1", "C1_nd", "C2", "C2_nd", "C7", "C7_nd", "X2"):  # Monte Carlo claims carry an interval
         iv = claims[cid]["interval"]
         assert iv["level"] == 0.95 and iv["low"] <= iv["high"], cid
@@ -183,6 +200,16 @@ def test_c2_decoupling_by_structure_in_example_by_constraint_in_variant(claims) 
     # in the variant the unconstrained gain would let the attack in; K H_bar = K U1 Sigma V1^T = 0 (E1)
     assert nd["min_KU1_unconstrained"] > 0.05
     assert nd["max_KHbar"] < 1e-12
+    # the negative control: the same exact part with S Xi_breve^+ moves the errors far beyond 1e-10
+    nc = nd["negative_control"]
+    assert nc["relative_local_gap"] > 1e-6 and nc["relative_input_gap"] > 1e-6
+    assert claims["C7_nd"]["measured"]["negative_control"] == nc
+    for cid in ("C2_nd", "C7_nd"):  # decided on the Monte Carlo refuter: not-checked unless it refutes
+        assert claims[cid]["premise"]["holds"] is True, cid
+        assert claims[cid]["holds"] is (False if claims[cid]["measured"]["mc_part"] == "fails" else None), cid
+        assert claims[cid]["decides"] is True and claims[cid]["basis"] == "measured", cid
+    for cid in ("C2", "C7"):  # at the example: by construction, the exact part's outcome
+        assert claims[cid]["basis"] == "by-construction" and "premise" not in claims[cid], cid
 
 
 def test_c3_bounded_without_growth(claims) -> None:
@@ -219,21 +246,35 @@ def test_c3_u_theorem_2_where_the_plant_does_not_contract(claims) -> None:
     assert claims["C3_u"]["decides"] is True
 
 
-def test_x3_x4_old_c5_rule_recorded(claims) -> None:
+def test_x3_x4_first_rule_three_way_with_a_stated_band(claims) -> None:
     m = claims["X3"]["measured"]
     assert m["max_KU1_all_gains"] == max(m["C5_max_KU1_all_gains"], m["C5_nd_max_KU1_all_gains"])
     assert m["C5_holds_current_rule"] is claims["C5"]["holds"]
     assert m["C5_nd_holds_current_rule"] is claims["C5_nd"]["holds"]
     assert m["C5_max_rel_gap_lemma1_random_gamma"] == claims["C5"]["measured"]["max_rel_gap_lemma1_random_gamma"]
     assert not claims["X3"].get("decides")
-    # the first sweep's failing draw, replayed: its residuals sit inside the round-off band of the
-    # projector (cond ~ 2e8), where the first rule's 1e-10 / 1e-9 cannot decide (1.194e-10 in the
-    # committed run, 9.1e-11 on a CI machine): X4 fails on a real leak only, else it is not-checked
+    for cid in ("C5", "C5_nd"):
+        c = claims[cid]["measured"]
+        rows = c["first_rule_rows_below"] + c["first_rule_rows_above"] + c["first_rule_rows_inside_band"]
+        assert rows == c["n_steps_checked"], cid
+        # the band c eps kappa ||S Theta|| (c = 1) and C5's allowance 1e-10 + 1e-12 kappa ||S Theta||
+        assert c["max_band_KU1_lemma1_random_gamma"] < c["max_KU1_allowance"], cid
+        assert c["KU1_allowance_at_max_cond"] <= c["max_KU1_allowance"], cid
+        assert c["max_KU1_L1_over_eps_kappa_STheta"] >= 0, cid
+    for cid in ("X3", "X4"):
+        t = claims[cid]["threshold"]
+        assert t["KU1_lemma1_random_gamma"] == 1e-10 and t["rel_gap_lemma1_random_gamma"] == 1e-9, cid
+        assert t["c_per_n_y"] == 3 and t["eps"] == pytest.approx(2.220446e-16), cid
+    # the first sweep's failing draw, replayed: at cond ~ 2e8 the band of ||K U_1|| is far above the
+    # threshold 1e-10, so the three-way rule cannot decide it (1.194e-10 and 1.654e-10 here, 9.1e-11 on
+    # a CI machine): not-checked by construction, unless a residual lies above its band
     m4 = claims["X4"]["measured"]
     assert m4["max_cond_lemma1_random_gamma"] > 1e8
     assert 0 < m4["max_KU1_lemma1_random_gamma"] < 1e-8
-    leak = max(m4["max_KU1_L1_allowance_used"], m4["max_L1_allowance_used"]) > 1.0
-    assert claims["X4"]["holds"] is (False if leak else None) and not claims["X4"].get("decides")
+    assert m4["max_band_KU1_lemma1_random_gamma"] > 1e-10
+    assert m4["first_rule_rows_inside_band"] >= 1
+    assert claims["X4"]["holds"] is (False if m4["first_rule_rows_above"] else None)
+    assert not claims["X4"].get("decides")
 
 
 def test_deciding_claims_runs_and_bases(claims) -> None:
@@ -258,8 +299,8 @@ def test_c4_observability(claims) -> None:
     assert m["locally_unobservable_nodes"] == [2, 3, 4]
     assert m["min_abs_C2G"] == pytest.approx([0.0708, 0.0894, 0.0447, 0.1414], abs=1e-4)
     assert claims["C4"]["holds"] is True
-    # the reading "only nodes 2 and 3" fails (node 4 too)
-    assert claims["C4b"]["holds"] is (m["locally_unobservable_nodes"] == [2, 3])
+    # our reading "only nodes 2 and 3" (X5, C4b until round 4) fails (node 4 too)
+    assert claims["X5"]["holds"] is (m["locally_unobservable_nodes"] == [2, 3])
 
 
 def test_c5_lemmas_against_independent_solvers(claims) -> None:
@@ -417,14 +458,24 @@ def test_verdicts_follow_the_sweep() -> None:
         assert 1 <= s["evaluations"] <= (s["points"] if cid == "C8" else 5), cid
 
 
-def test_c8_tracking_ratios_against_the_zero_estimate(claims) -> None:
-    """C8 measures RMS error / signal RMS per node on run 0 (level 1: the zero estimate's)."""
+def test_c8_tracking_ratios_recorded_and_not_checked(claims) -> None:
+    """C8 records RMS error / signal RMS per node on run 0 (level 1: the zero estimate's) for d_hat, a_hat
+    and the fused x_hat, and decides as not-checked: the ratio is set by our invented signals' size."""
     c = claims["C8"]
     m = c["measured"]
     assert c["decides"] is True and c["basis"] == "measured"
+    assert c["holds"] is None and point_verdict(c) == "not-checked" and c["not_checked"]
     assert m["run"] == 0 and m["burn_in"] == 0 and c["threshold"]["ratio"] == 1.0
-    assert len(m["ratio_d_per_node"]) == len(m["ratio_x_per_node"]) == 4
-    assert m["ratio_max"] == pytest.approx(max(max(m["ratio_d_per_node"]), max(m["ratio_x_per_node"])))
-    assert all(r >= 0 for r in m["ratio_d_per_node"] + m["ratio_x_per_node"])
-    assert c["holds"] is (m["ratio_max"] < 1.0)
-    assert m["signal_rms_d"] > 0 and c["premise"]["holds"] is True
+    assert len(m["ratio_d_per_node"]) == len(m["ratio_a_per_node"]) == len(m["ratio_x_per_node"]) == 4
+    assert m["ratio_max"] == pytest.approx(max(max(m["ratio_d_per_node"]), max(m["ratio_a_per_node"]),
+                                               max(m["ratio_x_per_node"])))
+    assert m["rule_outcome_at_our_signals"] is (m["ratio_max"] < 1.0)
+    # the numerators do not depend on the signals: the ratio is error RMS / signal RMS
+    np.testing.assert_allclose(np.asarray(m["ratio_d_per_node"]) * m["signal_rms_d"], m["error_rms_d_per_node"],
+                               rtol=1e-9)
+    np.testing.assert_allclose(np.asarray(m["ratio_a_per_node"]) * m["signal_rms_a"], m["error_rms_a_per_node"],
+                               rtol=1e-9)
+    assert m["signal_rms_needed_d"] == max(m["error_rms_d_per_node"])
+    assert m["sine_amplitude_needed_d"] == pytest.approx(np.sqrt(2) * m["signal_rms_needed_d"])
+    assert 0.2 < m["signal_rms_needed_d"] < 0.35  # node 3's d_hat error RMS (~0.26)
+    assert m["signal_rms_d"] > 0 and m["signal_rms_a"] > 0 and c["premise"]["holds"] is True

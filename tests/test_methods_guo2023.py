@@ -280,3 +280,33 @@ def test_bad_input_to_the_library_functions_names_the_argument() -> None:
     U1 = np.array([[1.0], [0.0]])
     with pytest.raises(ValidationError, match="U1\\^T Theta U1 must be invertible"):
         constrained_gain(np.ones((3, 2)), np.diag([0.0, 1.0]), U1, stacked=True)
+
+
+def test_the_unconstrained_negative_control_lets_the_attack_in() -> None:
+    """gain="unconstrained" (ours): S Xi_breve^+ minimises (26) without K U_1 = 0, so the same
+    estimator, fed the attacked and the clean measurements, gives different estimates; a bad
+    gain name is refused naming the argument."""
+    sc = scenarios.scenario("tank12", "bias", runs=2, horizon=40)
+    clean = scenarios.simulate(replace(sc, attack=scenarios.cards()["attack"]["none"]))
+    attacked = scenarios.simulate(sc)
+    mdl = arena_guo2023.arena_model(sc)
+    a = guo2023.run_estimator(mdl, attacked.y, keep_steps=True, gain="unconstrained")
+    b = guo2023.run_estimator(mdl, clean.y, keep_steps=True, gain="unconstrained")
+    assert np.abs(a.x - b.x).max() > 1e-6 * np.abs(b.x).max()
+    assert a.checks["KU1"].max() > 1e-6  # the constraint is not met
+    assert np.all(np.linalg.eigvalsh(a.P_loc) > 0)
+    rng = np.random.default_rng(11)
+    nx, ny = 4, 5
+    Gbar = np.hstack([rng.standard_normal((nx, 2)), np.zeros((nx, 1))])
+    Hbar = np.hstack([np.zeros((ny, 2)), rng.standard_normal((ny, 1))])
+    R = 0.5 * np.eye(ny)
+    dec = feedthrough_decomposition(Hbar, R)
+    args = (rng.standard_normal((nx, nx)), 0.1 * np.eye(nx), Gbar, np.eye(nx), dec, dec,
+            rng.standard_normal((ny, nx)), R)
+    g_c, g_u = guo2023.local_gains(*args), guo2023.local_gains(*args, gain="unconstrained")
+    assert np.trace(g_u.P_loc) <= np.trace(g_c.P_loc) + 1e-12  # no constraint: not above (28)
+    assert np.abs(g_u.K @ dec.U1).max() > 1e-6
+    with pytest.raises(ValidationError, match="gain: expected one of"):
+        guo2023.local_gains(*args, gain="free")
+    with pytest.raises(ValidationError, match="gain: expected one of"):
+        guo2023.run_estimator(mdl, clean.y, gain="free")

@@ -12,6 +12,7 @@ import time
 from pathlib import Path
 
 import pytest
+from conftest import TOY_TOML
 
 from secest.repro import spaces, sweep
 from secest.repro.results import repo_root
@@ -303,3 +304,48 @@ def test_run_sweep_refuses_a_bad_cluster_before_starting_one(kw: dict, match: st
 
     with pytest.raises(ValidationError, match=match):
         sweep.run_sweep(["guo2023"], progress=False, **kw)
+
+
+def test_region_on_a_seed_axis_names_the_failing_draws(toy: Path) -> None:
+    """An axis declared as a seed (``draw = true``) is not ordered: the region names the draws
+    where the claim fails, never a threshold; the same axis without ``draw`` gives a threshold."""
+    toml = toy / "notebooks" / "toy.toml"
+    draws = [0, 603371, 994542, 29109]
+    for draw in (False, True):
+        toml.write_text(TOY_TOML.replace(
+            "space = { values = [0, 1] }",
+            f"space = {{ values = {draws}{', draw = true' if draw else ''} }}"))
+        space = _space(toy)
+        assert space.axes["seed"].draw is draw
+        points = [{"scale": 0.2, "alpha": 0.6, "seed": s} for s in draws for _ in range(2)]
+        swept, results = _results(points, lambda p: p["seed"] != 994542)
+        rows = sweep.tabulate(space, swept, results)
+        region = sweep.summarise(space, rows, points)["C1"]["region"]
+        if draw:
+            assert region == ("holds exactly where seed is not the draw 994542 (fails there; seed is a "
+                              "seed: its 4 swept draws are named, not ordered) (6 of 8 points)")
+        else:
+            assert region.startswith("holds exactly where seed <= 603371")  # ordered: a threshold
+    # two failing draws are both named; a draw that fails everywhere names no region
+    swept, results = _results(points, lambda p: p["seed"] in (0, 29109))
+    rows = sweep.tabulate(space, swept, results)
+    assert sweep.summarise(space, rows, points)["C1"]["region"].startswith(
+        "holds exactly where seed is not the draws 603371, 994542 (fails there")
+    toml.write_text(TOY_TOML.replace("space = { values = [0, 1] }",
+                                              "space = { values = [0, 1], draw = 1 }"))
+    with pytest.raises(ValueError, match="draw must be true or false"):
+        _space(toy)
+
+
+def test_a_sampled_seed_range_is_a_draw_axis(toy: Path) -> None:
+    toml = toy / "notebooks" / "toy.toml"
+    toml.write_text(TOY_TOML.replace(
+        "space = { values = [0, 1] }", "space = { low = 0, high = 1000000, integer = true, draw = true }"))
+    space = _space(toy)
+    assert space.axes["seed"].draw and space.axes["seed"].kind == "sample"
+    points = [{"scale": 0.2, "alpha": 0.6, "seed": s} for s in (17, 400003, 999, 123456)]
+    swept, results = _results(points, lambda p: p["seed"] != 999)
+    rows = sweep.tabulate(space, swept, results)
+    region = sweep.summarise(space, rows, points)["C1"]["region"]
+    assert region.startswith("holds exactly where seed is not the draw 999 (fails there")
+    assert "draws of a seed (unordered)" in space.parameters["seed"].space_text()

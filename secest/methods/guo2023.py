@@ -54,6 +54,7 @@ __all__ = [
     "GuoRun",
     "GuoState",
     "GuoStep",
+    "GAINS",
     "LocalGains",
     "decompositions",
     "error_covariance",
@@ -68,6 +69,11 @@ __all__ = [
 ]
 
 Array = NDArray[np.float64]
+
+GAINS = ("constrained", "unconstrained")
+"""The local gains :func:`local_gains` can use: (28) with ``K U_1 = 0`` (the paper's), or the
+unconstrained minimiser ``S Xi_breve^+`` of (26) (ours: a negative control, which lets the
+attack into the local error)."""
 
 
 def _t(M: Array) -> Array:
@@ -149,6 +155,8 @@ def local_gains(
     dec: FeedthroughSVD,
     C: Array,
     R: Array,
+    *,
+    gain: str = "constrained",
 ) -> LocalGains:
     """Gains and covariance bounds of the local step k-1 -> k (A2-A4, A8-A12, A14).
 
@@ -168,11 +176,24 @@ def local_gains(
         possibly stacked over nodes (:func:`secest.core.estimation.feedthrough_decomposition`).
     C, R : (..., n_y, n_x), (..., n_y, n_y) arrays
         ``C^i_k``, ``R^i_k``.
+    gain : {"constrained", "unconstrained"}, default "constrained"
+        ``"constrained"``: the gain (28), ``K U_1 = 0`` (the paper's). ``"unconstrained"`` (ours,
+        a negative control): ``K = S Xi_breve^+`` with ``Xi_breve = (I - C J) Xi_bar (I - C J)^T``
+        (26), the minimiser of ``tr P_bar^{i,i}`` without the constraint (pseudo-inverse with
+        relative cutoff 1e-9); ``P_loc`` is then (26) corrected evaluated at that gain. It does
+        not satisfy ``K U_1 = 0``, so the attack enters the local error.
 
     Returns
     -------
     LocalGains
+
+    Raises
+    ------
+    ValidationError
+        If ``gain`` is not one of :data:`GAINS`.
     """
+    if gain not in GAINS:
+        raise ValidationError(f"gain: expected one of {GAINS}, found {gain!r}")
     G1, G2 = Gbar @ dec_prev.V1, Gbar @ dec_prev.V2  # (4) at k-1
     U2t = _t(dec.U2)
     C2, R2 = U2t @ C, U2t @ R @ dec.U2  # (6)
@@ -187,8 +208,14 @@ def local_gains(
     S = P_star @ _t(C) - J @ R  # A9: (26)
     Xi = C @ P_pred @ _t(C) + R  # A10: (13)
     Theta = np.linalg.solve(Xi, np.eye(C.shape[-2]) - C @ J)  # A11: (30), line 13
-    K = constrained_gain(S, Theta, dec.U1, stacked=True)  # A12: (28)
-    P_loc = symmetrize(P_star - K @ _t(S))  # A14: (29)
+    if gain == "constrained":
+        K = constrained_gain(S, Theta, dec.U1, stacked=True)  # A12: (28)
+        P_loc = symmetrize(P_star - K @ _t(S))  # A14: (29)
+    else:  # ours, a negative control: the unconstrained minimiser of (26)
+        I_CJ = np.eye(C.shape[-2]) - C @ J
+        Xi_breve = I_CJ @ Xi @ _t(I_CJ)  # (26), with its final transpose (E4)
+        K = S @ np.linalg.pinv(Xi_breve, rcond=1e-9)
+        P_loc = symmetrize(P_star + K @ Xi_breve @ _t(K) - K @ _t(S) - S @ _t(K))  # (26) corrected
     return LocalGains(G1, G2, C2, M2, B2, J, K, P_pred, P_loc, P_star, S, Xi, Theta, R2)
 
 
@@ -597,6 +624,7 @@ def estimator_step(
     matrix_weights: bool = True,
     keep_gains: bool = False,
     rtol: float = 1e-10,
+    gain: str = "constrained",
 ) -> tuple[GuoState, GuoStep]:
     """One step ``k - 1 -> k`` of Algorithm 1 at every node (stages A-D).
 
@@ -621,6 +649,8 @@ def estimator_step(
         Return every node's :class:`LocalGains` in the step record (``GuoStep.gains``).
     rtol : float
         SVD rank tolerance.
+    gain : {"constrained", "unconstrained"}, default "constrained"
+        The local gain (:func:`local_gains`): (28), or the unconstrained negative control (ours).
 
     Returns
     -------
@@ -641,7 +671,7 @@ def estimator_step(
     for grp in plan.groups:  # stage A
         idx = grp.idx
         P_prev = state.P[..., idx, :, :]
-        g = local_gains(A, Q, grp.G_prev, P_prev, grp.dec_prev, grp.dec, Ck[idx], Rk[idx])
+        g = local_gains(A, Q, grp.G_prev, P_prev, grp.dec_prev, grp.dec, Ck[idx], Rk[idx], gain=gain)
         u1_prev = np.stack([state.u1[i] for i in idx], axis=1)
         xl, u2g, z1g = local_estimate(g, A, state.x[:, idx], u1_prev, grp.dec, Ck[idx], ya[:, idx])
         x_loc[:, idx], P_loc[..., idx, :, :] = xl, g.P_loc
@@ -702,6 +732,7 @@ def run_estimator(
     link: Array | None = None,
     keep_steps: bool = True,
     rtol: float = 1e-10,
+    gain: str = "constrained",
 ) -> GuoRun:
     """Algorithm 1 (corrected) over all runs and nodes, ``k = 1..K`` (:func:`estimator_step`).
 
@@ -723,6 +754,9 @@ def run_estimator(
         :class:`LocalGains` of every step.
     rtol : float, default 1e-10
         Relative rank tolerance of the SVD of ``H_bar^i``.
+    gain : {"constrained", "unconstrained"}, default "constrained"
+        The local gain (:func:`local_gains`): (28), the paper's, or ``"unconstrained"``,
+        ``S Xi_breve^+`` without ``K U_1 = 0`` (ours: a negative control of the decoupling).
 
     Returns
     -------
@@ -731,8 +765,11 @@ def run_estimator(
     Raises
     ------
     ValidationError
-        ``ya`` or ``link`` of the wrong shape, or ``Pi`` not row-stochastic.
+        ``ya`` or ``link`` of the wrong shape, ``Pi`` not row-stochastic, or ``gain`` not one
+        of :data:`GAINS`.
     """
+    if gain not in GAINS:
+        raise ValidationError(f"gain: expected one of {GAINS}, found {gain!r}")
     ya = np.asarray(ya, float)
     N = int(mdl.N)
     if ya.ndim != 4 or ya.shape[2] != N:
@@ -752,7 +789,8 @@ def run_estimator(
         recv = None if received is None else (lambda m, k=k: received(k, m))
         weights = link_weights(Pi, link[:, k]) if per_run else None
         state, step = estimator_step(mdl, state, ya[:, k], received=recv, weights=weights,
-                                     matrix_weights=keep_steps, keep_gains=keep_steps, rtol=rtol)
+                                     matrix_weights=keep_steps, keep_gains=keep_steps, rtol=rtol,
+                                     gain=gain)
         xs.append(state.x)
         Ps.append(state.P)
         u1s.append(state.u1)

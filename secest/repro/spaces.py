@@ -32,6 +32,8 @@ The file's layout::
     # space = { low = 0.1, high = 0.3, steps = 9 }  # a range on a grid (log = true: geometric)
     # space = { low = 0.1, high = 0.3 }             # a range sampled by the Sobol/LHS design
     # space = { same_as = "L_scale" }               # tied to another axis at every point
+    # space = { low = 0, high = 1000000, integer = true, draw = true }  # a seed: its values are
+    #                                               # draws, unordered (regions name draws)
 
 A design is the full grid of the sets and stepped ranges times the Sobol / LHS
 sample of the other ranges; the default point is always added.
@@ -205,6 +207,10 @@ class Axis:
         Round the range's values to integers. Default False.
     same_as : str, optional
         Name of another swept parameter this one equals at every point (a tied axis).
+    draw : bool
+        The axis is a seed (``draw = true`` in its space): its values name random draws and
+        carry no order, so a region over it names the draws where a claim fails (or holds),
+        never a threshold (:func:`secest.repro.sweep.describe_region`). Default False.
     """
 
     values: tuple | None = None
@@ -215,6 +221,7 @@ class Axis:
     log: bool = False
     integer: bool = False
     same_as: str | None = None
+    draw: bool = False
 
     @property
     def kind(self) -> str:
@@ -426,11 +433,17 @@ def format_value(value: Any) -> str:
 
 
 def _axis(name: str, spec: Mapping[str, Any]) -> Axis:
-    known = {"values", "labels", "low", "high", "steps", "log", "integer", "same_as"}
+    known = {"values", "labels", "low", "high", "steps", "log", "integer", "same_as", "draw"}
     unknown = sorted(set(spec) - known)
     if unknown:
         raise ValidationError(f"space of {name} has unknown keys {unknown}; known: {sorted(known)}")
+    draw = spec.get("draw", False)
+    if not isinstance(draw, bool):
+        raise ValidationError(f"space of {name}: draw must be true or false, found {draw!r}")
     if "same_as" in spec:
+        if draw:
+            raise ValidationError(f"space of {name}: a tied axis takes its kind from "
+                                  f"{spec['same_as']!r}; declare draw there")
         return Axis(same_as=str(spec["same_as"]))
     if "values" in spec:
         values = tuple(spec["values"])
@@ -439,7 +452,7 @@ def _axis(name: str, spec: Mapping[str, Any]) -> Axis:
             raise ValidationError(
                 f"space of {name} needs a non-empty 'values' (and one label per value)"
             )
-        return Axis(values=values, labels=labels)
+        return Axis(values=values, labels=labels, draw=draw)
     if "low" not in spec or "high" not in spec:
         raise ValidationError(f"space of {name} needs 'values', 'low' and 'high', or 'same_as'")
     low, high = float(spec["low"]), float(spec["high"])
@@ -451,7 +464,8 @@ def _axis(name: str, spec: Mapping[str, Any]) -> Axis:
     steps = spec.get("steps")
     if steps is not None and (not isinstance(steps, int) or steps < 2):
         raise ValidationError(f"space of {name}: steps must be an integer >= 2, found {steps!r}")
-    return Axis(low=low, high=high, steps=steps, log=log, integer=bool(spec.get("integer", False)))
+    return Axis(low=low, high=high, steps=steps, log=log, integer=bool(spec.get("integer", False)),
+                draw=draw)
 
 
 def _parameter(name: str, entry: CellEntry, spec: Mapping[str, Any]) -> Parameter:
@@ -925,4 +939,5 @@ def _axis_text(a: Axis) -> str:
     scale = "geometric " if a.log else ""
     if a.kind == "grid":
         return f"[{format_value(a.low)}, {format_value(a.high)}], {a.steps} {scale}steps"
-    return f"[{format_value(a.low)}, {format_value(a.high)}] ({scale}sampled)"
+    text = f"[{format_value(a.low)}, {format_value(a.high)}] ({scale}sampled)"
+    return text + (", draws of a seed (unordered)" if a.draw else "")

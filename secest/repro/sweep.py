@@ -509,7 +509,9 @@ def describe_region(
 
     For a numeric axis the rule is a threshold (holds where the value is below, or
     above, a cut between two swept values); for a set of non-numeric values it is
-    a subset of levels. When no rule is right at every point the best one is given
+    a subset of levels; for a seed (an axis declared with ``draw = true``) it names the
+    draws where the claim fails (or holds, if fewer), never a threshold: a seed's values
+    are not ordered. When no rule is right at every point the best one is given
     with its accuracy, followed by the fraction holding at each level of every set.
 
     Parameters
@@ -536,7 +538,7 @@ def describe_region(
         return f"{words[0]} at all {n} points of the declared space"
     if not any(holds):
         return f"{words[0]} at none of the {n} points of the declared space"
-    rules = [_best_rule(space, name, values, holds) for name, values in axes.items()]
+    rules = [_best_rule(space, name, values, holds, words) for name, values in axes.items()]
     rules = [r for r in rules if r is not None]
     accuracy, text = max(rules, key=lambda r: r[0]) if rules else (0.0, "")
     if accuracy == 1.0:
@@ -585,8 +587,11 @@ def _pair_region(
     return None
 
 
-def _best_rule(space: spaces.Space, name: str, values: list, holds: Sequence[bool]) -> tuple | None:
+def _best_rule(space: spaces.Space, name: str, values: list, holds: Sequence[bool],
+               words: tuple[str, str] = ("holds", "fails")) -> tuple | None:
     axis = space.axes.get(name, spaces.Axis(values=tuple(dict.fromkeys(map(json.dumps, values)))))
+    if axis.draw:
+        return _draw_rule(name, values, holds, words)
     if name not in space.axes:
         values = [json.dumps(v) for v in values] if not _numeric(values) else values
     if _numeric(values) and len(set(values)) > 1:
@@ -618,6 +623,32 @@ def _best_rule(space: spaces.Space, name: str, values: list, holds: Sequence[boo
         shown = ", ".join(axis.label(g) for g in good)
         return acc, f"{name} in {{{shown}}}"
     return None
+
+
+def _draw_rule(name: str, values: list, holds: Sequence[bool], words: tuple[str, str]) -> tuple | None:
+    """The rule of a seed axis (``draw = true``): the draws where the claim fails, by name.
+
+    A seed's values are draws and carry no order, so no threshold is offered: the rule is the
+    set of draws where ``words[1]`` is the majority (or, if fewer, where ``words[0]`` is), named.
+    """
+    draws = list(dict.fromkeys(json.dumps(v) for v in values))
+    if len(draws) < 2:
+        return None
+    keyed = [json.dumps(v) for v in values]
+    bad = [d for d in draws if _mean([h for x, h in zip(keyed, holds, strict=True) if x == d]) < 0.5]
+    if not bad or len(bad) == len(draws):
+        return None  # the same at every draw: a seed says nothing about where
+    pred = [x not in bad for x in keyed]
+    acc = sum(p == h for p, h in zip(pred, holds, strict=True)) / len(holds)
+    good = [d for d in draws if d not in bad]
+    shown, side = (bad, words[1]) if len(bad) <= len(good) else (good, words[0])
+    listed = ", ".join(spaces.format_value(json.loads(d)) for d in shown)
+    noun = "draw" if len(shown) == 1 else "draws"
+    if side == words[1]:
+        text = f"{name} is not the {noun} {listed} ({words[1]} there"
+    else:
+        text = f"{name} is the {noun} {listed} ({words[1]} at the other {len(bad)}"
+    return acc, text + f"; {name} is a seed: its {len(draws)} swept draws are named, not ordered)"
 
 
 def _numeric(values: Sequence[Any]) -> bool:
