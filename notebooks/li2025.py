@@ -39,7 +39,7 @@
 # an estimator that barely uses its measurements; they certify it, not the tracking design of the
 # example. Before this revision C3 was not checked and the verdict was [¬Re]. (ii) C8 and C1b fail
 # through one printed error, the sign of (21)'s $(\check\psi-1)$ that gives the printed $\kappa_x$ (and
-# $c_0$): with the corrected coefficients $c_0,\kappa_x>0$ for every positive weight set, so $\Pi\succ0$
+# $c_0$): with the corrected coefficients $c_0>0$, $\kappa_x\ge0$ for every positive weight set, so $\Pi\succ0$
 # and (28) is the minimiser for all "given positive scalars" (X5 certifies the corrected bound). The
 # gain design is sound; the printed statement is not. (iii) C8 is decided by the sign of $\Pi$'s
 # smallest eigenvalue, not by the size of a perturbation.
