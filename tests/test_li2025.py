@@ -166,10 +166,10 @@ def test_c3_theorem3_premise_and_vacuous_envelope(claims) -> None:
     assert a["measured"]["rank_Bsum_Bsum_t_per_target"] == [0, 2, 2]
     assert a["premise"]["holds"] is False and a["verdict"] == "fails-premise"
     assert not a.get("decides")  # a failed premise on the example does not decide Theorem 3
-    # Theorem 3 decides as not-checked until an instance satisfying Assumption 1 is declared
+    # Theorem 3 decides on our declared instance; the example's evaluation (C3a) does not
     c3 = claims["C3"]
-    assert c3["decides"] and c3["holds"] is None and c3["verdict"] == "not-checked"
-    assert c3["measured"]["rank_E_Et_max"] == a["measured"]["rank_E_Et_max"]
+    assert c3["decides"] and c3["basis"] == "measured"
+    assert c3["measured"]["example_rank_E_Et_max"] == a["measured"]["rank_E_Et_max"]
     # (36) asks Gamma_* I <= L Phi C H with Gamma_* > 0: the rank is at most m = 2 < 4
     assert a["measured"]["max_rank_L_Phi_C_H"] <= 2
     rows = a["measured"]["printed_weights_in_use"]
@@ -193,6 +193,27 @@ def test_c3_theorem3_premise_and_vacuous_envelope(claims) -> None:
     assert ratios and min(ratios) > 1e9  # the data-driven envelope is vacuous where defined
     lam = np.array([1e-3, 1e-2, 1e-2])
     np.testing.assert_allclose(m["rho"], lam / (1 + lam), rtol=1e-10)  # claims carry 11 digits
+
+
+def test_c3_theorem3_on_our_instance(claims) -> None:
+    """C3 on the declared instance: the measured ratio, its decision, the reported proof steps."""
+    c = claims["C3"]
+    m = c["measured"]
+    # the instance and the search are fixed (no parameter of the declared space enters them)
+    assert m["weight_sets_searched"] == 4096
+    assert m["eligible_weight_sets"] == 38 and m["eligible_cases"] == 7719
+    np.testing.assert_allclose(m["X_star_sq"], [3.0, 3.0], rtol=1e-9)
+    assert c["premise"]["holds"] is (m["eligible_weight_sets"] > 0)
+    assert m["max_ratio"] == pytest.approx(0.08612, rel=1e-3)
+    assert m["max_ratio_subsystem2"] <= m["max_ratio"]
+    assert c["threshold"] == 1.0
+    assert abs(m["max_ratio"] - 1.0) > _tolerance(c, m["max_ratio"])
+    assert c["holds"] is (m["max_ratio"] <= 1.0)
+    for key in ("stage1_holds_cases", "lambda_53_holds_cases", "literal_56_holds_cases"):
+        assert 0 <= m[key] <= m["eligible_cases"], key
+    # (52)'s Lambda is not an upper bound of ||L||^2 in most eligible cases; the gains are ~0
+    assert m["lambda_53_holds_cases"] == 273 and m["literal_56_holds_cases"] == 1840
+    assert m["max_gain_norm_sq"] < 1e-6
 
 
 def test_deciding_claims_and_verdict_line(claims) -> None:
@@ -235,31 +256,43 @@ def test_x8_kalman_limit(claims) -> None:
 
 
 def test_c8_theorem2_gain_perturbations(claims) -> None:
-    """Theorem 2: the measured smallest change of tr S under perturbed gains, and its decision."""
+    """Theorem 2: Pi's smallest relative eigenvalue decides; the perturbations agree with it."""
     c, cb = claims["C8"], claims["C8b"]
     m = c["measured"]
     grid = [m["printed, Remark-4 weights"], m["printed, alpha2 > alpha3 weights"]]
     declared = m["printed, declared weights (thm2_weights)"]
+    assert c["key"] == cb["key"] == "min_eig_pi_relative"
+    assert m["min_eig_pi_relative"] == min(r["min_eig_pi_relative"] for r in grid + [declared])
     assert m["min_relative_change"] == min(r["min_relative_change"] for r in grid + [declared])
     level = c["threshold"]
     assert level == -1e-10 and cb["threshold"] == level
-    assert abs(m["min_relative_change"] - level) > _tolerance(c, m["min_relative_change"])
-    assert c["holds"] is (m["min_relative_change"] >= level)
-    for r in grid + [declared, m["corrected, weights in use"]]:
+    assert abs(m["min_eig_pi_relative"] - level) > _tolerance(c, m["min_eig_pi_relative"])
+    assert c["holds"] is (m["min_eig_pi_relative"] >= level)
+    for r in grid + [declared, m["printed, declared weights on the Remark-4 trajectory"],
+                     m["corrected, weights in use"]]:
         # (28) is a stationary point of (18): the symmetric differences vanish to rounding
         assert r["max_relative_first_order"] <= 1e-10
         # second order: tr S cannot decrease in any direction iff Pi >= 0
         assert (r["min_eig_pi"] >= 0) is (r["min_relative_change"] >= level)
         assert (r["steps_with_pi_indefinite"] == 0) is (r["min_eig_pi"] >= 0)
+        assert (r["min_eig_pi_relative"] >= 0) is (r["min_eig_pi"] >= 0)
+        assert r["indefinite_pi_steps_with_S_pd"] <= r["steps_with_pi_indefinite"] <= r["steps"]
     # C8b: our grid's weights have printed c0 > 0 and kappa_x >= 0, so Pi > 0 by construction
     assert cb["basis"] == "by-construction" and not cb.get("decides")
     assert cb["measured"]["min_c0"] > 0 and cb["measured"]["min_kappa_x"] >= 0
-    assert cb["measured"]["min_relative_change"] == min(r["min_relative_change"] for r in grid)
+    assert cb["measured"]["min_eig_pi_relative"] == min(r["min_eig_pi_relative"] for r in grid)
     assert all(r["min_eig_pi"] > 0 for r in grid)
     # the declared weights (0.1, 1, 9.5, 10, 0.01): printed c0 = 1 - 0.5 (1 - psi) > 0,
     # kappa_x = psi - 0.89 < 0 at the paper's psi = 0.7, 0.5, 0.3
     np.testing.assert_allclose(declared["c0_per_target"], [0.85, 0.75, 0.65], rtol=1e-12)
     np.testing.assert_allclose(declared["kappa_x_per_target"], [-0.19, -0.39, -0.59], rtol=1e-12)
+    # default point, declared weights along their own trajectory: Pi indefinite at 145 of 300
+    # (step, target) pairs, S(k|k) at (28) positive definite at every one of them
+    assert declared["steps_with_pi_indefinite"] == m["steps_with_pi_indefinite_declared"] == 145
+    assert declared["steps"] == 300
+    assert declared["indefinite_pi_steps_with_S_pd"] == 145
+    assert m["min_eig_S_at_indefinite_pi_declared"] == pytest.approx(5.287e-6, rel=1e-3)
+    assert m["declared_trajectory_min_eig_S"] > 0  # Theorem 1's positive-definite solutions
     # default point: Pi is positive definite along the printed design (min eigenvalue ~10)
     assert grid[0]["min_eig_pi"] == pytest.approx(10.011, rel=1e-3)
     # (18)'s first factor read literally moves the minimiser away from (28)

@@ -411,3 +411,68 @@ def test_the_arena_method_refuses_bad_options_with_the_argument_named() -> None:
         arena_li2025.Li2025(weights=(1.0, 1.0))
     with pytest.raises(ValidationError, match="variant must be one of"):
         arena_li2025.Li2025(variant="x")
+
+
+# ------------------------------------------------------------------ Theorem 2 and Theorem 3 helpers
+def _small_instance(psi: float, horizon: int = 30):
+    """One subsystem (no parents), n = 2, C = I, m = 1 of n_y = 2: the data of exact_design_moments."""
+    ah = 0.6 * np.array([[np.cos(0.3), -np.sin(0.3)], [np.sin(0.3), np.cos(0.3)]]) @ np.diag([1, 0.05])
+    sched = schedules.rrl_map_sets(np.arange(1, horizon + 1), 1, 2)
+    k = np.arange(horizon + 1)[:, None]
+    xi = np.sqrt(0.3) * np.hstack([np.sin(k), np.cos(k)])
+    return dict(AH=ah, BH={}, parents={0: ()}, EWE=0.03 * np.eye(2), CH=np.diag([1, 0.05]),
+                sched=sched, psi_bar=[psi], xi=xi, xi_star=0.3, V=0.03, mean0=np.ones(2),
+                cov0=np.eye(2), S0=np.eye(2))
+
+
+def test_exact_design_moments_is_the_kalman_filter_without_attack() -> None:
+    """psi = 1, lambda = 0 (no parents), corrected: (17)-(18)-(28) are the Riccati recursion, S = P."""
+    rec = li2025.exact_design_moments(**_small_instance(1.0), weights=[(0.0, 1.0, 1.0, 1.0, 1.0)],
+                                      variant="corrected")
+    np.testing.assert_allclose(rec["S"], rec["P"], atol=1e-12)
+    assert np.all(np.linalg.eigvalsh(rec["P"][1:]) > 0)
+
+
+def test_exact_design_moments_refuses_bad_dimensions() -> None:
+    data = _small_instance(0.5)
+    data["cov0"] = np.eye(3)
+    with pytest.raises(ValidationError, match="Incompatible dimensions"):
+        li2025.exact_design_moments(**data, weights=[(0.1, 1.0, 1.0, 1.0, 1.0)])
+
+
+def test_theorem2_check_corrected_coefficients_have_no_saddle() -> None:
+    """Corrected c0, kappa_x > 0 for every positive weight set: Pi > 0, (28) minimises (18)."""
+    data = _small_instance(0.5)
+    w = [(0.1, 1.0, 9.5, 10.0, 0.01)]  # printed kappa_x < 0 at psi = 0.5, corrected > 0
+    rec = li2025.exact_design_moments(**data, weights=w, variant="corrected")
+    G = [data["CH"][s] for s in data["sched"]]
+    r = li2025.theorem2_check(rec["Sp"], rec["Xh"], G, [0.5], w, 0.3, 0.03, "corrected", n_random=4)
+    assert r["steps_with_pi_indefinite"] == 0 and r["min_eig_pi_relative"] > 0
+    assert r["min_relative_change"] >= -1e-10 and r["max_relative_first_order"] <= 1e-10
+    assert r["min_eig_S_at_indefinite_pi"] is None and r["steps"] == len(G)
+    printed = li2025.theorem2_check(rec["Sp"], rec["Xh"], G, [0.5], w, 0.3, 0.03, "paper", n_random=4)
+    assert printed["kappa_x_per_target"][0] < 0
+    assert (printed["min_eig_pi"] >= 0) is (printed["min_relative_change"] >= -1e-10)
+    with pytest.raises(ValidationError, match="T = len"):
+        li2025.theorem2_check(rec["Sp"][:-1], rec["Xh"], G, [0.5], w, 0.3, 0.03)
+
+
+def test_theorem3_proof_envelope_uses_the_best_alpha5_to_alpha7() -> None:
+    """mu of (55) at the closed-form alpha_5..7 is the minimum over a grid of admissible ones."""
+    const = {"a_lo2": 0.36, "a_hi2": 0.36, "h_lo": 0.05, "h_hi": 1.0, "c_lo2": 1.0, "c_hi2": 1.0,
+             "e_lo2": 1.0, "e_hi2": 1.0, "b_lo2": 0.04, "b_hi2": 0.04, "q_lo": 0.03, "q_hi": 0.03,
+             "r_lo": 0.03, "r_hi": 0.03, "wp": 0.0025, "x2": 3.0, "xi_star": 0.3}
+    w = (0.2, 100.0, 0.05, 0.01, 5.0)  # printed c0 = 1 + 0.04 (1 - 0.5) > 1
+    env = li2025.theorem3_proof_envelope(1e-3, 2.0, 0.5, w, const, 2.0, 20, 2, 2)
+    c0 = li2025.bound_coefficients(0.5, 0.05, 0.01, 5.0, "paper")[0]
+    a5 = np.linspace(1e-4, c0 - 1 - 1e-4, 201)[:, None]
+    a7 = np.logspace(-4, 4, 401)[None, :]
+    grid = ((1 + 1 / a5 + a7) * env["mu1"] + (1 + 1 / (c0 - 1 - a5) + 1 / a7) * env["mu2"]).min()
+    assert env["mu"] <= grid * (1 + 1e-12) and env["mu"] >= grid * (1 - 1e-3)
+    assert env["UB"][0] == pytest.approx(2.0 / 1e-3 * 2.0) and np.all(np.diff(env["UB"][3:]) != 0)
+    assert 0 < env["rho"] <= 1 and env["t_bar"] > 0 > env["t_bar_printed"]
+    low_c0 = li2025.theorem3_proof_envelope(1e-3, 2.0, 0.5, (0.2, 1.0, 0.01, 0.05, 5.0), const,
+                                            2.0, 20, 2, 2)
+    assert np.isnan(low_c0["mu"]) and np.all(np.isnan(low_c0["UB"]))
+    with pytest.raises(ValidationError, match="phi_lo"):
+        li2025.theorem3_proof_envelope(0.0, 2.0, 0.5, w, const, 2.0, 20, 2, 2)

@@ -59,12 +59,15 @@ __all__ = [
     "bound_for_gain",
     "correct",
     "estimate",
+    "exact_design_moments",
     "gain_and_bound",
     "predict",
     "predicted_bound",
     "turn_model",
     "sym",
+    "theorem2_check",
     "theorem3_c_floor",
+    "theorem3_proof_envelope",
     "theorem3_eta",
 ]
 
@@ -744,3 +747,372 @@ def estimate(
             S[:, k, i] = S_new
             L_all[:, k, i][..., cols] = L_use
     return {"xhat": xh, "S": S, "S_pred": S_pred, "L": L_all}
+
+
+# ------------------------------------------------------------------ Theorem 2, checked
+def theorem2_check(
+    S_pred: Array,
+    X_hat: Array,
+    G_steps: Sequence[Array],
+    psi_bar: ArrayLike,
+    weights: Sequence[Sequence[float]],
+    xi_star: float,
+    V: float,
+    variant: str = "paper",
+    *,
+    literal: bool = False,
+    seed: int = 20250,
+    n_random: int = 32,
+    steps: Sequence[float] = (1e-3, 1e-1, 1.0),
+) -> dict[str, Any] | None:
+    """Does the gain (28) minimise the trace of the bound (18)? Perturbations along a trajectory.
+
+    Theorem 2 states that for given positive ``epsilon, alpha_1..alpha_4, lambda`` the bound
+    ``S_i(k|k)`` of (18) "can be minimized" by the gain (28), from
+    ``d tr S_i(k|k) / d L_i(k) = 0`` (29). At every step ``k = 1..T`` and subsystem ``i``, with
+    that step's ``S_i(k|k-1)`` and ``E{x_hat x_hat^T}``, the gain ``L*`` of (28)
+    (:func:`gain_and_bound`) is perturbed, ``L = L* +- s delta``, and the trace of (18) is
+    evaluated at ``L`` term by term (:func:`bound_for_gain`). Directions ``delta`` (unit Frobenius
+    norm): ``n_random`` Gaussian ones, the structured ``e_r v_j^T`` (``v_j`` the eigenvectors of
+    ``Pi`` of (28)) and ``L*/||L*||``; step sizes ``s = t max(||L*||_F, 1)`` for ``t`` in ``steps``.
+    (18) is quadratic in ``L``: the symmetric difference is the first-order term (zero at a
+    stationary point) and the second-order term is ``s^2 tr(delta Pi delta^T)``, non-negative in
+    every direction iff ``Pi >= 0``.
+
+    Parameters
+    ----------
+    S_pred, X_hat : (T+1, N, n, n) arrays
+        ``S_i(k|k-1)`` and ``E{x_hat_i(k|k-1) x_hat_i^T(k|k-1)}`` along the trajectory (row 0
+        unused).
+    G_steps : sequence of T (rows, n) arrays
+        ``(C H_eps)_{eps(k)}``, the received rows at ``k = 1..T``.
+    psi_bar : (N,) array
+        ``psi_check_i``.
+    weights : N sequences of 5 floats
+        ``(lambda, alpha_1..alpha_4)`` per subsystem (``lambda`` does not enter (18) or (28): it
+        acts through ``S_pred``).
+    xi_star, V : float
+        Attack-energy bound and measurement-noise variance.
+    variant : str, default "paper"
+        Coefficients of :func:`bound_coefficients`.
+    literal : bool, default False
+        Also evaluate (18) with its first factor read literally, ``(1 - (a3 - a2))(1 - psi)``:
+        the relative excess of tr (18) at (28) over its minimum, and the steps without one.
+    seed, n_random, steps
+        Random directions and step sizes (ours).
+
+    Returns
+    -------
+    dict or None
+        None if the gain (28) is not finite at some step; else ``min_relative_change`` (the
+        smallest relative change of tr S(k|k), negative: a decrease), ``worst_k_target_step``,
+        ``max_relative_first_order``, ``min_eig_pi``, ``min_eig_pi_relative`` (min over steps of
+        lambda_min(Pi) / max |lambda(Pi)|), ``steps_with_pi_indefinite``, ``steps``,
+        ``min_eig_S_at_indefinite_pi`` (smallest lambda_min of S(k|k) at (28) over the steps with
+        Pi indefinite; None if there are none), ``indefinite_pi_steps_with_S_pd``,
+        ``c0_per_target``, ``kappa_x_per_target`` and, for ``literal``, ``literal_18_excess`` and
+        ``literal_18_steps_without_minimum``.
+
+    Raises
+    ------
+    ValidationError
+        ``S_pred`` / ``X_hat`` / ``G_steps`` / ``weights`` of inconsistent sizes.
+    """
+    S_pred, X_hat = np.asarray(S_pred, float), np.asarray(X_hat, float)
+    if S_pred.shape != X_hat.shape or S_pred.ndim != 4 or S_pred.shape[0] != len(G_steps) + 1:
+        raise ValidationError(
+            f"S_pred and X_hat must be (T+1, N, n, n) with T = len(G_steps) = {len(G_steps)}: "
+            f"found {S_pred.shape} and {X_hat.shape}")
+    T, N, n = len(G_steps), S_pred.shape[1], S_pred.shape[2]
+    psi = _per_target("psi_bar", psi_bar, N)
+    if len(weights) != N or any(len(w) != 5 for w in weights):
+        raise ValidationError(f"weights must hold {N} tuples (lambda, alpha1..alpha4)")
+    rng = np.random.default_rng(seed)
+    worst, where, first, pi_rel, pi_min = np.inf, None, 0.0, np.inf, np.inf
+    excess, no_min, negative_pi, s_pd, s_min = 0.0, 0, 0, 0, np.inf
+    c0_kx = [bound_coefficients(psi[i], *weights[i][2:], variant)[:2] for i in range(N)]
+    for k in range(1, T + 1):
+        G = np.asarray(G_steps[k - 1], float)
+        rows = G.shape[0]
+        for i in range(N):
+            _, a1, a2, a3, a4 = weights[i]
+            coefs = bound_coefficients(psi[i], a2, a3, a4, variant)
+            Sp, Xh = S_pred[k, i], X_hat[k, i]
+            L, S_new, R = gain_and_bound(Sp[None], Xh[None], G, coefs, a1, xi_star, V)  # (28), (18)
+            L, R = L[0], R[0]
+            if not np.all(np.isfinite(L)):
+                return None
+            Pi = sym(coefs[0] * (G @ Sp @ G.T) + R)  # Pi of (28)
+            ev, vec = np.linalg.eigh(Pi)
+            pi_min = min(pi_min, float(ev[0]))
+            pi_rel = min(pi_rel, float(ev[0] / np.abs(ev).max()))
+            if ev[0] < 0:  # (28) is a saddle of tr (18): is S(k|k) at (28) still positive definite?
+                negative_pi += 1
+                s_eig = float(np.linalg.eigvalsh(S_new[0])[0])
+                s_min, s_pd = min(s_min, s_eig), s_pd + int(s_eig > 0)
+            structured = [np.outer(np.eye(n)[r], vec[:, j]) for r in range(n) for j in range(rows)]
+            scale_dir = [L / np.linalg.norm(L)] if np.linalg.norm(L) > 0 else []
+            dirs = np.concatenate([rng.standard_normal((n_random, n, rows)),
+                                   np.array(structured + scale_dir)])
+            dirs /= np.linalg.norm(dirs, axis=(1, 2), keepdims=True)
+            f0 = np.trace(bound_for_gain(Sp, Xh, G, L, coefs, a1, xi_star, V))  # tr (18) at (28)
+            base = max(float(np.linalg.norm(L)), 1.0)
+            for t in steps:
+                s_ = t * base
+                fp = np.trace(bound_for_gain(Sp, Xh, G, L + s_ * dirs, coefs, a1, xi_star, V),
+                              axis1=-2, axis2=-1)
+                fm = np.trace(bound_for_gain(Sp, Xh, G, L - s_ * dirs, coefs, a1, xi_star, V),
+                              axis1=-2, axis2=-1)
+                rel = np.minimum(fp - f0, fm - f0) / abs(f0)
+                if rel.min() < worst:
+                    worst, where = float(rel.min()), (k, i + 1, t)
+                if t == steps[0]:
+                    first = max(first, float(np.abs(fp - fm).max() / (2 * abs(f0))))
+            if literal:
+                lit = ((1 - (a3 - a2)) * (1 - psi[i]),) + tuple(coefs[1:])  # (18)'s factor, literal
+                f_lit = np.trace(bound_for_gain(Sp, Xh, G, L, lit, a1, xi_star, V))
+                Pi_l = sym(lit[0] * (G @ Sp @ G.T) + R)
+                if np.linalg.eigvalsh(Pi_l)[0] <= 0:
+                    no_min += 1  # tr (18) unbounded below in L, or flat: no minimiser
+                else:
+                    L_l = np.linalg.solve(Pi_l, lit[0] * (G @ Sp)).T
+                    f_min = np.trace(bound_for_gain(Sp, Xh, G, L_l, lit, a1, xi_star, V))
+                    excess = max(excess, float((f_lit - f_min) / abs(f_lit)))
+    return {"min_relative_change": worst, "worst_k_target_step": where,
+            "max_relative_first_order": first, "min_eig_pi": pi_min,
+            "min_eig_pi_relative": pi_rel, "steps_with_pi_indefinite": negative_pi,
+            "steps": T * N,
+            "min_eig_S_at_indefinite_pi": float(s_min) if negative_pi else None,
+            "indefinite_pi_steps_with_S_pd": s_pd,
+            "c0_per_target": [float(c) for c, _ in c0_kx],
+            "kappa_x_per_target": [float(x) for _, x in c0_kx],
+            "literal_18_excess": excess if literal else None,
+            "literal_18_steps_without_minimum": no_min if literal else None}
+
+
+# ------------------------------------------------------------------ Theorem 3 on an instance
+def exact_design_moments(
+    AH: Array,
+    BH: Mapping[tuple[int, int], Array],
+    parents: Mapping[int, Sequence[int]],
+    EWE: Array,
+    CH: Array,
+    sched: Array,
+    psi_bar: ArrayLike,
+    xi: Array,
+    xi_star: float,
+    V: float,
+    weights: Sequence[Sequence[float]],
+    mean0: Array,
+    cov0: Array,
+    S0: Array,
+    variant: str = "paper",
+) -> dict[str, Array]:
+    """Algorithm 1 with the exact ``E{x_hat x_hat^T}`` on a time-invariant SPDSS, exact moments.
+
+    With the theorem's own expectation in (18) and (28) the gains are deterministic, and the
+    joint vector ``z = col(x_1..x_N, x_hat_1..x_hat_N)`` has an exactly propagated mean and
+    second moment: prediction (1), (7) ``z^- = A_z z + noise``; update (8) of subsystem ``i`` with
+    the replacement attack (6), averaged over ``psi_i(k) in {1, 0}`` (independent of ``z^-`` and
+    of ``v``). ``S_i(k|k-1)`` is (17) (:func:`predicted_bound`, factor ``|K_i|``), the gain
+    (28) and ``S_i(k|k)`` (18) are :func:`gain_and_bound` with ``variant`` coefficients.
+
+    Parameters
+    ----------
+    AH : (n, n) array
+        ``A H_eps`` (the same for every subsystem).
+    BH : mapping (i, j) -> (n, n) array
+        ``B_{i,j} H_eps`` for ``j in K_i`` (0-based).
+    parents : mapping i -> sequence of int
+        ``K_i``, upstream subsystems first (a sequential order).
+    EWE : (n, n) array
+        ``E W E^T``.
+    CH : (n_y, n) array
+        ``C H_eps``.
+    sched : (T, m) int array
+        ``eps(k)`` (0-based rows of ``CH``) for ``k = 1..T``.
+    psi_bar : (N,) array
+        ``psi_check_i``, probability of no attack.
+    xi : (T+1, n_y) array
+        Attack signal ``xi(k)`` (the same for every subsystem).
+    xi_star, V : float
+        Energy bound of ``xi`` and measurement-noise variance (``V I``).
+    weights : N sequences of 5 floats
+        ``(lambda, alpha_1..alpha_4)`` per subsystem.
+    mean0, cov0 : (N n,) and (N n, N n) arrays
+        Mean and covariance of ``x(0)``; ``x_hat(0|0) = mean0``.
+    S0 : (n, n) array
+        ``S_i(0|0)`` (every subsystem).
+    variant : str, default "paper"
+        Coefficients of :func:`bound_coefficients`.
+
+    Returns
+    -------
+    dict
+        ``P`` (T+1, N, n, n) = E{e e^T}, ``S`` = S(k|k), ``Sp`` = S(k|k-1), ``Xh`` =
+        E{x_hat(k|k-1) x_hat^T(k|k-1)}, ``Exx`` = E{x x^T} and ``L`` (T+1, N, n, m).
+
+    Raises
+    ------
+    ValidationError
+        Incompatible dimensions.
+    """
+    N, n = len(parents), AH.shape[0]
+    T, m = np.shape(sched)
+    psi = _per_target("psi_bar", psi_bar, N)
+    if np.shape(cov0) != (N * n, N * n) or np.shape(mean0) != (N * n,) or np.shape(xi)[0] != T + 1:
+        raise ValidationError(f"Incompatible dimensions of mean0 / cov0 / xi: expected ({N * n},), "
+                              f"({N * n}, {N * n}), ({T + 1}, n_y); found {np.shape(mean0)}, "
+                              f"{np.shape(cov0)}, {np.shape(xi)}")
+    nz = 2 * N * n
+    xs = [slice(i * n, (i + 1) * n) for i in range(N)]
+    hs = [slice((N + i) * n, (N + i + 1) * n) for i in range(N)]
+    Az, Qw = np.zeros((nz, nz)), np.zeros((nz, nz))
+    for i in range(N):
+        Qw[xs[i], xs[i]] = EWE
+        for rows in (xs, hs):
+            Az[rows[i], rows[i]] = AH  # (1), (7): own term
+            for j in parents[i]:
+                Az[rows[i], rows[j]] = BH[(i, j)]  # (1), (7): upstream term
+    mu = np.concatenate([mean0, mean0])
+    Q = np.zeros((nz, nz))
+    Q[:N * n, :N * n] = cov0
+    Q = Q + np.outer(mu, mu)
+    S = np.broadcast_to(S0, (N, n, n)).copy()
+    rec = {name: np.zeros((T + 1, N, n, n)) for name in ("P", "S", "Sp", "Xh", "Exx")}
+    rec["L"] = np.zeros((T + 1, N, n, m))
+    for k in range(T + 1):
+        if k > 0:
+            mu, Q = Az @ mu, Az @ Q @ Az.T + Qw  # prediction (1), (7)
+            G, xi_s = CH[sched[k - 1]], xi[k, sched[k - 1]]
+            S_new = S.copy()
+            for i in range(N):
+                lam, a1, a2, a3, a4 = weights[i]
+                Sp = predicted_bound(S[i], [S[j] for j in parents[i]], AH,
+                                     [BH[(i, j)] for j in parents[i]], lam, EWE)  # (17)
+                L, S_i, _ = gain_and_bound(Sp[None], Q[hs[i], hs[i]][None], G,
+                                           bound_coefficients(psi[i], a2, a3, a4, variant),
+                                           a1, xi_star, V)  # (28), (18)
+                S_new[i], rec["Sp"][k, i], rec["Xh"][k, i], rec["L"][k, i] = S_i[0], Sp, \
+                    Q[hs[i], hs[i]], L[0]
+            for i in range(N):  # update (8) with (6), averaged over psi_i(k)
+                L = rec["L"][k, i]
+                mu_n, Q_n = np.zeros_like(mu), np.zeros_like(Q)
+                for b, p in ((1.0, psi[i]), (0.0, 1.0 - psi[i])):
+                    J = np.eye(nz)
+                    J[hs[i], xs[i]] += b * (L @ G)
+                    J[hs[i], hs[i]] -= L @ G
+                    u = np.zeros(nz)
+                    u[hs[i]] = (1 - b) * (L @ xi_s)
+                    Jm = J @ mu
+                    mu_n += p * (Jm + u)
+                    Q_n += p * (J @ Q @ J.T + np.outer(Jm, u) + np.outer(u, Jm) + np.outer(u, u))
+                    Q_n[hs[i], hs[i]] += p * b * V * (L @ L.T)
+                mu, Q = mu_n, sym(Q_n)
+            S = S_new
+        for i in range(N):
+            qxx, qxh, qhh = Q[xs[i], xs[i]], Q[xs[i], hs[i]], Q[hs[i], hs[i]]
+            rec["P"][k, i], rec["Exx"][k, i] = sym(qxx - qxh - qxh.T + qhh), qxx
+        rec["S"][k] = S
+    return rec
+
+
+def theorem3_proof_envelope(
+    phi_lo: float,
+    phi_hi: float,
+    psi_bar: float,
+    weights: Sequence[float],
+    const: Mapping[str, float],
+    e0: float,
+    horizon: int,
+    n_x: int,
+    n_y: int,
+    variant: str = "paper",
+) -> dict[str, Any]:
+    """The envelope of Theorem 3's proof, (46)-(56), with its own constants; Lemma 3 consistent.
+
+    From the proof, as printed: ``chi_1 = (1+1/lambda) h_*^2 b_*^2 phi_* + e_*^2 q_*`` (44),
+    ``rho = 1 - (1 + lambda + chi_1/((h^* a^*)^2 phi^*))^{-1}`` (55),
+    ``mu_1 = ((h^* b^*)^2 phi^* + (e^*)^2 q^*) / (c0 ((1+lambda)(h^* a^*)^2 phi^* + chi_1))``
+    (49), ``Lambda`` of (53) and ``mu_2 = Lambda t_bar / phi_*`` (51). (50) is corrected (it
+    prints ``(psi-1)(h^*c^*)^2 (X^*)^2 + (1-psi) xi^*``, negative when ``(X^*)^2 > xi^*``, and
+    omits the noise): ``E{t^T t} <= t_bar = psi n_y r^* + (1-psi)(sqrt(xi^*) + h^* c^*
+    sqrt(n_x) X^*)^2`` (Minkowski; ``E||x||^2 <= n_x (X^*)^2``). ``alpha_5..alpha_7`` are the
+    free weights of (42) under condition (a), ``alpha_5 + alpha_6 <= c0 - 1``; the ones that
+    minimise ``mu`` of (55), ``alpha_7 = sqrt(mu_2/mu_1)`` and ``alpha_5 : alpha_6 = sqrt(mu_1) :
+    sqrt(mu_2)`` with ``alpha_5 + alpha_6 = c0 - 1``, give ``mu = (sqrt(mu_1) + sqrt(mu_2))^2
+    (1 + 1/(c0 - 1))`` (the tightest envelope the theorem offers). Lemma 3 with its roles
+    consistent (the printed (32), (56) swap the rate and the constant and start the sum at 1):
+
+    .. math::  UB(k) = \\frac{\\phi^*}{\\phi_*}\\mathbb E\\|e(0|0)\\|^2(1-\\rho)^k
+               + \\mu\\phi^*\\sum_{l=0}^{k-1}(1-\\rho)^l.
+
+    Parameters
+    ----------
+    phi_lo, phi_hi : float
+        ``phi_*`` and ``phi^*`` of Theorem 3.
+    psi_bar : float
+        ``psi_check_i``.
+    weights : 5 floats
+        ``(lambda, alpha_1..alpha_4)``.
+    const : mapping
+        The constants of :data:`THEOREM3_CONSTANTS`.
+    e0 : float
+        ``E||e_i(0|0)||^2``.
+    horizon : int
+        Last step ``T`` of the envelope.
+    n_x, n_y : int
+        State and output dimensions.
+    variant : str, default "paper"
+        Coefficients ``c0, kappa_x`` (Theorem 3 prints Theorem 2's).
+
+    Returns
+    -------
+    dict
+        ``rho``, ``chi1``, ``mu1``, ``mu2``, ``Lambda``, ``t_bar``, ``t_bar_printed``, ``mu``,
+        ``UB`` ((horizon+1,) array, NaN when condition (a) fails: ``c0 <= 1``) and
+        ``UB_literal`` ((56) as printed, with ``rho`` and ``mu`` in the printed places).
+
+    Raises
+    ------
+    ValidationError
+        Missing constants, or ``phi_*`` not in (0, phi^*].
+    """
+    missing = [name for name in THEOREM3_CONSTANTS if name not in const]
+    if missing:
+        raise ValidationError(f"const: missing Theorem 3 constants {missing}")
+    if not 0 < phi_lo <= phi_hi:
+        raise ValidationError(
+            f"phi_lo, phi_hi must satisfy 0 < phi_lo <= phi_hi, found {phi_lo}, {phi_hi}")
+    lam, a1, a2, a3, a4 = (float(w) for w in weights)
+    k = {name: float(const[name]) for name in THEOREM3_CONSTANTS}
+    c0, kx, *_ = bound_coefficients(psi_bar, a2, a3, a4, variant)
+    ha2, hc2 = k["h_hi"] ** 2 * k["a_hi2"], k["h_hi"] ** 2 * k["c_hi2"]
+    chi1 = (1 + 1 / lam) * k["h_lo"] ** 2 * k["b_lo2"] * phi_lo + k["e_lo2"] * k["q_lo"]  # (44)
+    rho = 1 - 1 / (1 + lam + chi1 / (ha2 * phi_hi))  # (55)
+    mu1 = ((k["h_hi"] ** 2 * k["b_hi2"] * phi_hi + k["e_hi2"] * k["q_hi"])
+           / (c0 * ((1 + lam) * ha2 * phi_hi + chi1)))  # (49)
+    varpi_hi = ((1 + lam) * ha2 + (1 + 1 / lam) * k["h_hi"] ** 2 * k["b_hi2"]) * phi_hi \
+        + k["e_hi2"] * k["q_hi"]  # (33), upper
+    tail = (1 + 1 / a2 + 1 / a4) * (1 - psi_bar)
+    denom = (c0 * varpi_hi * hc2 + (1 + a1) * kx * varpi_hi * hc2
+             + (1 + 1 / a1) * kx * hc2 * ((1 + a1) * k["x2"] + (1 + 1 / a1) * phi_hi)
+             + tail * k["xi_star"] + psi_bar * k["r_hi"])
+    lam_L = c0 ** 2 * varpi_hi ** 2 * hc2 / denom ** 2  # (53)
+    t_bar = psi_bar * n_y * k["r_hi"] + (1 - psi_bar) * (
+        np.sqrt(k["xi_star"]) + np.sqrt(hc2 * n_x * k["x2"])) ** 2  # (50), corrected
+    t_printed = (psi_bar - 1) * hc2 * k["x2"] + (1 - psi_bar) * k["xi_star"]  # (50) as printed
+    mu2 = lam_L * t_bar / phi_lo  # (51)
+    steps = np.arange(horizon + 1)
+    if c0 > 1:
+        mu = (np.sqrt(mu1) + np.sqrt(mu2)) ** 2 * (1 + 1 / (c0 - 1))  # (55), best alpha_5..7
+        geo = np.concatenate([[0.0], np.cumsum((1 - rho) ** np.arange(horizon))])
+        ub = phi_hi / phi_lo * e0 * (1 - rho) ** steps + mu * phi_hi * geo  # Lemma 3, consistent
+        with np.errstate(all="ignore"):  # |1 - mu| > 1 is possible in the printed form
+            geo1 = np.concatenate([[0.0, 0.0], np.cumsum((1 - mu) ** np.arange(1, horizon))])
+            ub_lit = phi_hi / phi_lo * e0 * (1 - mu) ** steps + rho * phi_hi * geo1  # (56)
+    else:
+        mu, ub, ub_lit = np.nan, np.full(horizon + 1, np.nan), np.full(horizon + 1, np.nan)
+    return {"rho": float(rho), "chi1": float(chi1), "mu1": float(mu1), "mu2": float(mu2),
+            "Lambda": float(lam_L), "t_bar": float(t_bar), "t_bar_printed": float(t_printed),
+            "mu": float(mu), "UB": ub, "UB_literal": ub_lit}
