@@ -327,7 +327,11 @@ def test_plug_and_play(claims, cid: str) -> None:
     m, t = c["measured"], c["threshold"]
     assert m["offset_difference"] == pytest.approx(
         float(np.abs(np.subtract(m["offsets"], m["offsets_uninterrupted"])).max()))
-    assert m["max_error_difference"] == pytest.approx(abs(m["max_error"] - m["max_error_uninterrupted"]))
+    # a difference of two numbers written to 11 significant digits (results.write_claims) is known to
+    # about 1e-11 of their size, whatever the size of the difference
+    scale = max(abs(m["max_error"]), abs(m["max_error_uninterrupted"]))
+    assert m["max_error_difference"] == pytest.approx(abs(m["max_error"] - m["max_error_uninterrupted"]),
+                                                      abs=1e-10 * scale)
     # the headline is the larger ratio measured / allowed over the two parts (lead decision D2, round 3)
     ratio = max(m["offset_difference"] / t["offset_difference"],
                 m["max_error_difference"] / t["max_error_difference"])

@@ -807,7 +807,7 @@ def theorem2_check(
         None if the gain (28) is not finite at some step; else ``min_relative_change`` (the
         smallest relative change of tr S(k|k), negative: a decrease), ``worst_k_target_step``,
         ``max_relative_first_order``, ``min_eig_pi``, ``min_eig_pi_relative`` (min over steps of
-        lambda_min(Pi) / max |lambda(Pi)|), ``steps_with_pi_indefinite``, ``steps``,
+        ``lambda_min(Pi) / max |lambda(Pi)|``), ``steps_with_pi_indefinite``, ``steps``,
         ``min_eig_S_at_indefinite_pi`` (smallest lambda_min of S(k|k) at (28) over the steps with
         Pi indefinite; None if there are none), ``indefinite_pi_steps_with_S_pd``,
         ``c0_per_target``, ``kappa_x_per_target`` and, for ``literal``, ``literal_18_excess`` and
