@@ -17,6 +17,7 @@ screens, claims table and a folded / unfolded cell in ``build/site-screenshots/r
 
 from __future__ import annotations
 
+import html as html_lib
 import json
 import os
 import re
@@ -774,6 +775,80 @@ def test_code_is_folded_by_the_stated_rule(site: Path) -> None:
         if key != "arena":
             assert listings, f"{key}: no algorithm shown"
             assert not any("hide-output" in fold_tags(c) for c in listings), key
+
+
+def test_sentence_cut_skips_abbreviations_and_initials() -> None:
+    from secest.repro.site import sentence_cut
+
+    text = "See Fig. 2 and Sec. V. of the paper, e.g. Here. It ends here. Then more (Lemma 1.) Next."
+    cut = sentence_cut(text, 5)
+    assert text[:cut] == "See Fig. 2 and Sec. V. of the paper, e.g. Here."
+    assert text[: sentence_cut(text, cut + 1)] == text[: text.index(" Then")]
+    assert text[: sentence_cut(text, text.index("Then"))].endswith("(Lemma 1.)")
+    assert sentence_cut("no full stop at all", 0) is None
+    assert sentence_cut("One. Two.", 3) == 4  # the end at or past the lead
+
+
+def test_the_listing_box_in_the_css_is_the_stated_one() -> None:
+    from secest.repro.site import LISTING_LINES
+
+    css = (ROOT / "docs" / "_static" / "secest.css").read_text()
+    assert f"div.highlight pre {{ max-height: {1.5 * LISTING_LINES:g}em; max-height: {LISTING_LINES}lh;" in css
+
+
+_FOLDED = re.compile(
+    r'<p>((?:(?!</p>).)*?)<input type="checkbox" class="secest-more-toggle" id="([\w-]+)">'
+    r'<label class="secest-more-open" for="\2">… more \((\d+) words\)</label>'
+    r'<span class="secest-more-rest">((?:(?!</p>).)*?) <label class="secest-more-close" for="\2">less'
+    r"</label></span></p>",
+    flags=re.S,
+)
+
+
+def _text(fragment: str) -> str:
+    return html_lib.unescape(re.sub(r"<[^>]+>", "", fragment))
+
+
+def test_prose_is_folded_by_the_stated_rule(site: Path) -> None:
+    """Every folded paragraph keeps a lead of at least PROSE_LEAD_CHARS characters ending a
+    sentence and was longer than FOLD_PROSE_CHARS; its toggle counts the folded words; every end
+    matter section of a notebook page is folded after its first paragraph, and none else."""
+    from secest.repro.site import END_MATTER, FOLD_PROSE_CHARS, PROSE_LEAD_CHARS
+
+    for key in notebook_keys(ROOT):
+        html = (site / f"{page_of(key)}.html").read_text()
+        folds = _FOLDED.findall(html)
+        assert len(folds) == html.count('class="secest-more-toggle"') > 5, key  # each one well formed
+        for lead, ident, words, rest in folds:
+            lead_text, rest_text = _text(lead), _text(rest)
+            assert len(lead_text) >= PROSE_LEAD_CHARS * 0.9, (key, ident, lead_text)  # maths as TeX
+            assert re.search(r"[.!?][)\]’”\"']?$", lead_text.rstrip()), (key, ident, lead_text[-40:])
+            assert len(lead_text) + len(rest_text) > FOLD_PROSE_CHARS, (key, ident)
+            assert int(words) == len(rest_text.split()), (key, ident)
+        sections = re.findall(r'<section id="[^"]+">\s*<h2>(.*?)<a class="headerlink"(.*?)(?=<section id=|\Z)',
+                              html, flags=re.S)
+        end = [_text(t).strip() for t, body in sections if "secest-section-more" in body]
+        titles = [_text(t).strip() for t, _ in sections]
+        assert end == [t for t in titles if t in END_MATTER], (key, end)
+        assert len(end) >= 2, (key, titles)  # the claims and the deviations at least
+
+
+def test_a_folded_paragraph_opens_and_closes(browser_context: Any, server: str) -> None:
+    page = browser_context.new_page()
+    page.goto(f"{server}/papers/lee2020.html", wait_until="load")
+    para = page.locator("p:has(> input.secest-more-toggle)").nth(3)
+    rest = para.locator("span.secest-more-rest")
+    para.scroll_into_view_if_needed()
+    assert not rest.is_visible()
+    para.locator("label.secest-more-open").click()
+    assert rest.is_visible() and not para.locator("label.secest-more-open").is_visible()
+    rest.locator("label.secest-more-close").click()
+    assert not rest.is_visible()
+    box = page.locator("details.secest-section-more").first
+    assert not box.evaluate("d => d.open")
+    box.locator("summary").click()
+    assert box.evaluate("d => d.open")
+    page.close()
 
 
 def test_every_page_names_its_build_commit_and_the_citation(site: Path) -> None:

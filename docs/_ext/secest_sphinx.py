@@ -18,6 +18,11 @@
   loads lazily (``loading="lazy"``), so a page reaches its load event without its figures.
 * ``_static/secest-icons.css``: the theme's icon classes with the one icon font inline
   (the theme's 1.5 MB icon script is not loaded; ``docs/_templates/static/webpack-macros.html``).
+* ``:::{secest-fold} summary`` — a block folded behind its summary line (``<details>``).
+* Long prose folded on the notebook pages (:class:`FoldLongProse`): a paragraph of a section
+  (not the page's opening) longer than ``FOLD_PROSE_CHARS`` characters shows its first sentences,
+  at least ``PROSE_LEAD_CHARS`` characters, and the rest opens with a "more" toggle (a checkbox and
+  CSS, no script). The words stay in the page (search finds them); the notebooks are not edited.
 * After the build, the ``.ipynb`` that the theme's download button serves
   (``_sources/papers/<key>.ipynb``, ``_sources/beyond/<key>.ipynb``) is replaced by the
   committed notebook, so
@@ -40,8 +45,17 @@ from sphinx import addnodes
 from sphinx.application import Sphinx
 from sphinx.transforms import SphinxTransform
 from sphinx.util import logging
+from sphinx.util.docutils import SphinxDirective
 
-from secest.repro.site import ROOT, ascii_maths, load_manifest
+from secest.repro.site import (
+    END_MATTER,
+    FOLD_PROSE_CHARS,
+    PROSE_LEAD_CHARS,
+    ROOT,
+    ascii_maths,
+    load_manifest,
+    sentence_cut,
+)
 
 logger = logging.getLogger(__name__)
 
@@ -209,6 +223,172 @@ class NumberNotebookFigures(SphinxTransform):
             )
 
 
+class fold_toggle(nodes.Inline, nodes.Element):
+    """The "more" toggle of a folded paragraph: a checkbox and its label (HTML only)."""
+
+
+class fold_rest(nodes.Inline, nodes.TextElement):
+    """The folded rest of a paragraph, shown when its toggle is checked."""
+
+
+class section_fold(nodes.General, nodes.Element):
+    """The folded rest of an end-matter section (HTML ``<details>``)."""
+
+
+def _fold_end_matter(section: nodes.section) -> None:
+    """Fold an end-matter section (:data:`~secest.repro.site.END_MATTER`) after its first
+    paragraph: its title and that paragraph stay in view, the rest opens on a click."""
+    depth = sum(isinstance(a, nodes.section) for a in _ancestors(section))
+    title = section.next_node(nodes.title)
+    if depth != 1 or title is None or title.astext().strip() not in END_MATTER:
+        return
+    keep = 2 if len(section.children) > 1 and isinstance(section.children[1], nodes.paragraph) else 1
+    rest = section.children[keep:]
+    if not rest:
+        return
+    del section.children[keep:]
+    box = section_fold("", summary=f"The rest of this section: {_contents(rest)}")
+    box.extend(rest)
+    section += box
+
+
+class FoldDirective(SphinxDirective):
+    """``:::{secest-fold} summary`` — its content folded behind the summary line."""
+
+    has_content = True
+    required_arguments = 1
+    final_argument_whitespace = True
+
+    def run(self) -> list[nodes.Node]:
+        box = section_fold("", summary=self.arguments[0])
+        self.state.nested_parse(self.content, self.content_offset, box)
+        return [box]
+
+
+def _contents(block: list[nodes.Node]) -> str:
+    """What a folded block holds, in words: "4 paragraphs, 2 code cells, a table"."""
+    counts = {"paragraph": 0, "list": 0, "code cell": 0, "table": 0, "equation": 0}
+    for top in block:
+        for node in top.findall(include_self=True):
+            if isinstance(node, nodes.container) and "cell" in node.get("classes", []):
+                counts["code cell"] += 1
+            elif isinstance(node, nodes.paragraph) and not _in(node, (nodes.container, nodes.table,
+                                                                       nodes.list_item)):
+                counts["paragraph"] += 1
+            elif isinstance(node, (nodes.bullet_list, nodes.enumerated_list)) and not _in(
+                    node, (nodes.container, nodes.list_item)):
+                counts["list"] += 1
+            elif isinstance(node, nodes.table) and not _in(node, (nodes.container,)):
+                counts["table"] += 1
+            elif isinstance(node, nodes.math_block):
+                counts["equation"] += 1
+    parts = [f"{n} {word}{'s' if n > 1 else ''}" for word, n in counts.items() if n]
+    return ", ".join(parts) or "more"
+
+
+def _in(node: nodes.Node, kinds: tuple[type, ...]) -> bool:
+    return any(isinstance(a, kinds) for a in _ancestors(node))
+
+
+_NO_FOLD = (section_fold, nodes.Admonition, nodes.caption, nodes.footnote, nodes.container,
+            nodes.field_list, nodes.topic, nodes.sidebar, nodes.title)
+
+
+class FoldLongProse(SphinxTransform):
+    """Fold the long paragraphs of a notebook page's sections after their first sentences.
+
+    A paragraph of a section, a list item or a table cell (the paragraphs of the page's
+    opening, before its first section, are left whole), outside admonitions, captions, notebook
+    cells and folded end matter, whose text is longer
+    than :data:`~secest.repro.site.FOLD_PROSE_CHARS` characters is cut at the first sentence
+    end past :data:`~secest.repro.site.PROSE_LEAD_CHARS` characters
+    (:func:`~secest.repro.site.sentence_cut`); the nodes after the cut move into a
+    :class:`fold_rest`, hidden until its :class:`fold_toggle` is checked.
+    """
+
+    default_priority = 410
+
+    def apply(self, **kwargs: Any) -> None:
+        if not self.env.docname.startswith(("papers/", "beyond/")):
+            return
+        for section in list(self.document.findall(nodes.section)):
+            _fold_end_matter(section)
+        for n, para in enumerate(list(self.document.findall(nodes.paragraph))):
+            if self._foldable(para):
+                self._fold(para, f"secest-more-{n}")
+
+    @staticmethod
+    def _foldable(para: nodes.paragraph) -> bool:
+        depth, in_item = 0, False
+        for anc in _ancestors(para):
+            if isinstance(anc, _NO_FOLD):
+                return False
+            depth += isinstance(anc, nodes.section)
+            in_item = in_item or isinstance(anc, (nodes.list_item, nodes.entry))
+        return (depth >= 2 or in_item) and len(para.astext()) > FOLD_PROSE_CHARS
+
+    @staticmethod
+    def _fold(para: nodes.paragraph, ident: str) -> None:
+        seen = 0
+        for i, child in enumerate(para.children):
+            if isinstance(child, nodes.Text):
+                cut = sentence_cut(str(child), max(PROSE_LEAD_CHARS - seen, 0))
+                if cut is not None and len(para.astext()) - seen - cut >= FOLD_MIN_REST:
+                    text = str(child)
+                    rest = [nodes.Text(text[cut:]), *para.children[i + 1:]]
+                    del para.children[i:]
+                    para += nodes.Text(text[:cut])
+                    words = sum(len(r.astext().split()) for r in rest)
+                    para += fold_toggle("", ident=ident, words=words)
+                    box = fold_rest("", "", ident=ident)
+                    box.extend(rest)
+                    para += box
+                    return
+            seen += len(child.astext())
+
+
+FOLD_MIN_REST = 80
+"""A paragraph's rest shorter than this many characters is not folded (a toggle for a few words
+would cost the reader more than it saves)."""
+
+
+def _ancestors(node: nodes.Node) -> Any:
+    parent = node.parent
+    while parent is not None:
+        yield parent
+        parent = parent.parent
+
+
+def _visit_toggle(self: Any, node: fold_toggle) -> None:
+    ident = node["ident"]
+    self.body.append(
+        f'<input type="checkbox" class="secest-more-toggle" id="{ident}">'
+        f'<label class="secest-more-open" for="{ident}">… more ({node["words"]} words)</label>'
+    )
+    raise nodes.SkipNode
+
+
+def _visit_rest(self: Any, node: fold_rest) -> None:
+    self.body.append('<span class="secest-more-rest">')
+
+
+def _depart_rest(self: Any, node: fold_rest) -> None:
+    self.body.append(f' <label class="secest-more-close" for="{node["ident"]}">less</label></span>')
+
+
+def _visit_section_fold(self: Any, node: section_fold) -> None:
+    summary = self.encode(node["summary"])
+    self.body.append(f'<details class="secest-section-more"><summary>{summary}</summary>')
+
+
+def _depart_section_fold(self: Any, node: section_fold) -> None:
+    self.body.append("</details>")
+
+
+def _skip(self: Any, node: nodes.Node) -> None:
+    raise nodes.SkipNode
+
+
 def _builder_inited(app: Sphinx) -> None:
     app.secest_figures = _figure_index(app)  # type: ignore[attr-defined]
 
@@ -262,6 +442,11 @@ def setup(app: Sphinx) -> dict[str, Any]:
     app.add_node(figure_ref)
     app.connect("doctree-resolved", _resolve_figrefs)
     app.add_transform(NumberNotebookFigures)
+    app.add_node(fold_toggle, html=(_visit_toggle, None), latex=(_skip, None), text=(_skip, None))
+    app.add_node(fold_rest, html=(_visit_rest, _depart_rest))
+    app.add_node(section_fold, html=(_visit_section_fold, _depart_section_fold))
+    app.add_transform(FoldLongProse)
+    app.add_directive("secest-fold", FoldDirective)
     app.connect("builder-inited", _builder_inited)
     app.connect("build-finished", _replace_sources)
     app.connect("html-page-context", _lazy_images)

@@ -1454,15 +1454,67 @@ def beyond_header_cell(key: str, root: Path = ROOT) -> dict[str, Any]:
 
 LONG_PRINTOUT = 12
 """Plain-text outputs longer than this many lines are folded on the site (:data:`FOLD_RULE`)."""
+LISTING_LINES = 24
+"""A ``show_source`` listing longer than this many lines scrolls in its own box (the site's CSS,
+``docs/_static/secest.css``, says the same: ``max-height: 24lh``)."""
+FOLD_PROSE_CHARS = 300
+"""A paragraph of a notebook page's sections longer than this many characters is folded after
+its first sentences (:data:`FOLD_RULE`; done by the site's Sphinx extension)."""
+PROSE_LEAD_CHARS = 140
+"""A folded paragraph shows its sentences up to the first sentence end past this many characters."""
+END_MATTER = frozenset({
+    "Claims", "Verdict", "ReScience verdict", "Deviations from the paper", "Findings (claims)",
+    "Deviations and limitations",
+})
+"""The end matter of a notebook page: a top-level section of one of these titles shows its first
+paragraph and folds the rest (:data:`FOLD_RULE`); the page's opening gives the verdict and the
+claims table, which these sections derive."""
+_SENTENCE_END = re.compile(r"(?<=[.!?])[)\]’”\"']?(?=\s+[A-Z(\[“‘\"0-9])")
+_ABBREVIATIONS = frozenset(
+    "fig figs sec secs eq eqs thm lem rem def prop ref refs no al e.g i.e cf vs resp approx".split()
+)
+
+
+def sentence_cut(text: str, start: int) -> int | None:
+    """Where the first sentence ending at or after ``start`` ends in ``text`` (the index just
+    after its full stop), or ``None``.
+
+    A full stop after an abbreviation (``Fig.``, ``Sec.``, ``e.g.``, ``et al.``) or a single
+    capital (an initial) does not end a sentence.
+
+    Parameters
+    ----------
+    text : str
+        Plain text (one text node of a paragraph).
+    start : int
+        The shortest lead, in characters.
+
+    Returns
+    -------
+    int or None
+    """
+    for m in _SENTENCE_END.finditer(text, max(start - 1, 0)):
+        word = re.search(r"([\w.]+)[.!?][)\]’”\"']?$", text[: m.end()])
+        token = (word.group(1) if word else "").lower()
+        if token in _ABBREVIATIONS or (word and len(word.group(1)) == 1 and word.group(1).isupper()):
+            continue
+        if m.end() >= start:
+            return m.end()
+    return None
+
 FOLD_RULE = (
-    "Code is folded (click to expand) except where a cell shows the algorithm: every code cell's "
-    "input is folded unless the cell only calls `show_source`, whose output (never folded) is the "
-    "library's own code of the step the derivation has reached (a listing longer than 32 lines "
-    "scrolls inside its own box). Some outputs are folded too: the "
-    "parameter provenance table (`provenance_markdown`), the summary printed by the cell that "
-    "writes `claims.json` (`write_claims`; the table above shows the same claims), and any "
-    f"plain-text printout longer than {LONG_PRINTOUT} lines that is not a `show_source` listing. "
-    "Nothing is removed: the page is the committed notebook."
+    "Nothing is removed: the page is the committed notebook. Code: every code cell's input is "
+    "folded unless the cell only calls `show_source`, whose output, never folded, is the library's "
+    f"own code of the step the derivation has reached (past {LISTING_LINES} lines it scrolls in its "
+    "own box). Outputs: the parameter provenance table (`provenance_markdown`), the summary printed "
+    "by the cell that writes `claims.json` (`write_claims`; the claims table shows the same) and "
+    f"any plain-text printout longer than {LONG_PRINTOUT} lines that is not a `show_source` listing "
+    "are folded. Prose: a paragraph of a section, a list item or a table cell longer than "
+    f"{FOLD_PROSE_CHARS} characters shows its first sentences (at least {PROSE_LEAD_CHARS} "
+    "characters), the rest behind \u201cmore\u201d; the end matter (the sections "
+    + ", ".join(f"\u201c{t}\u201d" for t in sorted(END_MATTER)) + ") shows its first paragraph, "
+    "the rest behind a click. The paragraphs of the page's opening, captions, equations and figures "
+    "are never folded."
 )
 """The rule by which the site folds the notebooks' cells (stated on every notebook page)."""
 
@@ -1577,7 +1629,7 @@ def claims_table_cell(key: str, nb: Mapping[str, Any], root: Path = ROOT) -> dic
         ]
     else:
         body = ["No claims recorded yet."]
-    text = "\n".join([*body, "", f"<span class='secest-source'>{FOLD_RULE}</span>"])
+    text = "\n".join([*body, "", ":::{secest-fold} How this page is folded", FOLD_RULE, ":::"])
     return {"cell_type": "markdown", "metadata": {"tags": ["secest-site"]}, "source": text}
 
 
