@@ -95,6 +95,7 @@ html_theme = "sphinx_book_theme"
 html_title = "secest"
 html_short_title = "secest"
 html_css_files = ["secest.css"]
+html_js_files = ["secest-fold.js"]  # a link to a folded section opens it (secest_sphinx.py)
 html_favicon = str(DOCS / "_static" / "favicon.svg")
 html_last_updated_fmt = None
 html_copy_source = True

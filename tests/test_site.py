@@ -824,7 +824,8 @@ def test_prose_is_folded_by_the_stated_rule(site: Path) -> None:
             assert len(lead_text) >= PROSE_LEAD_CHARS * 0.9, (key, ident, lead_text)  # maths as TeX
             assert re.search(r"[.!?][)\]’”\"']?$", lead_text.rstrip()), (key, ident, lead_text[-40:])
             assert len(lead_text) + len(rest_text) > FOLD_PROSE_CHARS, (key, ident)
-            assert int(words) == len(rest_text.split()), (key, ident)
+            n = len(rest_text.split())  # the HTML's maths keeps its \( \) delimiters: near, not equal
+            assert abs(int(words) - n) <= max(2, n // 20), (key, ident, words, n)
         sections = re.findall(r'<section id="[^"]+">\s*<h2>(.*?)<a class="headerlink"(.*?)(?=<section id=|\Z)',
                               html, flags=re.S)
         end = [_text(t).strip() for t, body in sections if "secest-section-more" in body]
@@ -985,11 +986,6 @@ def test_no_page_scrolls_sideways_on_a_phone(layout: dict[str, Any]) -> None:
     assert not {n: px for n, px in wide.items() if px > 0}, wide
 
 
-@pytest.mark.xfail(reason="missed target (issue #31): after the claims work of issue #30 three pages are "
-                   "over 40 % of their former height (2026-12-03, round 4 merged, long listings scrolling in "
-                   "boxes of their own: guo2023 49.5 %, li2025 49.2 %, ding2020 41.3 %; lee2020 39.6 %, "
-                   "ma2021 37.7 %; what remains is mostly the prose of the claims audit); the target stands "
-                   "and the heights are printed to build/site-report.txt", strict=False)
 def test_paper_pages_are_at_most_40_percent_of_their_former_height(layout: dict[str, Any]) -> None:
     heights = {key: layout[f"papers/{key}"]["desktop"]["height"] for key in HEIGHT_BEFORE}
     assert set(HEIGHT_BEFORE) == set(paper_keys(ROOT))

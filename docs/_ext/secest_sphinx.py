@@ -22,7 +22,9 @@
 * Long prose folded on the notebook pages (:class:`FoldLongProse`): a paragraph of a section
   (not the page's opening) longer than ``FOLD_PROSE_CHARS`` characters shows its first sentences,
   at least ``PROSE_LEAD_CHARS`` characters, and the rest opens with a "more" toggle (a checkbox and
-  CSS, no script). The words stay in the page (search finds them); the notebooks are not edited.
+  CSS, no script). The end matter (``END_MATTER``) shows its first paragraph, the rest in a
+  ``<details>``; a link to such a section opens it (``_static/secest-fold.js``). The words stay
+  in the page (search finds them); the notebooks are not edited.
 * After the build, the ``.ipynb`` that the theme's download button serves
   (``_sources/papers/<key>.ipynb``, ``_sources/beyond/<key>.ipynb``) is replaced by the
   committed notebook, so
@@ -338,7 +340,7 @@ class FoldLongProse(SphinxTransform):
                     rest = [nodes.Text(text[cut:]), *para.children[i + 1:]]
                     del para.children[i:]
                     para += nodes.Text(text[:cut])
-                    words = sum(len(r.astext().split()) for r in rest)
+                    words = len("".join(r.astext() for r in rest).split())
                     para += fold_toggle("", ident=ident, words=words)
                     box = fold_rest("", "", ident=ident)
                     box.extend(rest)
