@@ -95,6 +95,7 @@ q = 1  # number of corruptible banks (PAPER: "2-redundant observable")
 ring_order = [1, 2, 3, 4, 5]  # agents around the ring (MISSING: "ring network")
 basis_normalisation = "unit"  # scaling of the basis v_l of Assumption 4: "unit" or "integer" (MISSING)
 observer_poles = "near"  # "near" (-1, -1.1, ...) or "shifted" (MISSING: "near -1")
+P_scale = 1.0  # c in P = c T^-T T^-1 of (11): any cP solves PA + A'P <= 0 (MISSING)
 attack_bank = 1  # attacked sensor bank, 1-based (PAPER)
 attack_amplitude = 1.0471975511965976  # pi/3 rad (PAPER)
 attack_start = 10.0  # [s] (PAPER)
@@ -1388,17 +1389,59 @@ _ = plotting.save_figure(  # the saved path; shown inline by save_figure
 # %% [markdown]
 # ## Theorem 2 under attack: the error as γ grows
 #
-# Theorem 2 promises arbitrary precision ($\limsup\|\hat x_i-x\|\le\eta$) for large enough κ and γ,
-# without saying how large. At finitely many gains only the trend can be measured (C4): the
-# last-window max error under the example's attack, at κ = `kappa` and every γ of `offset_gammas`
-# and `gamma_ex`, from the runs of the offset-law section.
+# Sec. III-B, the sentence before Theorem 2: "for sufficiently large κ and γ, the distributed
+# algorithm (5) and (6) achieves a resilient estimation of $x$ with arbitrary precision"; Theorem 2:
+# for every $\eta>0$ there are $\kappa^*,\gamma^*$ with $\limsup\|\hat x_i-x\|_\infty\le\eta$. The
+# paper says neither how large nor at which rate, and its example runs one γ only. At finitely many
+# gains (κ = `kappa`, every γ of `offset_gammas` and `gamma_ex`, the example's attack, the runs of
+# the offset-law section) C4 measures the **rate**: the log–log slope of the last-window max error
+# against γ between consecutive gains.
+#
+# **Why a rate, and the threshold (ours).** "Arbitrary precision" is an error that tends to 0 as γ
+# grows. An error that merely decreases toward a nonzero limit has a log–log slope that tends to 0;
+# one that tends to 0 like a power of γ keeps a slope bounded away from 0. A decrease alone does not
+# separate the two: the non-resilient averaging baseline (sgn replaced by its argument) also
+# decreases at every step, toward the nonzero limit of its offset law (the old rule of C4, "a
+# decrease larger than the chattering at every step", was passed by it). We ask for a slope at most
+# $-1/2$ at every step: half the rate $-1$ of the paper's own error bounds (Theorem 1,
+# $2\sqrt N/(\gamma\lambda_2)$, and Theorem 3, both $\propto1/\gamma$), bounded away from 0 and
+# from the bounds' rate alike. The threshold was set in the fourth re-read of issue #30, after a
+# reviewer's simulation had given slopes of about −1 (median) and −0.13 (averaging); its value
+# comes from the bounds' $1/\gamma$, not from those numbers. The averaging baseline is run at the
+# same gains and put through the same rule (the negative control, recorded in C4). A measurement
+# precondition: the error at every gain exceeds the chattering tolerance (else the slope measures
+# the integrator), otherwise C4 is not checked.
 
 # %%
 c4_gammas = sorted(g for (nrm, g, kap) in law_runs if nrm == basis_normalisation and kap == float(kappa)
                    and g in gammas_law)
 c4_err = [law_runs[(basis_normalisation, g, float(kappa))]["inf"] for g in c4_gammas]
-c4_steps = [c4_err[m] - c4_err[m + 1] for m in range(len(c4_err) - 1)]
-print("gamma:", c4_gammas, " last-window max error:", np.round(c4_err, 4))
+c4_steps = [c4_err[m] - c4_err[m + 1] for m in range(len(c4_err) - 1)]  # the old rule's decreases
+C4_SLOPE = -0.5  # largest admissible log-log slope (ours: half the 1/gamma rate of the bounds)
+
+
+def loglog_slopes(gains: list[float], errors: list[float]) -> list[float]:
+    """Slopes d log(error) / d log(gamma) between consecutive gains (nan where an error is <= 0)."""
+    return [float(np.log(errors[m + 1] / errors[m]) / np.log(gains[m + 1] / gains[m]))
+            if min(errors[m], errors[m + 1]) > 0 else float("nan") for m in range(len(gains) - 1)]
+
+
+def loglog_fit(gains: list[float], errors: list[float]) -> float | None:
+    """Least-squares slope of log(error) against log(gamma) (None with fewer than two gains)."""
+    if len(gains) < 2 or min(errors) <= 0:
+        return None
+    return float(np.polyfit(np.log(gains), np.log(errors), 1)[0])
+
+
+c4_slopes = loglog_slopes(c4_gammas, c4_err)
+c4_base_err = [steady_state(unpack(simulate([attack_amplitude], gain_gamma=g, phi=phi_linear)[1]),
+                            obs)["inf"] for g in c4_gammas]  # the averaging baseline: negative control
+c4_base_slopes = loglog_slopes(c4_gammas, c4_base_err)
+c4_measurable = bool(len(c4_err) >= 2 and min(c4_err) > tol["inf"])
+print("gamma:", c4_gammas, " last-window max error:", np.round(c4_err, 4),
+      " log-log slopes:", np.round(c4_slopes, 3), " fit:", loglog_fit(c4_gammas, c4_err))
+print("averaging baseline, same gains: max error", np.round(c4_base_err, 4), " log-log slopes:",
+      np.round(c4_base_slopes, 3), " fit:", loglog_fit(c4_gammas, c4_base_err))
 
 # %% [markdown]
 # ## Attack identification (Section III-C, Conclusion; Fig. S2, ours)
@@ -1647,8 +1690,16 @@ print(f"  returns with x_hat = {list(pnp_state)}; final window ends at {t13_end:
 # ## Variant (11) and Theorem 3
 #
 # $A$ is Lyapunov stable with distinct eigenvalues; with $T$ the real modal matrix (columns
-# $X_k$), $P=T^{-\top}T^{-1}$ satisfies $PA+A^\top P\le0$, and $\bar P=V^\top PV=(WT)^{-\top}(WT)^{-1}$ is
-# block-diagonal over the indicator groups. Theorem 3 bounds
+# $X_k$), $P=c\,T^{-\top}T^{-1}$ satisfies $PA+A^\top P\le0$ for every $c>0$, and
+# $\bar P=V^\top PV=c\,(WT)^{-\top}(WT)^{-1}$ is block-diagonal over the indicator groups. **The
+# scale $c$ (`P_scale`) is MISSING**: the paper asks only for some $P$, and any $cP$ is one. It is
+# not harmless: $\bar V=V\bar P^{-1/2}$ scales by $c^{-1/2}$, so (11)'s correction acts like (6)'s
+# with $\kappa/\sqrt c$, Theorem 3's bound scales by $c^{-1/2}$, and the residuals of the
+# identification rule (in the coordinates $\sqrt{\bar P}\mathcal W$) by $c^{1/2}$ while its
+# threshold $\theta$ does not, which moves C7's premise, C7b's effective size and C8's margin. The
+# declared space is $c\in\{1/\lambda_{\max},1,1/\lambda_{\min}\}$ of our $T^{-\top}T^{-1}$: the two
+# usual normalisations of a Lyapunov matrix (largest or smallest eigenvalue 1) and ours between them
+# (printed below; `notebooks/lee2020.toml`). Theorem 3 bounds
 # $\limsup\|\hat x_i-x\|\le(Nn^2+\sqrt n)\sqrt N\,\|V\bar P^{-1/2}\|/(\gamma\lambda_2)$. Scaling the
 # basis by factors equal inside each group maps $\bar P\to D\bar PD$ and leaves
 # $\bar V=V\bar P^{-1/2}$, the correction of (11) and the bound unchanged (checked).
@@ -1669,14 +1720,23 @@ show_source(M.lyapunov_correction, after="    W = np.linalg.inv(V)")
 
 
 def lyapunov_correction(ob: Observers) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """P_bar, P, V_bar, W_bar of (11) for one reading (its basis, the example's modal matrix)."""
-    return M.lyapunov_correction(ob.V, T_modal)
+    """P_bar, P, V_bar, W_bar of (11) for one reading (its basis, the example's modal matrix), with
+    P = P_scale T^-T T^-1: P_bar scales by c, V_bar = V P_bar^(-1/2) by c^(-1/2), W_bar by c^(1/2)."""
+    p_bar, p_plant, v_bar, w_bar = M.lyapunov_correction(ob.V, T_modal)
+    c = float(P_scale)
+    return c * p_bar, c * p_plant, v_bar / np.sqrt(c), w_bar * np.sqrt(c)
 
 
 P_bar, P_plant, V_bar, W_bar = lyapunov_correction(obs)
 lyap_max = float(np.linalg.eigvalsh(P_plant @ A + A.T @ P_plant).max())
 group_id = np.unique(S_ind.T, axis=0, return_inverse=True)[1].ravel()
 offgroup = float(np.abs(P_bar[group_id[:, None] != group_id[None, :]]).max())
+offgroup_rel = offgroup / float(np.abs(P_bar).max())  # invariant to P_scale
+lyap_ok = lyap_max <= 1e-9 * float(np.abs(P_plant).max())  # PA + A'P <= 0, relative to the scale of P
+eig_P1 = np.linalg.eigvalsh(P_plant / P_scale)  # our unscaled P = T^-T T^-1
+print(f"P_scale = {P_scale:g}; eigenvalues of T^-T T^-1: {eig_P1.min():.4g} ... {eig_P1.max():.4g}, so "
+      f"lambda_max(P) = 1 at P_scale = {1 / eig_P1.max():.4g} and lambda_min(P) = 1 at "
+      f"{1 / eig_P1.min():.4g} (the declared space)")
 vbar_invariance = max(float(np.abs(lyapunov_correction(observers[(nrm, observer_poles)])[2]
                                    - V_bar).max()) for nrm in ("unit", "integer"))
 sim_11 = unpack(simulate([attack_amplitude], v_corr=V_bar, w_corr=W_bar)[1])
@@ -2053,26 +2113,51 @@ claims["C3"] = results.claim(
     key="resilient_spread_over_attacks", tolerance=SIGN_IV, decides=True,
     section="Fig. 1 — $\\theta_1+\\theta_2+\\theta_3$, agent 1's own estimate and the resilient estimates",
 )
+c4_worst = max(c4_slopes) if c4_slopes else None
+c4_base_worst = max(c4_base_slopes) if c4_base_slopes else None
 claims["C4"] = results.claim(
-    paper="Theorem 2: for every eta > 0 there are kappa*, gamma* such that for kappa > kappa*, "
-    "gamma > gamma*, limsup ||x_hat_i - x||_inf <= eta under attack (\"resilient state estimation "
-    "with arbitrary precision\"); in the example: the error shrinks toward 0 as gamma grows",
-    source="Sec. III-B, Theorem 2, (6); Sec. IV (the example's attack and kappa)",
+    paper="Sec. III-B, the sentence before Theorem 2: \"for sufficiently large kappa and gamma, the "
+    "distributed algorithm (5) and (6) achieves a resilient estimation of x with arbitrary "
+    "precision\"; Theorem 2: for every eta > 0 there are kappa*, gamma* such that for kappa > kappa*, "
+    "gamma > gamma*, limsup ||x_hat_i - x||_inf <= eta under attack. Arbitrary precision read as: "
+    "the error under attack tends to 0 as gamma grows (ours: the paper gives no rate; tested on the "
+    "example of Sec. IV, which the paper runs at gamma = 2 only)",
+    source="Sec. III-B, the sentence before Theorem 2, and Theorem 2, (6); tested on Sec. IV's "
+    "example (its attack and kappa)",
     check=f"the example's attack at kappa = {kappa:g} and every gamma of offset_gammas and gamma_ex "
-    f"({', '.join(f'{g:g}' for g in c4_gammas)}): last-window max_i ||x_hat_i - x||_inf; holds iff it "
-    "decreases at every increase of gamma by more than the chattering tolerance (ours: a change "
-    "within the chattering is no decrease); headline: the smallest decrease. The error at the "
-    "largest gamma is recorded (toward 0 cannot be measured at finitely many gains; the averaging "
-    "baseline's error tends to a nonzero limit as gamma grows, so the rule can fail). Until the "
-    "round-2 review of issue #30 this claim compared the offsets with our closed-form offset law; "
-    "that comparison is now X8 (ours)",
-    measured={"gammas": c4_gammas, "max_error": c4_err,
-              "smallest_decrease": float(min(c4_steps)) if c4_steps else None},
-    threshold={"smallest_decrease": tol["inf"]},
-    holds=bool(c4_steps) and min(c4_steps) > tol["inf"],
+    f"({', '.join(f'{g:g}' for g in c4_gammas)}): last-window max_i ||x_hat_i - x||_inf; holds iff the "
+    f"log-log slope d log(error) / d log(gamma) between every two consecutive gains is <= {C4_SLOPE:g} "
+    "(headline: the largest step slope). Threshold (ours): an error tending to 0 keeps a slope "
+    "bounded away from 0, one tending to a nonzero limit has a slope tending to 0; -1/2 is half the "
+    "rate -1 of the paper's own bounds (Theorem 1, Theorem 3: prop. to 1/gamma); set in the fourth "
+    "re-read of issue #30 after a reviewer's simulation (slopes about -1 median, -0.13 averaging), "
+    "its value from the bounds, not from those numbers. Negative control, recorded: the averaging "
+    "baseline (sgn replaced by its argument, non-resilient, ours) at the same gains through the same "
+    "rule ('baseline_*'). Not checked if the error at some gain is within the chattering tolerance "
+    "(the slope would measure the integrator). Old rule (until the fourth re-read, recorded, not the "
+    "rule): a decrease larger than the chattering tolerance at every step, which the averaging "
+    "baseline passes too ('old_rule_*'). Until the round-2 review of issue #30 this claim compared "
+    "the offsets with our closed-form offset law; that comparison is now X8 (ours)",
+    measured={"gammas": c4_gammas, "max_error": c4_err, "step_slopes": c4_slopes,
+              "largest_step_slope": c4_worst, "fit_slope": loglog_fit(c4_gammas, c4_err),
+              "baseline_max_error": c4_base_err, "baseline_step_slopes": c4_base_slopes,
+              "baseline_largest_step_slope": c4_base_worst,
+              "baseline_fit_slope": loglog_fit(c4_gammas, c4_base_err),
+              "baseline_passes_rule": bool(c4_base_slopes) and c4_base_worst <= C4_SLOPE,
+              "old_rule_smallest_decrease": float(min(c4_steps)) if c4_steps else None,
+              "old_rule_holds": bool(c4_steps) and min(c4_steps) > tol["inf"],
+              "old_rule_baseline_holds": bool(c4_base_err[:-1]) and min(
+                  c4_base_err[m] - c4_base_err[m + 1] for m in range(len(c4_base_err) - 1)) > tol["inf"]},
+    threshold={"largest_step_slope": C4_SLOPE, "max_error_floor": tol["inf"]},
+    holds=(c4_worst <= C4_SLOPE) if c4_measurable else None,
+    not_checked=(None if c4_measurable else "the error at some gain is within the chattering "
+                 f"tolerance {tol['inf']:.2g}: the slope there would measure the integrator"),
     premise=("Assumptions 2 (q) and 4 hold (C2); at least two gains are run",
              assumptions and len(c4_gammas) >= 2),
-    key="smallest_decrease", tolerance=SIGN_IV, decides=True,
+    key="largest_step_slope", decides=True,
+    tolerance=results.Tolerance(rtol=0.05, atol=0.05, reason="log-log slope of chattering-limited "
+                                "errors: a chattering-size change of the smallest error moves it by a few "
+                                "hundredths"),
     section="Theorem 2 under attack: the error as γ grows",
 )
 claims["X8"] = results.claim(
@@ -2267,7 +2352,7 @@ claims["C7"] = results.claim(
     holds=flagged_11 == [attack_bank],
     premise=(premise_id + f"; and the example's attack (a = {attack_amplitude:.4g} rad on bank "
              f"{attack_bank}) is effective: its effect {effect_example:.3g} > 2 theta = "
-             f"{2 * theta_id:.3g}", lyap_max <= 1e-9 and assumptions and example_effective),
+             f"{2 * theta_id:.3g}", lyap_ok and assumptions and example_effective),
     key="effect_over_2theta", tolerance=SIGN_IV,
     section="Attack identification by the paper's own rule (Sec. III-C, last paragraph)",
 )
@@ -2302,7 +2387,7 @@ claims["C7b"] = results.claim(
     holds=bool(id_amps) and all(f == [attack_bank] for f in flagged_id.values()),
     premise=(premise_id + "; the tested attacks are effective (every factor > 1, checked) and bank "
              f"{attack_bank}'s effect per unit attack is nonzero",
-             lyap_max <= 1e-9 and assumptions and bool(id_amps)),
+             lyap_ok and assumptions and bool(id_amps)),
     key="attacked_over_threshold_min", tolerance=SIGN_IV, decides=True,
     section="Attack identification by the paper's own rule (Sec. III-C, last paragraph)",
 )
@@ -2333,24 +2418,30 @@ claims["C8"] = results.claim(
     paper="Theorem 3: for Lyapunov-stable plants, (5) + (11) gives limsup ||x_hat_i - x|| <= "
     "(N n^2 + sqrt(n)) sqrt(N) ||V P_bar^(-1/2)|| / (gamma lambda_2)",
     source="Sec. III-C, Theorem 3, (11)",
-    check="P_bar block-diagonal over indicator groups (<= 1e-9), last-window max ||x_hat_i - x||_2 "
-    "<= the bound (the bound depends on our P of (11): P_bar = V'PV and the basis V are recorded "
-    "to recompute it), at the example's attack AND at the large attacks of C7b (f a_eff, f in "
+    check="last-window max ||x_hat_i - x||_2 <= the bound (the bound depends on our P of (11), whose "
+    "scale P_scale is MISSING and swept: P_bar = V'PV and the basis V are recorded to recompute it), "
+    "at the example's attack AND at the large attacks of C7b (f a_eff, f in "
     "id_attack_factors; headline: the larger of the two errors). At the example's attack the bound "
     "cannot fail: it exceeds the error of every estimator run there, the non-resilient ones "
     "included ('non_resilient_max_error_2norm', = a ||v||, linear in a). At the C7b sizes the "
     "non-resilient averaging baseline with (11)'s correction exceeds the bound "
     "('non_resilient_max_error_2norm_C7b'), so there the rule can fail: it decides (until the "
-    "round-2 review of issue #30 it was evaluated at the example's attack only and did not decide)",
+    "round-2 review of issue #30 it was evaluated at the example's attack only and did not decide). "
+    "P_bar block-diagonal over the indicator groups (the condition under which (11) is the paper's "
+    "algorithm; CORRECTED: unstated) is part of the premise (until the fourth re-read of issue #30 "
+    "it sat in the holds rule)",
     measured={"max_error_2norm": max(maxerr2_11, err2_id), "max_error_2norm_example": maxerr2_11,
               "max_error_2norm_C7b": err2_id, "lyapunov_max_eig": lyap_max, "offgroup": offgroup,
+              "offgroup_relative": offgroup_rel, "P_scale": float(P_scale),
               "non_resilient_max_error_2norm": nonres_err2,
               "non_resilient_max_error_2norm_C7b": err2_id_base,
               "theta_sum_offsets": sums_11, "P_bar": P_bar, "basis_V": V},
-    threshold={"bound": float(thm3_bound), "offgroup": 1e-9},
-    holds=offgroup <= 1e-9 and max(maxerr2_11, err2_id) <= thm3_bound,
-    premise=("the plant is Lyapunov stable: our P = T^-T T^-1 satisfies PA + A'P <= 0 "
-             "(max eigenvalue <= 1e-9)", lyap_max <= 1e-9),
+    threshold={"bound": float(thm3_bound), "offgroup_relative": 1e-9},
+    holds=max(maxerr2_11, err2_id) <= thm3_bound,
+    premise=("the plant is Lyapunov stable: our P = P_scale T^-T T^-1 satisfies PA + A'P <= 0 "
+             "(max eigenvalue <= 1e-9 times the largest entry of P), and P_bar = V'PV is "
+             "block-diagonal over the indicator groups (largest off-group entry <= 1e-9 times the "
+             "largest entry; CORRECTED: the condition the paper does not state)", lyap_ok and offgroup_rel <= 1e-9),
     key="max_error_2norm", tolerance=SIGN_IV, decides=True, section="Variant (11) and Theorem 3",
 )
 lam2_formula = {"ring": 2 * (1 - np.cos(2 * np.pi / N)), "all-to-all": float(N)}
