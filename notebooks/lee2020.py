@@ -2707,28 +2707,42 @@ for cid in claims:
     print(f"{cid:>3}: {c['verdict']:<13} | at this run: {results.point_verdict(c):<13} | {over}{mark}")
 
 # %% [markdown]
-# **Verdicts over the declared space** (`make robustness`: 24 points, `figures/lee2020/robustness.csv`;
+# **Verdicts over the declared space** (`make robustness`: 72 points, `figures/lee2020/robustness.csv`;
 # the verdict printed above is the one over the space, "at this run" the outcome at these
-# parameters, "evaluations" the number of distinct outcome-value pairs over the 24 points).
+# parameters, "evaluations" the number of distinct outcome-value pairs over the 72 points; 24 points
+# until the fourth re-read of issue #30 added the scale of $P$, `P_scale`, as an axis).
 #
-# * **One evaluation.** C1, C2, C9, X2 and X3 take the same value at all 24 points: the swept axes
-#   (observer poles, basis scaling, ring order, initial guess) belong to Section IV's example and do
-#   not enter Section II (C1, C9, X2, X3) or the structural check C2. For them "holds" is one
-#   measurement, not a result over the space. C6 is one evaluation too, and by construction.
-# * **C7 fails its premise wherever the paper's gains are used** (one evaluation; it does not
-#   decide): the threshold $\theta$ (about 148 at γ = 2) does not depend on the ring order (all
-#   five-agent rings share $\lambda_2$), and the effect of the example's attack in (11)'s coordinates
+# * **One evaluation.** C1, C2, C9, X2 and X3 take the same value at all 72 points: the swept axes
+#   (observer poles, basis scaling, ring order, initial guess, scale of $P$) belong to Section IV's
+#   example and do not enter Section II (C1, C9, X2, X3) or the structural check C2. For them
+#   "holds" is one measurement, not a result over the space. C6 is one evaluation too, and by
+#   construction.
+# * **C4** (the log–log slope of the error against γ, ≤ −1/2 at every step): the slopes are about
+#   −1 wherever the offset law applies (its offsets are $\propto1/\gamma$); the averaging baseline,
+#   run at the same gains, has slopes about −0.19 and −0.09 at the default point and fails the rule
+#   (recorded next to it, `baseline_*`). `P_scale` does not enter (6).
+# * **C7 fails its premise wherever the paper's gains are used** (it does not decide): the threshold
+#   $\theta$ (about 148 at γ = 2) depends neither on the ring order (all five-agent rings share
+#   $\lambda_2$) nor on the scale of $P$, and the effect of the example's attack in (11)'s coordinates
 #   does not depend on the poles or on the basis scaling ($-F_k^{-1}L_k=\mathcal W_kv$ exactly;
-#   $\bar V$ is invariant to the scaling): about 1.6 against $2\theta\approx295$. What the rule would
-#   give there is still measured (it flags no agent). With our tighter rule for (6) agent 1 is not
-#   flagged at γ = 2 either; at the default point it is flagged from γ = 5 on (printed in the
-#   identification section).
-# * **C7b** tests the same statement at effective attacks (`id_attack_factors` × the smallest,
-#   ≈ 192 rad) at every point: agent 1's flag is by construction; the clean agents' residuals are
-#   below $10^{-5}\theta$ (measured), while the averaging baseline through the same rule flags clean
-#   agents at the ×2 and ×10 sizes (default point, recorded).
+#   $\bar V$ is invariant to the scaling) but grows as $\sqrt c$ with `P_scale`: about 0.08, 1.6 and
+#   2.2 at $c$ = 0.002432, 1, 1.819, against $2\theta\approx295$. What the rule would give there is
+#   still measured (it flags no agent), and so is the plain reading (no agent-local rule from the
+#   paper's bounds flags agent 1 at the paper's gains). With our tighter rule for (6) agent 1 is
+#   not flagged at γ = 2 either; at the default point it is flagged from γ = 5 on.
+# * **C7b** tests the same statement at effective attacks (`id_attack_factors` × the smallest, ≈ 192
+#   rad at $c=1$, ≈ 3.9e3 rad at $c$ = 0.002432, ≈ 142 rad at $c$ = 1.819) at every point: the clean
+#   agents' residuals stay below $10^{-5}\theta$ (measured), while the averaging baseline through the
+#   same rule flags clean agents at the ×2 and ×10 sizes (default point, recorded). Agent 1's flag is
+#   C7c, by construction.
 # * **C8** is evaluated at the example's attack and at the C7b sizes, where the non-resilient
-#   baseline's error (≈ 1.6e3 at the default point) exceeds the bound ≈ 199.
+#   baseline's error (≈ 1.6e3 at the default point) exceeds the bound ≈ 199; the bound scales as
+#   $c^{-1/2}$ (≈ 4.0e3 at $c$ = 0.002432), and so do the C7b sizes, so the baseline exceeds it at
+#   every scale. Its premise includes the block-diagonal $\bar P$.
+# * **C11** (footnote 3, does not decide) is checked in every window after the attack: the
+#   innovation of agent 1's observer jumps at the attack's step (it peaks at ≈ 3.2e3 with the
+#   literal "near −1" poles), so the claim fails where that is visible; in the last window it is
+#   below 1e-3 everywhere (recorded).
 # * **C12, C13** (plug-and-play): their outcomes per point are in `robustness.csv`, with the time
 #   from which each run stays within 0.05 of the uninterrupted one (`back_within_0.05_at`). C12's
 #   old 15-s window (recorded in `old_window_worst_ratio`) failed at the "near" points.
