@@ -548,9 +548,11 @@ def test_robustness_table_shape_and_columns() -> None:
     space = spaces.load("lee2020")
     design = spaces.design(space)
     rows = _robustness_rows()
-    assert len(design) == 24 and len(rows) == len(design)
+    # 2 poles x 2 normalisations x 3 rings x 2 guesses x 3 scales of P (the last since the fourth
+    # re-read of issue #30)
+    assert len(design) == 72 and len(rows) == len(design)
     committed = json.loads((FIG / "claims.json").read_text())
-    for name in ("ring_order", "basis_normalisation", "observer_poles", "z0_guess", "xhat0"):
+    for name in ("ring_order", "basis_normalisation", "observer_poles", "z0_guess", "xhat0", "P_scale"):
         assert name in rows[0]
     for cid in committed:
         assert {f"{cid}.outcome", f"{cid}.holds", f"{cid}.value"} <= set(rows[0])
@@ -558,6 +560,7 @@ def test_robustness_table_shape_and_columns() -> None:
     default = rows[0]  # the design puts the default point first
     assert (default["ring_order"], default["basis_normalisation"], default["observer_poles"],
             default["z0_guess"]) == ("1-2-3-4-5", "unit", "near", "zero")
+    assert default["P_scale"] == "ours"
 
 
 def test_committed_claims_agree_with_the_sweep() -> None:
