@@ -167,6 +167,14 @@ def test_agent1_alone_is_fooled(claims) -> None:
                     and m["resilient_spread_over_attacks"] <= 2 * tol_sum)
     assert c3["holds"] is expected
     assert c3["decides"] is True
+    # the all-coordinate error (recorded next to the theta-sum rule, not a rule): one entry per
+    # attack size; at pi/3 its last-window value is the offset law's max error 3/(4 gamma) |v_1|_inf
+    for key in ("resilient_inf_error_by_attack", "resilient_inf_error_peak_after_attack",
+                "resilient_inf_settle_s_by_attack"):
+        assert len(m[key]) == len(m["attack_sizes"]), key
+    assert m["resilient_inf_error_by_attack"][0] == pytest.approx(SQRT3 / 3 * 0.75 / 2.0, abs=0.01)
+    assert all(p >= f for p, f in zip(m["resilient_inf_error_peak_after_attack"],
+                                      m["resilient_inf_error_by_attack"], strict=True))
 
 
 def test_network_before_the_attack_ours(claims) -> None:
@@ -179,8 +187,13 @@ def test_network_before_the_attack_ours(claims) -> None:
 def test_footnote3_attack_looks_like_a_plant_trajectory(claims) -> None:
     c11 = claims["C11"]["measured"]
     assert c11["Av"] <= 1e-9 and c11["gain_identity"] <= 1e-6
-    assert c11["z_shift"] <= 1e-2 and c11["innovation"] <= 1e-3  # measured at the default
+    assert c11["z_shift"] <= 1e-2 and c11["innovation_last_window"] <= 1e-3  # measured at the default
     assert claims["C11"]["premise"]["holds"] is True
+    # every window after the attack is checked (fourth re-read of issue #30), not the last only
+    assert c11["innovation"] == pytest.approx(max(c11["innovation_by_window"]))
+    assert c11["innovation_by_window"][-1] == pytest.approx(c11["innovation_last_window"])
+    assert c11["window_starts_s"][0] == pytest.approx(10.0)
+    assert claims["C11"]["holds"] is bool(c11["z_shift"] <= 1e-2 and c11["innovation"] <= 1e-3)
 
 
 def test_offset_law(claims) -> None:
@@ -204,16 +217,34 @@ def test_offset_law(claims) -> None:
                            <= c4["threshold"]["max_error_deviation"])
 
 
+def _step_slopes(gammas: list[float], errors: list[float]) -> np.ndarray:
+    return np.diff(np.log(errors)) / np.diff(np.log(gammas))
+
+
 def test_error_shrinks_with_gamma(claims, alt) -> None:
-    """C4 (Theorem 2, the paper's statement): the max error under attack decreases with gamma."""
+    """C4 (Theorem 2, "arbitrary precision"): the log-log slope of the error against gamma."""
     for data, gammas in ((claims, [2.0, 5.0, 20.0]), (alt, [2.0, 3.0, 5.0, 20.0])):
         c4 = data["C4"]
-        m = c4["measured"]
-        assert m["gammas"] == gammas
-        errs = np.array(m["max_error"])
-        assert m["smallest_decrease"] == pytest.approx(float(-np.diff(errs).max()))
-        assert c4["holds"] is bool(m["smallest_decrease"] > c4["threshold"]["smallest_decrease"])
+        m, t = c4["measured"], c4["threshold"]
+        assert m["gammas"] == gammas and t["largest_step_slope"] == -0.5
+        slopes = _step_slopes(gammas, m["max_error"])
+        np.testing.assert_allclose(m["step_slopes"], slopes, rtol=1e-9)
+        assert m["largest_step_slope"] == pytest.approx(slopes.max())
+        measurable = min(m["max_error"]) > t["max_error_floor"]
+        assert c4["holds"] is (bool(slopes.max() <= -0.5) if measurable else None)
         assert c4["decides"] is True
+        # the negative control: the averaging baseline at the same gains, through the same rule
+        base = _step_slopes(gammas, m["baseline_max_error"])
+        np.testing.assert_allclose(m["baseline_step_slopes"], base, rtol=1e-9)
+        assert m["baseline_passes_rule"] is bool(base.max() <= -0.5)
+        # the old rule (a decrease at every step) is recorded for both
+        assert m["old_rule_smallest_decrease"] == pytest.approx(float(-np.diff(m["max_error"]).max()))
+    # at the default point the error is the offset law's, 3/(4 gamma) |v_1|_inf: slope -1
+    np.testing.assert_allclose(claims["C4"]["measured"]["step_slopes"], -1.0, atol=0.05)
+    # the averaging baseline decreases too (the old rule passes it) but flattens toward its limit
+    m = claims["C4"]["measured"]
+    assert np.all(np.diff(m["baseline_max_error"]) < 0) and m["old_rule_baseline_holds"] is True
+    assert m["baseline_largest_step_slope"] > -0.25
     # at the default point the error is the offset law's max error, 3/(4 gamma) |v_1|_inf
     np.testing.assert_allclose(claims["C4"]["measured"]["max_error"],
                                SQRT3 / 3 * 0.75 / np.array([2.0, 5.0, 20.0]), atol=0.01)
@@ -235,6 +266,7 @@ def test_no_attack_convergence(claims, alt) -> None:
     for data in (claims, alt):
         c5 = data["C5"]
         assert c5["holds"] is (c5["measured"]["final_error"] <= c5["threshold"]["final_error"])
+        assert not c5.get("decides")  # a statement the paper does not make (fourth re-read, #30)
     near, shifted = (d["C5"]["measured"]["time_below_0.05"] for d in (claims, alt))
     assert shifted < near  # the literal "near -1" poles peak (gains ~1.5e3) and settle late
 
@@ -306,10 +338,15 @@ def test_identification_at_effective_attacks(claims) -> None:
     np.testing.assert_array_less(np.abs(resid[:, 0] - 2 * theta * np.array(factors)), theta)
     assert m["flagged"] == {f"{f:g}": [i + 1 for i in np.nonzero(r > theta)[0]]
                             for f, r in zip(factors, resid, strict=True)}
-    assert m["attacked_over_threshold_min"] == pytest.approx(resid[:, 0].min() / theta)
     assert m["clean_over_threshold_max"] == pytest.approx(resid[:, 1:].max() / theta)
-    assert c7b["holds"] is all(f == [1] for f in m["flagged"].values())
+    # C7b is the measured part: no clean agent flagged; agent 1's flag is C7c, by construction
+    assert c7b["holds"] is all(set(f) <= {1} for f in m["flagged"].values())
+    assert c7b["key"] == "clean_over_threshold_max"
     assert c7b["premise"]["holds"] is True and c7b["decides"] is True
+    c7c = claims["C7c"]
+    assert c7c["basis"] == "by-construction" and not c7c.get("decides")
+    assert c7c["measured"]["attacked_over_threshold_min"] == pytest.approx(resid[:, 0].min() / theta)
+    assert c7c["holds"] is all(1 in f for f in m["flagged"].values())
     # the same rule on the non-resilient averaging baseline (recorded: it can flag clean agents)
     base = np.array(m["residuals_baseline"])
     assert base.shape == resid.shape
@@ -360,10 +397,10 @@ def test_plug_and_play_details(claims) -> None:
 
 def test_verdict_is_computed_from_the_deciding_claims(claims) -> None:
     verdict = rescience_verdict({k: v for k, v in claims.items() if not k.startswith("_")})
-    assert set(verdict["deciding"]) == {"C1", "C3", "C4", "C5", "C7b", "C8", "C12", "C13"}
+    assert set(verdict["deciding"]) == {"C1", "C3", "C4", "C7b", "C8", "C12", "C13"}
     # C7: premise fails everywhere (does not decide); identities and constructions: by construction
     assert not claims["C7"].get("decides")
-    for cid in ("C6", "C9", "C10"):
+    for cid in ("C6", "C7c", "C9", "C10"):
         assert claims[cid]["basis"] == "by-construction"
     outcomes = [d["example"] for d in verdict["deciding"].values()]
     spaces_ = [d["space"] for d in verdict["deciding"].values()]
@@ -403,7 +440,11 @@ def test_theorem3_bound_recomputed_from_recorded_p_bar(which: str, request) -> N
     assert c8["threshold"]["bound"] == pytest.approx(bound, rel=1e-9)
     m = c8["measured"]
     assert m["max_error_2norm"] == pytest.approx(max(m["max_error_2norm_example"], m["max_error_2norm_C7b"]))
-    assert c8["holds"] is bool(m["offgroup"] <= 1e-9 and m["max_error_2norm"] <= bound)
+    assert c8["holds"] is bool(m["max_error_2norm"] <= bound)
+    # the block-diagonal P_bar is part of the premise (fourth re-read of issue #30), not of the rule
+    assert m["offgroup_relative"] == pytest.approx(m["offgroup"] / np.abs(p_bar).max())
+    assert c8["premise"]["holds"] is bool(m["offgroup_relative"] <= 1e-9)
+    assert "block-diagonal" in c8["premise"]["statement"]
     # the non-resilient estimators' errors (recorded) exceed the resilient one's; at the example's
     # attack a non-resilient error is a ||v|| = 10 sqrt(3) (a = 10), at the C7b sizes far larger
     assert m["non_resilient_max_error_2norm"] >= m["max_error_2norm_example"]
@@ -507,9 +548,11 @@ def test_robustness_table_shape_and_columns() -> None:
     space = spaces.load("lee2020")
     design = spaces.design(space)
     rows = _robustness_rows()
-    assert len(design) == 24 and len(rows) == len(design)
+    # 2 poles x 2 normalisations x 3 rings x 2 guesses x 3 scales of P (the last since the fourth
+    # re-read of issue #30)
+    assert len(design) == 72 and len(rows) == len(design)
     committed = json.loads((FIG / "claims.json").read_text())
-    for name in ("ring_order", "basis_normalisation", "observer_poles", "z0_guess", "xhat0"):
+    for name in ("ring_order", "basis_normalisation", "observer_poles", "z0_guess", "xhat0", "P_scale"):
         assert name in rows[0]
     for cid in committed:
         assert {f"{cid}.outcome", f"{cid}.holds", f"{cid}.value"} <= set(rows[0])
@@ -517,6 +560,7 @@ def test_robustness_table_shape_and_columns() -> None:
     default = rows[0]  # the design puts the default point first
     assert (default["ring_order"], default["basis_normalisation"], default["observer_poles"],
             default["z0_guess"]) == ("1-2-3-4-5", "unit", "near", "zero")
+    assert default["P_scale"] == "ours"
 
 
 def test_committed_claims_agree_with_the_sweep() -> None:
