@@ -674,7 +674,7 @@ print(np.round(A_bar_unit, 6))
 # are "near $-1$" (MISSING). `observer_poles="near"` (default): $-1,-1.1,\dots$ (first $o_i$;
 # single-output placement needs distinct poles). `"shifted"`: keep the imaginary parts of
 # $\operatorname{eig}(\mathcal W_iA\mathcal V_i)$ and move all real parts to $-1$ (real
-# eigenvalues to $-1,-1.1$). Gains by pole placement with python-control (`control.place`, on the
+# eigenvalues to $-1,-1.1$). Gains by pole placement with scipy (`scipy.signal.place_poles`, method YT, as python-control's `place` calls it, on the
 # dual pair).
 #
 # Scaling the basis, $\mathcal V_i\to\mathcal V_iD_i$ with $D_i$ diagonal, maps the pair

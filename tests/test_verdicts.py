@@ -111,3 +111,58 @@ def test_counts_text_is_the_form_the_pattern_reads() -> None:
     text = f"C2a {counts_text(outcomes)}"
     assert text == "C2a 8 holds / 16 fails / 9 fails-premise / 0 not-checked"
     assert _quoted_counts(f"so {text}.") == [("C2a", outcomes)]
+
+
+# ------------------------------------------------------------------------------------------
+# the arena: README, ERRATA and the site say what its claims.json and registry say
+# ------------------------------------------------------------------------------------------
+
+_NUMBERS = {w: i for i, w in enumerate("zero one two three four five six seven eight nine ten eleven "
+                                        "twelve".split())}
+
+
+def test_arena_texts_count_the_registered_baselines() -> None:
+    import secest.methods  # noqa: F401  (registers the papers' methods)
+    from secest.arena.estimators import METHODS
+
+    n = sum(m.kind == "baseline" for m in METHODS.values())
+    for path in ("README.md", "docs/index.md", "docs/your-plant-your-method.md"):
+        said = re.findall(r"\b(\w+) baselines\b", (ROOT / path).read_text())
+        counts = [_NUMBERS[w] for w in said if w in _NUMBERS]
+        assert counts and set(counts) == {n}, (path, said, n)
+
+
+def test_errata_arena_applicability_is_claims_x5() -> None:
+    x5 = json.loads((ROOT / "figures" / "arena" / "claims.json").read_text())["X5"]["measured"]
+    errata = (ROOT / "ERRATA.md").read_text()
+    section = errata[errata.index("## arena"):]
+    line = next(t for t in section.splitlines() if t.startswith("- APPLICABILITY (X5)"))
+    said = dict(re.findall(r"(\w+\d{4}) (\d+)", line[line.index("counts in X5"):]))
+    assert {k: int(v) for k, v in said.items()} == x5["outside_theory"], (said, x5["outside_theory"])
+    assert ("no paper method is N/A" in line) == (x5["n_na"] == 0), line
+    assert f"of {x5['cells']})" in line, line
+
+
+def test_readme_arena_numbers_are_claims_x2_at_their_printed_precision() -> None:
+    """README's no-attack numbers (target / three-inertia / tank) are X2's upper bounds, rounded as
+    printed; `diverged` where X2 did not score the cell; `(home)` where the plant is the paper's."""
+    per_plant = json.loads((ROOT / "figures" / "arena" / "claims.json").read_text())["X2"]["measured"]
+    readme = " ".join((ROOT / "README.md").read_text().split())
+    plants = ("target20", "inertia5", "tank12")
+    checked = 0
+    for key in paper_keys(ROOT):
+        m = re.search(rf"\b{key} ((?:[\d.]+|diverged)(?: \(home\))?(?: / (?:[\d.]+|diverged)(?: \(home\))?){{2}})",
+                      readme)
+        assert m, key
+        for plant, said in zip(plants, m.group(1).split(" / "), strict=True):
+            row = per_plant["per_plant"][plant]
+            name = f"{key} (home)" if "(home)" in said else key
+            value = said.replace(" (home)", "")
+            if value == "diverged":
+                assert name not in row and f"{key} on {plant}" in per_plant["not_scored"], (key, plant)
+                continue
+            assert name in row, (key, plant, said)
+            digits = len(value.replace(".", "").lstrip("0"))
+            assert float(f"{row[name]:.{digits}g}") == float(value), (key, plant, row[name], value)
+            checked += 1
+    assert checked >= 12

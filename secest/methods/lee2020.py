@@ -603,7 +603,7 @@ def lyapunov_correction(V: Array, T: Array) -> tuple[Array, Array, Array, Array]
 def observer_gains(
     A: Array, V: Array, S: Array, banks: Sequence[Array], poles: str = "near"
 ) -> tuple[list[Array], list[Array]]:
-    """Gains ``L_i`` of the partial observers (5) by pole placement (python-control).
+    """Gains ``L_i`` of the partial observers (5) by pole placement (scipy's ``place_poles``, YT).
 
     ``F_i = W_i A V_i - L_i C_i V_i`` Hurwitz, with ``V_i`` the columns ``v_l`` and ``W_i`` the rows
     ``w_l^T`` of ``W = V^{-1}`` with ``s_i^l = 1``. Poles (the paper: "near -1"):
@@ -629,7 +629,7 @@ def observer_gains(
     closed : list of (o_i, o_i) arrays
         ``F_i``.
     """
-    import control  # the notebooks' optional dependency (secest[notebooks])
+    from scipy.signal import place_poles  # python-control's place() calls it the same way
 
     W = np.linalg.inv(V)
     gains, closed = [], []
@@ -646,7 +646,7 @@ def observer_gains(
             placed = np.concatenate([-1.0 - 0.1 * np.arange(real.size), -1.0 + 1j * cplx.imag])
         else:
             raise ValidationError(f"poles must be 'near' or 'shifted', found {poles!r}")
-        gain = control.place(f_i.T, h_i.T, placed).T
+        gain = place_poles(f_i.T, h_i.T, np.atleast_1d(placed), method="YT").gain_matrix.T
         gains.append(gain)
         closed.append(f_i - gain @ h_i)  # F_i of (5), Hurwitz
     return gains, closed
