@@ -11,8 +11,9 @@ the matrix into a folder::
 own too). Every argument is checked before any work starts; a bad one ends the program with a
 one-line error and exit status 2.
 
-Not (yet) here: ``--scheduler``. The matrix runs in this process
-(:func:`secest.arena.matrix.run_matrix` has no Dask path yet).
+``--workers N`` runs the scenarios as tasks on a Dask ``LocalCluster`` of N processes,
+``--scheduler tcp://host:8786`` on a running cluster (:func:`secest.arena.matrix.run_matrix`);
+the matrix is the same as in this process.
 """
 
 from __future__ import annotations
@@ -85,6 +86,10 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--out", metavar="DIR", help="folder to write matrix.csv, matrix.json, "
                    "heatmap.png and tables/<plant>.md into")
     p.add_argument("--list", action="store_true", help="print the cards and the registered methods")
+    p.add_argument("--workers", type=_count(1), metavar="N", help="run the scenarios on a Dask "
+                   "LocalCluster of N single-threaded processes (needs the sweep extra)")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="run the scenarios on the Dask cluster "
+                   "at ADDRESS, e.g. tcp://127.0.0.1:8786 (its workers need secest and your modules)")
     return p
 
 
@@ -94,7 +99,7 @@ def _module(spec: str, where: str):
         path = Path(where).resolve()
         if not path.is_file():
             raise ValidationError(f"--method {spec}: no file {where!r}")
-        name = "secest_user_" + hashlib.sha1(str(path).encode()).hexdigest()[:12]
+        name = matrix.USER_MODULE_PREFIX + hashlib.sha1(str(path).encode()).hexdigest()[:12]
         if name in sys.modules:  # the same file twice: one module, one class, one registration
             return sys.modules[name]
         loader = importlib.util.spec_from_file_location(name, path)
@@ -200,7 +205,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             raise ValidationError("--out DIR is required to race (or --list to see the cards)")
         m = report.race(args.cards, args.methods, plants=args.plants, attacks=args.attacks,
                         runs=args.runs, horizon=args.horizon, seed=args.seed, out=args.out,
-                        short=args.short)
+                        short=args.short, scheduler=args.scheduler, workers=args.workers)
     except ValidationError as exc:
         print(f"{PROG}: error: {exc}", file=sys.stderr)
         return 2

@@ -17,9 +17,11 @@ here.
 from __future__ import annotations
 
 import math
+import sys
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -36,10 +38,12 @@ __all__ = [
     "Matrix",
     "attack_activity",
     "cell_text",
+    "check_dask_arguments",
     "error_curve",
     "fmt_interval",
     "run_matrix",
     "scaled",
+    "scenario_task",
     "table_rows",
 ]
 
@@ -168,11 +172,16 @@ def run_matrix(
     *,
     curves: bool = True,
     short: bool = False,
+    scheduler: str | None = None,
+    workers: int | None = None,
 ) -> Matrix:
     """Score ``methods`` (default: every registered one) on every scenario.
 
     One :func:`~secest.arena.scenarios.simulate` per scenario feeds every method
     (:func:`secest.arena.estimators.evaluate`); the oracle is the reference of each ratio.
+    A scenario (its trial and every method on it) is one task: in this process, or, with
+    ``scheduler`` or ``workers``, on Dask distributed (:func:`_on_dask`), with the same result
+    (every draw comes from the scenario's own seed).
 
     Parameters
     ----------
@@ -185,6 +194,12 @@ def run_matrix(
     short : bool
         Allow horizons without a steady window (smoke tests only; see
         :func:`~secest.arena.estimators.settle_steps`).
+    scheduler : str, optional
+        Address of a running Dask scheduler (``"tcp://host:8786"``); its workers need
+        ``secest`` (and any module a method of one's own comes from) importable.
+    workers : int, optional
+        Without ``scheduler``: the number of single-threaded worker processes of a Dask
+        ``LocalCluster`` started for this call (the ``sweep`` extra brings Dask).
     """
     names = list(METHODS) if methods is None else list(methods)
     unknown = [n for n in names if n not in METHODS]
@@ -195,33 +210,107 @@ def run_matrix(
     seen = [sc.name for sc in scenarios]
     if len(set(seen)) != len(seen):
         raise ValidationError(f"scenario names must be unique, found {seen}")
+    check_dask_arguments(scheduler, workers)
+    for sc in scenarios:  # every horizon checked before any work starts
+        estimators.settle_steps(sc, short=short)
+    shipped = [METHODS[n] for n in names]
+    if scheduler is None and workers is None:
+        parts = [scenario_task(sc, shipped, curves, short) for sc in scenarios]
+    else:
+        parts = _on_dask(list(scenarios), shipped, curves, short, scheduler, workers)
     out = Matrix(list(scenarios), names, {})
-    for sc in scenarios:
-        kept: dict[str, NDArray[np.float64]] = {}
-
-        def observe(name: str, trial: Trial, est: Estimate, kept: dict = kept) -> None:
-            if curves:
-                kept[name] = error_curve(est.xhat, trial.x)
-
-        def timed(method: estimators.Method, trial: Trial, sc: Scenario = sc) -> Estimate:
-            t0 = time.perf_counter()
-            est = method.run(trial)
-            out.seconds[(sc.name, method.name)] = time.perf_counter() - t0
-            return est
-
-        trial = simulate(sc)
-        scores = estimators.evaluate(sc, names, timed, observe=observe, trial=trial, short=short)
-        for name, s in scores.items():
-            out.cells[(sc.name, name)] = s
-        if curves:
-            K = sc.horizon
-            out.curves[sc.name] = Curves(
-                t=np.arange(K + 1) * sc.plant.dt,
-                rms=kept,
-                active=attack_activity(trial),
-                settle=estimators.settle_steps(sc, short=short),
-            )
+    for sc, (cells, seconds, curve) in zip(scenarios, parts, strict=True):
+        out.cells.update({(sc.name, n): s for n, s in cells.items()})
+        out.seconds.update({(sc.name, n): t for n, t in seconds.items()})
+        if curve is not None:
+            out.curves[sc.name] = curve
     return out
+
+
+def scenario_task(
+    sc: Scenario, methods: Sequence[estimators.Method], curves: bool, short: bool
+) -> tuple[dict[str, Score], dict[str, float], Curves | None]:
+    """One scenario of :func:`run_matrix`: its trial, every method's cell, wall times and curves.
+
+    The methods travel with the task (a worker of an existing cluster may not have registered
+    one's own); they are put in the worker's registry under their names before scoring.
+    """
+    for m in methods:
+        METHODS[m.name] = m  # a worker process's own registry: the caller's methods, by name
+    seconds: dict[str, float] = {}
+    kept: dict[str, NDArray[np.float64]] = {}
+
+    def observe(name: str, trial: Trial, est: Estimate) -> None:
+        if curves:
+            kept[name] = error_curve(est.xhat, trial.x)
+
+    def timed(method: estimators.Method, trial: Trial) -> Estimate:
+        t0 = time.perf_counter()
+        est = method.run(trial)
+        seconds[method.name] = time.perf_counter() - t0
+        return est
+
+    trial = simulate(sc)
+    cells = estimators.evaluate(sc, [m.name for m in methods], timed, observe=observe,
+                                trial=trial, short=short)
+    curve = None
+    if curves:
+        curve = Curves(t=np.arange(sc.horizon + 1) * sc.plant.dt, rms=kept,
+                       active=attack_activity(trial), settle=estimators.settle_steps(sc, short=short))
+    return cells, seconds, curve
+
+
+def check_dask_arguments(scheduler: object, workers: object) -> None:
+    """Refuse a ``scheduler`` that is not an address, a ``workers`` that is not a count, or both."""
+    if scheduler is not None and not (isinstance(scheduler, str) and "://" in scheduler):
+        raise ValidationError(f"scheduler must be a Dask scheduler address such as "
+                              f"'tcp://127.0.0.1:8786', found {scheduler!r}")
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)
+                                or not 1 <= workers <= 256):
+        raise ValidationError(f"workers must be an integer from 1 to 256, found {workers!r}")
+    if scheduler is not None and workers is not None:
+        raise ValidationError("give scheduler (an existing cluster) or workers (a LocalCluster), "
+                              f"not both: found scheduler={scheduler!r}, workers={workers!r}")
+
+
+USER_MODULE_PREFIX = "secest_user_"
+"""Module names of methods loaded from a file (:func:`secest.arena.cli.load_method`); on Dask
+they are pickled by value, since a worker cannot import them by name."""
+
+
+def _cost(sc: Scenario) -> float:
+    """A scenario's relative cost: runs x steps x nodes (the order in which tasks are sent)."""
+    return float(sc.runs * sc.horizon * sc.network.N)
+
+
+def _on_dask(scenarios: list[Scenario], methods: list[estimators.Method], curves: bool, short: bool,
+             scheduler: str | None, workers: int | None) -> list[Any]:
+    """:func:`scenario_task` of every scenario on Dask, largest first (a greedy balance)."""
+    try:
+        from dask.distributed import Client, LocalCluster
+    except ModuleNotFoundError:
+        raise ValidationError("scheduler/workers need Dask: pip install 'secest[sweep]'") from None
+    import cloudpickle
+
+    for m in methods:  # a method loaded from a file (--method path.py:Class) travels by value
+        module = sys.modules.get(type(m).__module__)
+        if module is not None and module.__name__.startswith(USER_MODULE_PREFIX):
+            cloudpickle.register_pickle_by_value(module)
+    cluster = None
+    if scheduler is None:
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                               dashboard_address=None)
+    client = Client(cluster if cluster is not None else scheduler)
+    try:
+        order = sorted(range(len(scenarios)), key=lambda i: -_cost(scenarios[i]))
+        shipped = client.scatter(methods, broadcast=True)
+        futures = {i: client.submit(scenario_task, scenarios[i], shipped, curves, short, pure=False)
+                   for i in order}
+        return [futures[i].result() for i in range(len(scenarios))]
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
 
 
 # ---------------------------------------------------------------------------------- words

@@ -313,6 +313,8 @@ def race(
     seed: int | None = None,
     out: str | Path | None = None,
     short: bool = False,
+    scheduler: str | None = None,
+    workers: int | None = None,
 ) -> matrix.Matrix:
     """Race ``methods`` on the scenarios of ``cards``; with ``out``, write the matrix there.
 
@@ -340,6 +342,9 @@ def race(
         Allow horizons shorter than 20 time constants (a smoke test: the windows are then
         halves of the horizon and say nothing of a steady state); otherwise such a horizon is
         refused (:func:`secest.arena.estimators.settle_steps`).
+    scheduler, workers : optional
+        Run the scenarios on Dask: an existing cluster's address, or the size of a
+        ``LocalCluster`` (:func:`secest.arena.matrix.run_matrix`).
 
     Returns
     -------
@@ -347,6 +352,7 @@ def race(
         The scored matrix (:func:`secest.arena.matrix.run_matrix`).
     """
     names = _method_names(methods)
+    matrix.check_dask_arguments(scheduler, workers)
     plants, attacks = _names("plants", plants), _names("attacks", attacks)
     if out is not None and (not isinstance(out, str | Path) or Path(out).is_file()):
         raise ValidationError(f"out must be a folder path (not a file), found {out!r}")
@@ -358,7 +364,7 @@ def race(
                                   f"{sorted(known[kind])}")
     grid = scenarios.matrix(networks=plants, attacks=attacks, extra=cards, runs=runs,
                             horizon=horizon, seed=seed)
-    m = matrix.run_matrix(grid, names, short=short)
+    m = matrix.run_matrix(grid, names, short=short, scheduler=scheduler, workers=workers)
     if out is not None:
         write(m, out)
     return m
