@@ -1408,6 +1408,8 @@ show_source(M.theorem3_c_floor, after="    rho = (const[")
 THM3_SEARCH_POINTS = 2**12  # scrambled Sobol points of the weight search (ours)
 THM3_SEARCH_LOG10 = np.array([[-6.0, 3.0]] + [[-6.0, 6.0]] * 4)  # log10 box of lambda, alpha1..4 (ours)
 THM3_SEARCH_GRID = 49  # (phi_*, phi^*) log grid of the search, same range as phi_scan (ours)
+# the candidate weight sets, generated once (secest) and searched on the example (X7) and our instance (C3)
+THM3_CAND = M.theorem3_candidates(THM3_SEARCH_POINTS, THM3_SEARCH_LOG10)
 
 
 def thm3_constants(o, i: int) -> dict[str, float]:
@@ -1471,8 +1473,7 @@ def theorem3_search(o) -> list[dict]:
     pi^* > 0 (the proof inverts (35)). Also the weight-free floor of eta^*/phi^* for
     kappa_x >= 0 (theorem3_c_floor).
     """
-    unit = stats.qmc.Sobol(5, scramble=True, seed=0).random_base2(int(np.log2(THM3_SEARCH_POINTS)))
-    cand = 10 ** (THM3_SEARCH_LOG10[:, 0] + unit * np.diff(THM3_SEARCH_LOG10, axis=1)[:, 0])
+    cand = THM3_CAND
     lo_g, hi_g = phi_pairs(THM3_SEARCH_GRID)
     rows = []
     for i in range(N):
@@ -1657,11 +1658,13 @@ INST_MEAN0, INST_COV0 = np.ones(INST_N * INST_NX), np.eye(INST_N * INST_NX)
 INST_BH = {key: b @ INST_H for key, b in INST_B.items()}
 
 
-def instance_run(weights) -> dict:
-    """Algorithm 1 (printed coefficients, exact E{xhat xhat^T}) on our instance, exact moments."""
+def instance_run(weights, zero_gain: bool = False) -> dict:
+    """Algorithm 1 (printed coefficients, exact E{xhat xhat^T}) on our instance, exact moments;
+    zero_gain: the same system, noise and attacks with L = 0 (the open-loop prediction)."""
     return M.exact_design_moments(INST_A @ INST_H, INST_BH, INST_PARENTS, INST_Q * INST_E @ INST_E.T,
                                   INST_C @ INST_H, INST_SCHED, INST_PSI, INST_XI_K, INST_XI, INST_R,
-                                  weights, INST_MEAN0, INST_COV0, np.eye(INST_NX), "paper")
+                                  weights, INST_MEAN0, INST_COV0, np.eye(INST_NX), "paper",
+                                  zero_gain=zero_gain)
 
 
 def instance_constants(i: int, x2: float) -> dict[str, float]:
@@ -1686,8 +1689,7 @@ for _k in range(INST_T + 1):
                                    for i in range(INST_N)])
     _ex_x = _ax @ _ex_x @ _ax.T + np.kron(np.eye(INST_N), INST_Q * INST_E @ INST_E.T)  # (1)
 INST_CONST = [instance_constants(i, INST_X2[i]) for i in range(INST_N)]
-unit_ = stats.qmc.Sobol(5, scramble=True, seed=0).random_base2(int(np.log2(THM3_SEARCH_POINTS)))
-INST_CAND = 10 ** (THM3_SEARCH_LOG10[:, 0] + unit_ * np.diff(THM3_SEARCH_LOG10, axis=1)[:, 0])
+INST_CAND = THM3_CAND  # X7's candidate weight sets (one generator: M.theorem3_candidates)
 INST_LO, INST_HI = phi_pairs(THM3_SEARCH_GRID)
 INST_MET = []  # (candidates, pairs): conditions (a)-(c) with pi_*, pi^* > 0, per subsystem
 for _i in range(INST_N):
@@ -1704,16 +1706,24 @@ print(f"our instance: (X*)^2 = {np.round(INST_X2, 4)}; eligible weight sets {INS
 def instance_outcome(c: int) -> dict:
     """Run the eligible weight set c on our instance; ratios E||e||^2 / UB over its eligible pairs."""
     w = [tuple(INST_CAND[c])] * INST_N
-    run_ = instance_run(w)
+    run_, run0 = instance_run(w), instance_run(w, zero_gain=True)
     rows_ = []
     for i in range(INST_N):
         err2 = np.trace(run_["P"][:, i], axis1=-2, axis2=-1)  # E||e_i(k|k)||^2, exact
+        err2_0 = np.trace(run0["P"][:, i], axis1=-2, axis2=-1)  # the same with L = 0
         ev_s = np.linalg.eigvalsh(run_["S"][1:, i])
         gain2 = float(np.max(np.linalg.norm(run_["L"][1:, i], ord=2, axis=(-2, -1)) ** 2))
+        # ||L(k) Phi(k) C H_eps||_2, the share of the innovation that reaches the estimate (C2's measure)
+        share = float(max(np.linalg.norm(run_["L"][k, i] @ (INST_C @ INST_H)[INST_SCHED[k - 1]], ord=2)
+                          for k in range(1, INST_T + 1)))
+        # largest relative reduction of E||e_i(k|k)||^2 by the gain (28) against L = 0
+        reduction = float(np.max((err2_0[1:] - err2[1:]) / err2_0[1:]))
         for p in np.flatnonzero(INST_MET[i][c]):
             env = M.theorem3_proof_envelope(INST_LO[p], INST_HI[p], INST_PSI[i], w[i],
                                             INST_CONST[i], err2[0], INST_T, INST_NX, INST_NY)
             rows_.append({"subsystem": i + 1, "ratio": float(np.max(err2[1:] / env["UB"][1:])),
+                          "ratio_zero_gain": float(np.max(err2_0[1:] / env["UB"][1:])),
+                          "gain_share": share, "reduction": reduction,
                           "stage1": bool(ev_s.min() >= INST_LO[p] and ev_s.max() <= INST_HI[p]),
                           "Lambda_holds": bool(gain2 <= env["Lambda"]),
                           "literal_56_holds": bool(np.all(err2[1:] <= env["UB_literal"][1:])),
@@ -1727,6 +1737,17 @@ INST_ROWS = [r for o in INST_OUT for r in o["rows"]]
 INST_RATIO = max((r["ratio"] for r in INST_ROWS), default=None)
 INST_RATIO_2 = max((r["ratio"] for r in INST_ROWS if r["subsystem"] == 2), default=None)
 INST_GAIN2 = max((r["gain2"] for r in INST_ROWS), default=None)
+# C3's precondition (ours): the gain is informative, i.e. the envelope is tested on an estimator and not
+# on the open-loop prediction. Largest ||L Phi C H_eps|| against C2's gain_negligible, and the largest
+# relative reduction of E||e||^2 by (28) against L = 0 on the same cases against the same level.
+INST_RATIO_0 = max((r["ratio_zero_gain"] for r in INST_ROWS), default=None)
+INST_SHARE = max((r["gain_share"] for r in INST_ROWS), default=None)
+INST_REDUCTION = max((r["reduction"] for r in INST_ROWS), default=None)
+INST_INFORMATIVE = bool(INST_ROWS) and INST_SHARE >= gain_negligible and INST_REDUCTION >= gain_negligible
+print(f"C3 precondition: largest ||L Phi C H|| = {INST_SHARE} (level gain_negligible = {gain_negligible}), "
+      f"largest relative reduction of E||e||^2 by (28) against L = 0 = {INST_REDUCTION}; with L = 0 the "
+      f"largest ratio to the envelope is {INST_RATIO_0} (with (28): {INST_RATIO}); informative: "
+      f"{INST_INFORMATIVE}")
 print(f"C3 on our instance: {len(INST_ROWS)} (weight set, pair, subsystem) cases; max E||e||^2 / UB = "
       f"{INST_RATIO} (subsystem 2 alone: {INST_RATIO_2}); Stage 1 holds in "
       f"{sum(r['stage1'] for r in INST_ROWS)}, (52) L^T L <= Lambda I in "
@@ -2339,7 +2360,10 @@ RANK_BB = []
 for _i in range(N):
     _bsum = sum((B_MAT[(_i, j)] for j in K_SETS[_i]), np.zeros((NX, NX)))
     RANK_BB.append(int(np.linalg.matrix_rank(_bsum @ _bsum.T)))
-ASSUMPTION1_HOLDS = bool(RANK_EE == NX and all(r == NX for r in RANK_BB))
+# an empty K_i (target 1) is read as in C3: its sum is 0 and b_* = b^* = 0 (the reading every sequential
+# system needs); the b-condition is asked only of targets with upstream subsystems
+ASSUMPTION1_HOLDS = bool(RANK_EE == NX and all(r == NX for r, k_ in zip(RANK_BB, K_SETS, strict=True)
+                                               if len(k_) > 0))
 C3A_AT_WEIGHTS = bool(all(C3A_MET))
 # what C3a and X7 both record: Theorem 3's conditions at the weights in use, the rank of L Phi C H
 THM3_MEASURED = {"printed_weights_in_use": cond_summary(cond_main),
@@ -2359,7 +2383,8 @@ claims["C3a"] = results.claim(
     check="PREMISE, decided for every weight set: Assumption 1 needs e_*^2 I <= E_i(k) E_i^T(k) and "
     "b_*^2 I <= (sum_j B_ij)(sum_j B_ij)^T with e_*, b_* > 0, i.e. both of full rank 4. On the "
     "example E_i(k) is 4 x 1 (rank of E E^T at most 1) and sum_j B_ij = diag{0, b, 0, b} (rank 2; "
-    "0 for target 1, K_1 empty), at every k and at every point of the declared space (no parameter "
+    "0 for target 1, whose K_1 is empty: read, as in C3, with b_* = b^* = 0, so the b-condition is "
+    "asked of targets 2, 3 only; the outcome does not depend on it, E E^T fails alone), at every k and at every point of the declared space (no parameter "
     "changes E_i or B_ij): the ranks are measured. Where the premise fails the outcome is "
     "fails-premise whatever the conditions give, with no search needed. Also measured, at the "
     "weights in use with the literal constants (e_* = b_* = 0): conditions (a) c0 > 1, (b) eta_* >= "
@@ -2371,52 +2396,99 @@ claims["C3a"] = results.claim(
               "rank_needed": NX, "conditions_met_at_weights_in_use": C3A_MET} | THM3_MEASURED,
     threshold=THM3_THRESHOLD,
     holds=C3A_AT_WEIGHTS,
-    premise=("Assumption 1 holds on the example: E_i(k) E_i^T(k) and (sum_j B_ij)(sum_j B_ij)^T "
-             "have full rank (e_*, b_* > 0)", ASSUMPTION1_HOLDS),
+    premise=("Assumption 1 holds on the example: E_i(k) E_i^T(k) and, for every target with a "
+             "non-empty K_i, (sum_j B_ij)(sum_j B_ij)^T have full rank (e_*, b_* > 0; an empty K_i "
+             "read with b_* = b^* = 0, as in C3)", ASSUMPTION1_HOLDS),
     tolerance=EIG_TOL, runs=F,
     section="Theorem 3's own conditions on the example (C3a)",
 )
 INST_DEC = None if INST_RATIO is None else decided(INST_RATIO, 1.0, EIG_TOL)
+INST_CHECK = ("N = 2 (K_1 empty, K_2 = {1}), n_x = n_y = 2, m = 1, epsilon = 0.05, A_i = 0.6 R(0.3), "
+              "B_21 = 0.2 I, C_i = E_i = I, W = V = 0.03 I, xi* = 0.3 (sin/cos), psi_check = (0.7, 0.5), "
+              "x(0) ~ N(1, I), xhat(0|0) = 1, S(0|0) = P(0|0) = I, T = 100. Assumption 1 holds with positive "
+              "constants for subsystem 2; for subsystem 1 the sum over K_1 = {} is 0 (unavoidable in any "
+              "sequential system) and is read with b_* = b^* = 0 (the same reading as C3a). Eligible "
+              "weights: X7's declared search (the same 4096 Sobol weight sets, theorem3_candidates, "
+              "49-point (phi_*, phi^*) grid with phi_* <= 1 <= phi^*) with conditions (a) printed c0 > 1, "
+              "(b) eta_* >= phi_*, (c) eta^* <= phi^* and pi_*, pi^* > 0 for both subsystems at some pair "
+              "(theorem3_eta, as printed). For each eligible weight set, Algorithm 1 with the printed "
+              "coefficients and the exact E{xhat xhat^T} (exact_design_moments: exact E||e_i(k|k)||^2); "
+              "for each eligible pair an envelope UB_i(k) that is OUR consistent re-derivation from the "
+              "proof's constants, not the proof's (56) (theorem3_proof_envelope: rho (55), mu_1 (49), "
+              "Lambda (53), mu_2 (51) with (50) corrected, alpha_5..7 chosen by us to minimise mu under "
+              "(a), Lemma 3 with its roles consistent); the proof's (36) cannot hold on the instance for "
+              "any gain (rank of L Phi C H <= m = 1 < n_x = 2). HEADLINE: max of E||e_i(k|k)||^2 / UB_i(k) "
+              "over eligible (weight set, pair), both subsystems and k = 1..T")
+INST_MEASURED = {
+    "max_ratio": INST_RATIO, "max_ratio_subsystem2": INST_RATIO_2,
+    "max_ratio_zero_gain": INST_RATIO_0, "max_gain_share": INST_SHARE,
+    "max_error_reduction": INST_REDUCTION, "informative_level": gain_negligible,
+    "gain_informative": INST_INFORMATIVE,
+    "eligible_weight_sets": int(INST_ELIGIBLE.size), "weight_sets_searched": len(INST_CAND),
+    "eligible_cases": len(INST_ROWS),
+    "stage1_holds_cases": sum(r["stage1"] for r in INST_ROWS),
+    "lambda_53_holds_cases": sum(r["Lambda_holds"] for r in INST_ROWS),
+    "literal_56_holds_cases": sum(r["literal_56_holds"] for r in INST_ROWS),
+    "max_gain_norm_sq": INST_GAIN2, "X_star_sq": INST_X2,
+    "eligible_weights_first": [list(o["weights"]) for o in INST_OUT[:3]],
+    "example_rank_E_Et_max": RANK_EE, "example_rank_Bsum_Bsum_t_per_target": RANK_BB}
+INST_PREMISE = ("Theorem 3's premise on our instance: Assumption 1 (subsystem 1 with the empty-sum "
+                "b_* = b^* = 0) and conditions (a)-(c) with pi_*, pi^* > 0 for both subsystems at some "
+                f"searched weight set (measured: {INST_ELIGIBLE.size} of {len(INST_CAND)})",
+                bool(INST_ELIGIBLE.size > 0))
+if not INST_ROWS:
+    C3_HOLDS, C3_NOT_CHECKED = None, "no eligible case (the premise decides)"
+elif not INST_INFORMATIVE:
+    C3_HOLDS, C3_NOT_CHECKED = None, (
+        "the measurement's precondition fails: at the eligible weights the gain (28) is not informative "
+        f"(largest ||L Phi C H_eps|| {INST_SHARE:.3g} < gain_negligible {gain_negligible:g}, largest "
+        f"reduction of E||e||^2 against L = 0 {INST_REDUCTION:.3g} < {gain_negligible:g}), so the "
+        "envelope is tested on the open-loop prediction: L = 0 gives the same ratio "
+        f"({INST_RATIO_0:.7g} against {INST_RATIO:.7g}) and the check cannot discriminate; the "
+        "measured ratio is X9, ours, not deciding")
+elif INST_DEC is None:
+    C3_HOLDS, C3_NOT_CHECKED = None, "the largest ratio lies within its tolerance of 1"
+else:
+    C3_HOLDS, C3_NOT_CHECKED = INST_DEC, None
 claims["C3"] = results.claim(
-    paper="Theorem 3 (a main contribution: introduction, 'effectiveness analysis'; Section V): "
-    "under Assumption 1 and conditions (34)-(38), the estimation error e_i(k|k) is exponentially "
-    "bounded in the mean square",
-    source="Theorem 3, Assumption 1, (34)-(38), (44)-(56); Section I (contributions), Section V",
+    paper="Theorem 3 (a main contribution: introduction, 'effectiveness analysis'; Section V): with "
+    "Assumption 1 (positive constants bounding A, B, C, E, H_eps, the noises ... from below and above), "
+    "if 1 + alpha5 + alpha6 <= 1 - (alpha3 - alpha2)(1 - psi_check), eta_* >= phi_*, eta^* <= phi^* "
+    "(phi_* I <= S(0|0) <= phi^* I) and E[x x^T] <= X*^2 I, the estimation error e_i(k|k) is "
+    "exponentially bounded in the mean square",
+    source="Theorem 3 (its conditions), Assumption 1; Section I (contributions), Section V; "
+    "the envelope from the proof's (44)-(56)",
     check="ON A DECLARED INSTANCE OF OURS (the example cannot satisfy the premise: C3a, shown, not "
-    "deciding): N = 2 (K_1 empty, K_2 = {1}), n_x = n_y = 2, m = 1, epsilon = 0.05, A_i = 0.6 R(0.3), "
-    "B_21 = 0.2 I, C_i = E_i = I, W = V = 0.03 I, xi* = 0.3 (sin/cos), psi_check = (0.7, 0.5), "
-    "x(0) ~ N(1, I), xhat(0|0) = 1, S(0|0) = P(0|0) = I, T = 100. Assumption 1 holds with positive "
-    "constants for subsystem 2; for subsystem 1 the sum over K_1 = {} is 0 (unavoidable in any "
-    "sequential system) and is read with b_* = b^* = 0. Eligible weights: X7's declared search (4096 "
-    "Sobol weight sets, 49-point (phi_*, phi^*) grid with phi_* <= 1 <= phi^*) with conditions (a) "
-    "printed c0 > 1, (b) eta_* >= phi_*, (c) eta^* <= phi^* and pi_*, pi^* > 0 for both subsystems at "
-    "some pair (theorem3_eta, as printed). For each eligible weight set, Algorithm 1 with the printed "
-    "coefficients and the exact E{xhat xhat^T} (exact_design_moments: exact E||e_i(k|k)||^2); for "
-    "each eligible pair the envelope of the proof with its own constants (theorem3_proof_envelope: "
-    "rho (55), mu_1 (49), Lambda (53), mu_2 (51) with (50) corrected, alpha_5..7 minimising mu "
-    "under (a), Lemma 3 consistent). HEADLINE: max of E||e_i(k|k)||^2 / UB_i(k) over eligible "
-    "(weight set, pair), both subsystems and k = 1..T. Holds if <= 1, fails above (margin-aware); "
-    "premise: at least one eligible weight set. Reported: the same for subsystem 2 alone (Assumption 1 "
-    "literal); cases where the proof's Stage 1 phi_* I <= S(k|k) <= phi^* I holds, where (52) "
-    "L^T L <= Lambda I holds, where (56) as printed holds; the largest ||L||^2 (the eligible weights "
-    "make the gain ~0); the example's ranks (C3a)",
-    measured={"max_ratio": INST_RATIO, "max_ratio_subsystem2": INST_RATIO_2,
-              "eligible_weight_sets": int(INST_ELIGIBLE.size), "weight_sets_searched": len(INST_CAND),
-              "eligible_cases": len(INST_ROWS),
-              "stage1_holds_cases": sum(r["stage1"] for r in INST_ROWS),
-              "lambda_53_holds_cases": sum(r["Lambda_holds"] for r in INST_ROWS),
-              "literal_56_holds_cases": sum(r["literal_56_holds"] for r in INST_ROWS),
-              "max_gain_norm_sq": INST_GAIN2, "X_star_sq": INST_X2,
-              "eligible_weights_first": [list(o["weights"]) for o in INST_OUT[:3]],
-              "example_rank_E_Et_max": RANK_EE, "example_rank_Bsum_Bsum_t_per_target": RANK_BB},
+    "deciding): " + INST_CHECK + ". Holds if <= 1, fails above (margin-aware); premise: at least one "
+    "eligible weight set. PRECONDITION of the measurement (ours): the gain is informative, i.e. the "
+    "largest ||L_i(k) Phi_i(k) C H_eps|| over the eligible cases is at least C2's gain_negligible "
+    "level AND the largest relative reduction of E||e_i(k|k)||^2 by (28) against L = 0 (same system, "
+    "noise, attacks and cases) is at least the same level; where it fails C3 is not-checked (an "
+    "envelope met by the open-loop prediction says nothing about the estimator) and the instance's "
+    "result is X9 (ours, not deciding). Reported: the same for subsystem 2 alone (Assumption 1 "
+    "literal); the ratio with L = 0; cases where the proof's Stage 1 phi_* I <= S(k|k) <= phi^* I "
+    "holds, where (52) L^T L <= Lambda I holds, where (56) as printed holds; the largest ||L||^2; the "
+    "example's ranks (C3a)",
+    measured=INST_MEASURED,
+    threshold=1.0, holds=C3_HOLDS, key="max_ratio", tolerance=EIG_TOL,
+    not_checked=C3_NOT_CHECKED,
+    premise=INST_PREMISE,
+    decides=True,
+    section="Theorem 3 on a declared instance of ours (C3)",
+)
+claims["X9"] = results.claim(
+    paper="(ours) on our declared instance, at every weight set meeting Theorem 3's conditions, "
+    "Algorithm 1's exact mean-square error stays below the envelope of Theorem 3's proof (our "
+    "consistent re-derivation); the eligible gains are negligible, so this is the open-loop "
+    "prediction of a stable plant meeting the envelope",
+    source="ours (Theorem 3 on our instance, C3's measurement where its precondition fails)",
+    check="EXACT, as C3 (" + INST_CHECK + "): holds if the headline <= 1, fails above "
+    "(margin-aware). Measured, not deciding: it holds with L = 0 too (max_ratio_zero_gain)",
+    measured=INST_MEASURED,
     threshold=1.0, holds=INST_DEC, key="max_ratio", tolerance=EIG_TOL,
     not_checked=None if INST_DEC is not None or INST_RATIO is None else
     "the largest ratio lies within its tolerance of 1",
-    premise=("Theorem 3's premise on our instance: Assumption 1 (subsystem 1 with the empty-sum "
-             "b_* = b^* = 0) and conditions (a)-(c) with pi_*, pi^* > 0 for both subsystems at some "
-             f"searched weight set (measured: {INST_ELIGIBLE.size} of {len(INST_CAND)})",
-             bool(INST_ELIGIBLE.size > 0)),
-    decides=True,
+    premise=INST_PREMISE,
     section="Theorem 3 on a declared instance of ours (C3)",
 )
 claims["X7"] = results.claim(
@@ -2517,6 +2589,11 @@ claims["X8"] = results.claim(
     section="Kalman limit (X8)",
 )
 C7_MAX = float(C7_TABLE["paper design"].max())
+# the design's error relative to the open-loop prediction's (L = 0), per target: how much the gain buys
+C7_VS_OPEN = C7_TABLE["paper design"] / C7_TABLE["open-loop prediction"]
+print("C7: relative RMS error of the paper design / open-loop prediction: "
+      + ", ".join(f"{a:.3f}/{b:.3f} = {a / b:.3f}" for a, b in
+                  zip(C7_TABLE["paper design"], C7_TABLE["open-loop prediction"], strict=True)))
 claims["C7"] = results.claim(
     paper="Figs. 2-4: each target's estimated positions and velocities well match its real "
     "positions and velocities",
@@ -2534,8 +2611,10 @@ claims["C7"] = results.claim(
     "Rows reported: the same design in Monte Carlo with the xhat_moment surrogate (95 % t-interval), "
     "the per-step optimal gain for (8), the debiased innovation with optimal gain, an oracle Kalman "
     "filter dropping attacked packets (95 % interval over the psi draws), no attack, the additive "
-    "reading of (6), the open-loop prediction",
+    "reading of (6), the open-loop prediction; next to the headline, ratio_to_open_loop: the design's "
+    "rho_i over the open-loop prediction's (L = 0), how much of the error the gain removes",
     measured={"max_relative_rms": C7_MAX, "relative_rms": C7_TABLE,
+              "ratio_to_open_loop": C7_VS_OPEN,
               "monte_carlo_paper_design": C7_MC,
               "monte_carlo_paper_design_interval": np.stack(C7_INTERVALS["paper design, Monte Carlo"]),
               "oracle_interval": np.stack(C7_INTERVALS["oracle Kalman filter"]),
