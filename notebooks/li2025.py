@@ -26,28 +26,35 @@
 # Theorem 3 claims exponential mean-square boundedness. The example tracks three 2-D
 # coordinated-turn targets.
 #
-# **Verdict: [Re, partial]** (by the one rule, computed in the verdict section; decided by C1b, C3, C7,
-# C8) — of the paper's main claims only Theorem 3 holds, and only on a declared instance of ours (C3; the
-# example cannot satisfy its premise, C3a), at weights that make the gain ≈ 0; the bound as printed (C1b),
-# Theorem 2's statement that (28) minimises the bound "for given positive scalars" (C8) and the tracking of
-# Figs. 2–4 (C7) fail at the example. Our corrected bound holds (X5), but it is our statement and does not
-# decide. The counts over the declared space are in the claims table at the end (from
+# **Verdict: [¬Re]** (by the one rule, computed in the verdict section; decided by C1b, C3, C7, C8) —
+# none of the paper's main claims holds: the bound as printed (C1b), Theorem 2's statement that (28)
+# minimises the bound "for given positive scalars" (C8) and the tracking of Figs. 2–4 (C7) fail at the
+# example, and Theorem 3 (C3) is not checked: the example cannot satisfy its premise (C3a), and on a
+# declared instance of ours the weights that meet its conditions make the gain negligible, so the
+# envelope is met by the open-loop prediction ($L=0$) just as well and the check cannot discriminate
+# (its precondition, an informative gain, fails; the measured ratio is X9, ours, not deciding). Our
+# corrected bound holds (X5), but it is our statement and does not decide. The counts over the declared space are in the claims table at the end (from
 # `figures/li2025/robustness.json`).
 #
-# **Reading the verdict.** (i) "[Re, partial]" rests on C3 alone, and C3 holds on our instance with
-# eligible weights whose gains are ≈ 0 ($\|L\|^2\le10^{-7}$): Theorem 3's conditions admit, here, only
-# an estimator that barely uses its measurements; they certify it, not the tracking design of the
-# example. Before this revision C3 was not checked and the verdict was [¬Re]. (ii) C8 and C1b fail
+# **Reading the verdict.** (i) Until this revision "[Re, partial]" rested on C3 alone, held on our
+# instance with eligible weights whose gains are ≈ 0 ($\|L\|^2\le10^{-7}$). A fifth independent re-read
+# showed that such a check cannot fail for the estimator's sake: with $L=0$ the ratio to the envelope is
+# the same to six digits. C3 now states the precondition of its measurement (the gain is informative:
+# $\max\|L\Phi CH_\epsilon\|$ at least C2's `gain_negligible`, and the error under (28) measurably below
+# $L=0$'s on the same cases); it fails, so C3 is not-checked, and the verdict is [¬Re]. (ii) C8 and C1b fail
 # through one printed error, the sign of (21)'s $(\check\psi-1)$ that gives the printed $\kappa_x$ (and
 # $c_0$): with the corrected coefficients $c_0>0$, $\kappa_x\ge0$ for every positive weight set, so $\Pi\succ0$
 # and (28) is the minimiser for all "given positive scalars" (X5 certifies the corrected bound). The
 # gain design is sound; the printed statement is not. (iii) C8 is decided by the sign of $\Pi$'s
 # smallest eigenvalue, not by the size of a perturbation.
 #
-# * **Holds.** Theorem 3 on our instance (C3, deciding): a two-subsystem SPDSS of ours satisfying
-#   Assumption 1 (subsystem 1 with the empty-sum reading that every sequential system needs), with the
-#   eligible weights of a declared search, stays below the proof's own envelope at every step (largest
-#   ratio $\mathbb E\|e\|^2/UB$ 0.086). At the weights our Remark-4 grid yields (printed $c_0>0$,
+# * **Not checked.** Theorem 3 on our instance (C3, deciding): a two-subsystem SPDSS of ours satisfying
+#   Assumption 1 (subsystem 1 with the empty-sum reading that every sequential system needs, the same
+#   reading as C3a), with the eligible weights of a declared search, stays below our re-derivation of the
+#   proof's envelope at every step (largest ratio $\mathbb E\|e\|^2/UB$ 0.086, X9, ours), but so does the
+#   open-loop prediction $L=0$ (0.086 to six digits): the eligible gains are far below C2's negligible-gain
+#   level, so the measurement cannot discriminate and C3 is not-checked.
+# * **Holds.** At the weights our Remark-4 grid yields (printed $c_0>0$,
 #   $\kappa_x\ge0$) the gain (28) minimises the trace of (18) — by construction (C8b: (18) is quadratic in
 #   the gain, the first-order term vanishes at (28) by algebra and $\Pi\succ0$ is automatic there; shown,
 #   not evidence). RRL-MAP is fair and collision-free (C4: an arithmetic property of (2), true by
@@ -1629,7 +1636,9 @@ print("UB_i(T) / max_k MSE_i(k):", np.array2string(UB_RATIO, precision=3))
 #   printed, the coefficients of Theorem 3). $\alpha_5..\alpha_7$ enter only the proof's constants; we take
 #   the ones that minimise $\mu$ under (a), the tightest envelope the theorem offers.
 # * **The conclusion, measured.** The theorem's statement is qualitative ("exponentially bounded in the mean
-#   square"); its content is the envelope of its proof, (56). For every eligible weight set Algorithm 1 is
+#   square"); its content is the envelope of its proof, (56). The envelope used here is **our consistent
+#   re-derivation** from the proof's constants, not the printed (56) (which is reported); the proof's (36)
+#   cannot hold on the instance for any gain (rank of $L\Phi CH_\epsilon\le m=1<n_x=2$). For every eligible weight set Algorithm 1 is
 #   run with the printed coefficients and the exact $\mathbb E\{\hat x\hat x^T\}$ (deterministic gains,
 #   `exact_design_moments`, exact $\mathbb E\|e_i(k|k)\|^2$), and for every eligible pair the envelope is
 #   computed with the proof's own constants (`theorem3_proof_envelope`: $\rho$ (55), $\mu_1$ (49), $\Lambda$
@@ -1637,7 +1646,13 @@ print("UB_i(T) / max_k MSE_i(k):", np.array2string(UB_RATIO, precision=3))
 #   printed it is negative here). **Rule (ours):** C3 holds if
 #   $\max\mathbb E\|e_i(k|k)\|^2/UB_i(k)\le1$ over all eligible (weight set, pair), both subsystems and
 #   $k=1..100$; it fails if one ratio exceeds 1; its premise is that at least one weight set is eligible.
-#   Reported: the same for subsystem 2 alone; the proof's Stage 1, $\phi_*I\le\mathfrak S_i(k|k)\le\phi^*I$;
+#   **Precondition of the measurement (ours, since the fifth re-read):** the gain is informative — the
+#   largest $\|L_i(k)\Phi_i(k)CH_\epsilon\|_2$ over the eligible cases is at least C2's `gain_negligible`
+#   (0.01), and the largest relative reduction of $\mathbb E\|e_i(k|k)\|^2$ by (28) against $L=0$ (the same
+#   system, noise, attacks and cases: `exact_design_moments(zero_gain=True)`) is at least the same level.
+#   An envelope that the open-loop prediction meets as well says nothing about the estimator; where the
+#   precondition fails C3 is **not-checked** and the measured ratio is recorded as X9 (ours, not
+#   deciding). Reported: the same for subsystem 2 alone; the proof's Stage 1, $\phi_*I\le\mathfrak S_i(k|k)\le\phi^*I$;
 #   $\Lambda$ of (53) against the measured $\max_k\|L_i(k)\|_2^2$ ((52) claims $L^TL\le\Lambda I$); (56) as
 #   printed; the largest gain.
 
@@ -1996,8 +2011,10 @@ print(f"target 1: time-averaged E||e||^2 reduced by {X1_REDUCTION:.3f}; mean X^p
 # fractions and Wilson intervals over the 65 points overstate the evidence; C2 is read per draw (printed
 # below). Where a claim's `evaluations` (distinct outcome/value pairs, in the robustness table) is 1, it
 # has one distinct evaluation over the space (e.g. X5, whose headline is the attack-free scenario's
-# share $1-4\cdot10^{-9}$; C3a and C3b, decided by the premise; C4, X8 and X2, exact, the swept axes do
-# not enter): "one evaluation", not "holds everywhere".
+# share $1-4\cdot10^{-9}$; C3a and C3b, decided by the premise; C3 and X9, whose instance no swept
+# parameter enters; C4, X8 and X2, exact, the swept axes do not enter): "one evaluation", not "holds
+# everywhere", and such a claim's Wilson interval (e.g. X9's 0.21–1.00, one record) is not a sample of
+# anything: it only says that one evaluation is one.
 
 # %%
 ROBUSTNESS_CSV = results.resolve("figures/li2025/robustness.csv")
@@ -2072,12 +2089,12 @@ _ = plotting.save_figure(fig, FIG_DIR, "extra_robustness_map", data=robustness_d
 # | C1b (D) | the bound with the printed coefficients, for any positive weights (Theorems 1–2, Remark 4); premise: (17)–(18) have positive-definite solutions at every $k$ (measured: min $\lambda_{\min}$ 7·10⁻⁷ > 0) | exact certificate $\max\lambda_{\max}(\mathfrak S^{-1/2}P\mathfrak S^{-1/2})\le1+10^{-9}$ at the Remark-4 weights: largest share 2.9·10³ / 1.8·10⁴ / 3.4·10⁵, first violation at $k=2$; at the $\alpha_2>\alpha_3$ weights it bounds (0.9997 / 0.91 / 0.59) | **fails** |
 # | C1c | Fig. 7: MSE always below the bound (Section IV), printed coefficients | Bonferroni $t$-intervals of mean(tr $\mathfrak S$ − $\|e\|^2$) per cell: 280 of 300 cells wholly below 0 | **fails** |
 # | C2 | ZOH does not improve on zero-input (Remark 2, Fig. 6) | MSE ratio ZOH / zero-input, paired bootstrap 95 % intervals, informative targets only; default: target 1, 1.07 [1.04, 1.11]; read per independent draw (printed with the sweep figure) | **holds** |
-# | C3 (D) | Theorem 3: exponential mean-square boundedness (introduction, Section V) | on our declared instance (2 subsystems, Assumption 1 met; subsystem 1 with the empty-sum reading), every eligible weight set of the declared search: max $\mathbb E\|e\|^2/UB$ (proof's envelope, consistent Lemma 3) 0.086 ≤ 1; the eligible weights make the gain ≈ 0 | **holds** |
+# | C3 (D) | Theorem 3 under Assumption 1 and its conditions (a)–(c): exponential mean-square boundedness (introduction, Section V) | on our declared instance (2 subsystems, Assumption 1 met; subsystem 1 with the empty-sum reading, as C3a), every eligible weight set of the declared search: max $\mathbb E\|e\|^2/UB$ (our re-derived envelope) ≤ 1; precondition, an informative gain: max $\|L\Phi CH_\epsilon\|$ 2.9·10⁻⁴ and the error reduction against $L=0$ 3.6·10⁻⁴, both < 0.01 ($L=0$ gives the ratio 0.0861239 against 0.0861238) | **not-checked** |
 # | C3a | Theorem 3 (Assumption 1, conditions (a)–(c)) applies to the example (Fig. 8) | premise: ranks of $E_iE_i^T$ (1) and $\sum_jB\sum_jB^T$ (0 / 2 / 2) against 4; conditions at the weights in use also measured (not met) | **fails-premise** |
 # | C3b | Fig. 8: $\|e_i\|^2\le UB_i$ confirms Theorem 3 | data-driven envelope ($10^{13}$–$10^{17}$, vacuous); premise C3a | **fails-premise** |
 # | C4 (BC) | RRL-MAP fairness (Remark 1, (2)) | counts per $U$-window, exact: arithmetic of (2) | **holds** |
 # | C5 (BC) | $\Pr\{\psi_i=0\}=1-\check\psi_i$ (6), our draws | attack frequency in the 99.99 % Wilson interval | **holds** |
-# | C7 (D) | Figs. 2–4: estimates "well match" | exact relative RMS $\rho_i(T)\le0.1$ (our threshold; the paper gives no scale, so the outcome is a judgement) for every target: 0.34 / 0.32 / 0.21; holds only for horizons $T'\le5$ | **fails** |
+# | C7 (D) | Figs. 2–4: estimates "well match" | exact relative RMS $\rho_i(T)\le0.1$ (our threshold; the paper gives no scale, so the outcome is a judgement) for every target: 0.34 / 0.32 / 0.21 (ratio to the open-loop prediction's 0.48 / 0.33 / 0.22: 0.71 / 0.97 / 0.95); holds only for horizons $T'\le5$ | **fails** |
 # | C8 (D) | Theorem 2: for given positive weights the gain (28) minimises tr $\mathfrak S_i(k\|k)$ | smallest eigenvalue of $\Pi$ of (28) relative to its largest, Algorithm 1 at each weight set along its own trajectory, printed coefficients: −1 at the declared `thm2_weights` ($\kappa_x<0$; $\Pi$ indefinite at 145 of 300 (step, target) pairs, $\mathfrak S(k\|k)$ positive definite there); perturbed gains corroborate | **fails** |
 # | C8b (BC) | Theorem 2 at our grid's weights (printed $c_0>0$, $\kappa_x\ge0$) | the same rule: $\Pi\succ0$ automatic there; smallest relative eigenvalue 3·10⁻⁷ > 0 | **holds** |
 # | X1 | ours: debiased innovation removes the bias | exact: target-1 $\mathbb E\|e\|^2$ −53 %, mean $X^p$ error 6.5 → 0.02 m | **holds** |
@@ -2088,6 +2105,7 @@ _ = plotting.save_figure(fig, FIG_DIR, "extra_robustness_map", data=robustness_d
 # | X6 | ours: Fig. 7's comparison on our corrected design | the C1c rule on the corrected coefficients: smallest relative margin 0.79 [0.69, 0.90] | **holds** |
 # | X7 | ours: with $e_*=b_*=0$ admitted, no weights meet Theorem 3's (a)–(c) | floor $\eta^*/\phi^*\ge1.63$ for $\kappa_x\ge0$ (proved) and a 4096-point search for $\kappa_x<0$ | **holds** |
 # | X8 (BC) | ours: Kalman limit of (17)–(18)–(28) | deviation from the Riccati recursion ≤ 1e−10 | **holds** |
+# | X9 | ours: on our instance, at the eligible weights, $\mathbb E\|e\|^2$ stays below our re-derivation of Theorem 3's envelope (C3's measurement, not deciding) | max $\mathbb E\|e\|^2/UB$ 0.086 ≤ 1; the open-loop prediction meets it too | **holds** |
 
 # %%
 MC_TOL = results.Tolerance(
@@ -2712,8 +2730,8 @@ for cid, entry in json.loads(written.read_text()).items():
 #   corresponding estimation errors are exponentially bounded in the mean square" — **C3**, Theorem 3's
 #   conclusion. Its premise cannot hold on the example (C3a, fails-premise, shown, not deciding), so by
 #   the package convention it is decided on a declared instance of ours satisfying Assumption 1 and the
-#   theorem's conditions (the section "Theorem 3 on a declared instance of ours"). C3b (Fig. 8) rests on
-#   C3a;
+#   theorem's conditions (the section "Theorem 3 on a declared instance of ours"), where it is
+#   not-checked (the eligible gains are not informative). C3b (Fig. 8) rests on C3a;
 # * "the performance of the developed state estimation method has been further demonstrated" by the
 #   simulation — **C7**, the tracking of Figs. 2–4.
 #
@@ -2731,19 +2749,22 @@ print(VERDICT["line"])
 # grid's weights, where $c_0>0$, $\kappa_x\ge0$ make $\Pi\succ0$ automatic, it holds by construction, C8b); the
 # bound as printed is not a bound at the weights Remark 4's minimisation picks (C1b: an exact
 # counterexample from $k=2$ on), although it does bound at the $\alpha_2>\alpha_3$ weights that Theorem 3
-# requires (largest share 0.9997 / 0.91 / 0.59); Theorem 3 holds on our instance (C3: largest ratio of the
-# exact mean-square error to the proof's envelope 0.086, over every eligible weight set of the declared
-# search); the estimates do not "well match" (C7, against our 0.1 threshold: a judgement, since the paper
-# gives no scale). One deciding claim holds, so the rule gives [Re, partial].
+# requires (largest share 0.9997 / 0.91 / 0.59); Theorem 3 is not checked (C3: on our instance the
+# weights that meet its conditions make the gain negligible, and the open-loop prediction $L=0$ meets the
+# envelope as well, largest ratio 0.0861239 against 0.0861238 with (28), so the measurement's
+# precondition fails; the ratio is X9, ours); the estimates do not "well match" (C7, against our 0.1
+# threshold: a judgement, since the paper gives no scale; relative to the open-loop prediction the design
+# removes 29 % / 3 % / 5 % of the relative RMS error). No deciding claim holds, so the rule gives [¬Re].
 #
-# **What the verdict rests on.** The "partial" is C3 alone, and C3 is weaker evidence than its outcome
-# suggests: the weights that meet Theorem 3's conditions on our instance all make the gain (28) ≈ 0
-# (largest $\|L_i(k)\|^2$ recorded in C3, below $10^{-7}$), i.e. the theorem's conditions admit only an
-# estimator that is, in effect, the open-loop prediction of a stable plant; its envelope then holds with a
-# wide margin. The proof's own constants are not all right either: (52)'s $\Lambda$ is exceeded by the
+# **What the verdict rests on.** Until this revision the "partial" rested on C3 alone. The weights that
+# meet Theorem 3's conditions on our instance all make the gain (28) ≈ 0 (largest $\|L_i(k)\|^2$ recorded
+# in C3, below $10^{-7}$; largest $\|L\Phi CH_\epsilon\|$ 2.9·10⁻⁴, 35 times below C2's negligible-gain
+# level), i.e. the theorem's conditions admit only an estimator that is, in effect, the open-loop
+# prediction of a stable plant; its envelope then holds with a wide margin whatever the gain, so C3 is
+# not-checked (the stated precondition of its measurement fails) and its ratio is X9, ours. The proof's own constants are not all right either: (52)'s $\Lambda$ is exceeded by the
 # measured $\|L\|^2$ in most eligible cases, and (56) as printed (rate and constant swapped) fails in most
-# of them; the consistent Lemma 3 envelope holds because its $\mu_1$ term dominates. Without C3 the verdict
-# would be [¬Re], as it was before this revision (C3 not checked). The paper's method, with the bound
+# of them; the consistent Lemma 3 envelope holds because its $\mu_1$ term dominates. The verdict is [¬Re],
+# as it was before the instance was introduced (C3 not checked then, too). The paper's method, with the bound
 # re-derived from its own proof, does give a valid bound (X5), and with the corrected coefficients (28) is
 # the minimiser for every positive weight set — that is our correction, and it does not raise the verdict.
 
