@@ -33,8 +33,8 @@
 # declared instance of ours the weights that meet its conditions make the gain negligible, so the
 # envelope is met by the open-loop prediction ($L=0$) just as well and the check cannot discriminate
 # (its precondition, an informative gain, fails; the measured ratio is X9, ours, not deciding). Our
-# corrected bound holds (X5), but it is our statement and does not decide. The counts over the declared space are in the claims table at the end (from
-# `figures/li2025/robustness.json`).
+# corrected bound holds (X5), but it is our statement and does not decide. The counts over the declared
+# space are in the claims table at the end (from `figures/li2025/robustness.json`).
 #
 # **Reading the verdict.** (i) Until this revision "[Re, partial]" rested on C3 alone, held on our
 # instance with eligible weights whose gains are ≈ 0 ($\|L\|^2\le10^{-7}$). A fifth independent re-read
@@ -54,11 +54,10 @@
 #   proof's envelope at every step (largest ratio $\mathbb E\|e\|^2/UB$ 0.086, X9, ours), but so does the
 #   open-loop prediction $L=0$ (0.086 to six digits): the eligible gains are far below C2's negligible-gain
 #   level, so the measurement cannot discriminate and C3 is not-checked.
-# * **Holds.** At the weights our Remark-4 grid yields (printed $c_0>0$,
-#   $\kappa_x\ge0$) the gain (28) minimises the trace of (18) — by construction (C8b: (18) is quadratic in
-#   the gain, the first-order term vanishes at (28) by algebra and $\Pi\succ0$ is automatic there; shown,
-#   not evidence). RRL-MAP is fair and collision-free (C4: an arithmetic property of (2), true by
-#   construction, shown but not deciding). With the coefficients re-derived from the paper's own proof
+# * **Holds.** At the weights our Remark-4 grid yields (printed $c_0>0$, $\kappa_x\ge0$) the gain (28)
+#   minimises the trace of (18) — by construction (C8b: (18) is quadratic in the gain, the first-order
+#   term vanishes at (28) by algebra and $\Pi\succ0$ is automatic there; shown, not evidence).
+#   RRL-MAP is fair and collision-free (C4: an arithmetic property of (2), true by construction, shown but not deciding). With the coefficients re-derived from the paper's own proof
 #   the bound is certified exactly (X5, ours: it passes only with our correction), and Fig. 7's Monte
 #   Carlo comparison holds for that corrected design (X6, ours).
 # * **Not reproduced.** Theorem 2 (C8, deciding): Algorithm 1 run at the declared positive weights
