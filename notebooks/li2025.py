@@ -58,8 +58,9 @@
 #   minimises the trace of (18) — by construction (C8b: (18) is quadratic in the gain, the first-order
 #   term vanishes at (28) by algebra and $\Pi\succ0$ is automatic there; shown, not evidence).
 #   RRL-MAP is fair and collision-free (C4: an arithmetic property of (2), true by construction, shown
-#   but not deciding). With the coefficients re-derived from the paper's own proof the bound is certified exactly (X5, ours: it passes only with our correction), and Fig. 7's Monte
-#   Carlo comparison holds for that corrected design (X6, ours).
+#   but not deciding). With the coefficients re-derived from the paper's own proof the bound is
+#   certified exactly (X5, ours: it passes only with our correction), and Fig. 7's Monte Carlo
+#   comparison holds for that corrected design (X6, ours).
 # * **Not reproduced.** Theorem 2 (C8, deciding): Algorithm 1 run at the declared positive weights
 #   $(\lambda,\alpha_1..\alpha_4)=(0.1,1,9.5,10,0.01)$ (printed $c_0>0$, $\kappa_x<0$) along its own trajectory
 #   has $\Pi$ of (28) indefinite at 145 of the 300 (step, target) pairs (at some steps its negative eigenvalue
