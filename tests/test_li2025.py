@@ -27,7 +27,7 @@ ROOT = repo_root()
 FIG = ROOT / "figures" / "li2025"
 NO_ATTACK = {"psi_check": [1.0, 1.0, 1.0], "T": 30}
 CLAIM_IDS = {"C1b", "C1c", "C2", "C3", "C3a", "C3b", "C4", "C5", "C7", "C8", "C8b", "X1", "X2", "X3",
-             "X4", "X5", "X6", "X7", "X8"}
+             "X4", "X5", "X6", "X7", "X8", "X9"}
 
 
 @pytest.fixture(scope="module")
@@ -165,6 +165,12 @@ def test_c3_theorem3_premise_and_vacuous_envelope(claims) -> None:
     assert a["measured"]["rank_E_Et_max"] == 1
     assert a["measured"]["rank_Bsum_Bsum_t_per_target"] == [0, 2, 2]
     assert a["premise"]["holds"] is False and a["verdict"] == "fails-premise"
+    # C3a reads Assumption 1's empty sum over K_1 = {} as C3 does (b_* = b^* = 0): the b-condition is
+    # asked only of targets with upstream subsystems (2, 3); E E^T of rank 1 fails the premise alone
+    assert "empty K_i" in a["premise"]["statement"] and "empty-sum" in claims["C3"]["premise"]["statement"]
+    ranks_b = a["measured"]["rank_Bsum_Bsum_t_per_target"]
+    assert a["premise"]["holds"] is (a["measured"]["rank_E_Et_max"] == 4
+                                     and all(r == 4 for r in ranks_b[1:]))
     assert not a.get("decides")  # a failed premise on the example does not decide Theorem 3
     # Theorem 3 decides on our declared instance; the example's evaluation (C3a) does not
     c3 = claims["C3"]
@@ -208,12 +214,30 @@ def test_c3_theorem3_on_our_instance(claims) -> None:
     assert m["max_ratio_subsystem2"] <= m["max_ratio"]
     assert c["threshold"] == 1.0
     assert abs(m["max_ratio"] - 1.0) > _tolerance(c, m["max_ratio"])
-    assert c["holds"] is (m["max_ratio"] <= 1.0)
+    # the precondition of the measurement: an informative gain (C2's level), and an error under (28)
+    # measurably below L = 0's on the same cases; where it fails C3 is not-checked, X9 records the ratio
+    level = m["informative_level"]
+    assert level == 0.01  # C2's gain_negligible
+    informative = m["max_gain_share"] >= level and m["max_error_reduction"] >= level
+    assert m["gain_informative"] is informative
+    if informative:
+        assert c["holds"] is (m["max_ratio"] <= 1.0)
+    else:
+        assert c["holds"] is None and c["verdict"] == "not-checked" and "precondition" in c["not_checked"]
+    x9 = claims["X9"]
+    assert x9["measured"] == m and x9["source"].startswith("ours") and not x9.get("decides")
+    assert x9["holds"] is (m["max_ratio"] <= 1.0)
+    # measured at the default point (the instance is fixed): the gains are ~0 and L = 0 gives the ratio
+    assert m["max_gain_share"] == pytest.approx(2.883e-4, rel=1e-3)
+    assert m["max_error_reduction"] == pytest.approx(3.574e-4, rel=1e-3)
+    assert m["max_ratio_zero_gain"] == pytest.approx(0.0861239, rel=1e-5)
+    assert abs(m["max_ratio_zero_gain"] - m["max_ratio"]) < 1e-5 * m["max_ratio"]
     for key in ("stage1_holds_cases", "lambda_53_holds_cases", "literal_56_holds_cases"):
         assert 0 <= m[key] <= m["eligible_cases"], key
     # (52)'s Lambda is not an upper bound of ||L||^2 in most eligible cases; the gains are ~0
     assert m["lambda_53_holds_cases"] == 273 and m["literal_56_holds_cases"] == 1840
-    assert m["max_gain_norm_sq"] < 1e-6
+    assert m["max_gain_norm_sq"] == pytest.approx(8.313e-8, rel=1e-3)
+    assert m["max_gain_share"] ** 2 <= m["max_gain_norm_sq"] * (1 + 1e-9)  # ||L G|| <= ||L||, ||G|| <= 1
 
 
 def test_deciding_claims_and_verdict_line(claims) -> None:
@@ -304,6 +328,10 @@ def test_c7_rows_measured_exactly(claims) -> None:
     rows = c["measured"]["relative_rms"]
     assert c["measured"]["max_relative_rms"] == max(rows["paper design"])
     assert c["holds"] is (max(rows["paper design"]) <= 0.1)
+    # next to the headline: the design's relative RMS over the open-loop prediction's
+    assert c["measured"]["ratio_to_open_loop"] == pytest.approx(
+        [p / o for p, o in zip(rows["paper design"], rows["open-loop prediction"], strict=True)], rel=1e-9)
+    assert c["measured"]["ratio_to_open_loop"] == pytest.approx([0.708, 0.972, 0.955], abs=2e-3)
     # region: the rule holds only for the first horizons (rho is causal)
     assert c["measured"]["holds_up_to_horizon"] == c["measured"]["horizons_holding"] == 5
     # exact expectations at the default point (T = 100, grid weights)

@@ -433,6 +433,34 @@ def test_exact_design_moments_is_the_kalman_filter_without_attack() -> None:
     assert np.all(np.linalg.eigvalsh(rec["P"][1:]) > 0)
 
 
+def test_exact_design_moments_with_zero_gain_is_the_open_loop_prediction() -> None:
+    """zero_gain: the update (8) with L = 0, so E{e e^T} is the prediction's A P A^T + E W E^T."""
+    data = _small_instance(0.5)
+    w = [(0.1, 1.0, 1.0, 1.0, 1.0)]
+    rec0 = li2025.exact_design_moments(**data, weights=w, zero_gain=True)
+    rec = li2025.exact_design_moments(**data, weights=w)
+    ah, p = data["AH"], data["cov0"].copy()  # x_hat(0|0) = mean0: e(0) ~ N(0, cov0)
+    for k in range(1, 31):
+        p = ah @ p @ ah.T + data["EWE"]
+        np.testing.assert_allclose(rec0["P"][k, 0], p, rtol=1e-10, atol=1e-14)
+    # the gain (28) is used in the other run and lowers the error; L records (28) in both
+    assert np.abs(rec["L"][1:]).max() > 0 and np.abs(rec0["L"][1:]).max() > 0
+    assert np.trace(rec["P"][-1, 0]) < np.trace(rec0["P"][-1, 0])
+
+
+def test_theorem3_candidates_are_the_declared_log_uniform_sobol_sets() -> None:
+    box = [[-6.0, 3.0]] + [[-6.0, 6.0]] * 4
+    cand = li2025.theorem3_candidates(64, box)
+    assert cand.shape == (64, 5)
+    logs = np.log10(cand)
+    assert np.all(logs >= np.array(box)[:, 0]) and np.all(logs <= np.array(box)[:, 1])
+    np.testing.assert_array_equal(cand, li2025.theorem3_candidates(64, box))  # seeded, one generator
+    with pytest.raises(ValidationError, match="power of 2"):
+        li2025.theorem3_candidates(100, box)
+    with pytest.raises(ValidationError, match="log10_box"):
+        li2025.theorem3_candidates(64, box[:4])
+
+
 def test_exact_design_moments_refuses_bad_dimensions() -> None:
     data = _small_instance(0.5)
     data["cov0"] = np.eye(3)

@@ -67,6 +67,7 @@ __all__ = [
     "sym",
     "theorem2_check",
     "theorem3_c_floor",
+    "theorem3_candidates",
     "theorem3_proof_envelope",
     "theorem3_eta",
 ]
@@ -907,6 +908,7 @@ def exact_design_moments(
     cov0: Array,
     S0: Array,
     variant: str = "paper",
+    zero_gain: bool = False,
 ) -> dict[str, Array]:
     """Algorithm 1 with the exact ``E{x_hat x_hat^T}`` on a time-invariant SPDSS, exact moments.
 
@@ -945,6 +947,10 @@ def exact_design_moments(
         ``S_i(0|0)`` (every subsystem).
     variant : str, default "paper"
         Coefficients of :func:`bound_coefficients`.
+    zero_gain : bool, default False
+        Update (8) with ``L = 0`` instead of (28): the open-loop prediction on the same
+        system, noise and attacks (the baseline a gain must beat to be informative). ``S``
+        and ``Sp`` are still (17), (18) at the gain (28); ``L`` records (28).
 
     Returns
     -------
@@ -996,7 +1002,7 @@ def exact_design_moments(
                 S_new[i], rec["Sp"][k, i], rec["Xh"][k, i], rec["L"][k, i] = S_i[0], Sp, \
                     Q[hs[i], hs[i]], L[0]
             for i in range(N):  # update (8) with (6), averaged over psi_i(k)
-                L = rec["L"][k, i]
+                L = 0.0 * rec["L"][k, i] if zero_gain else rec["L"][k, i]
                 mu_n, Q_n = np.zeros_like(mu), np.zeros_like(Q)
                 for b, p in ((1.0, psi[i]), (0.0, 1.0 - psi[i])):
                     J = np.eye(nz)
@@ -1015,6 +1021,43 @@ def exact_design_moments(
             rec["P"][k, i], rec["Exx"][k, i] = sym(qxx - qxh - qxh.T + qhh), qxx
         rec["S"][k] = S
     return rec
+
+
+def theorem3_candidates(points: int, log10_box: ArrayLike, seed: int = 0) -> Array:
+    """The declared weight search of Theorem 3: scrambled Sobol points, log-uniform in a box.
+
+    The one generator of the candidate weight sets ``(lambda, alpha_1..alpha_4)``, used both
+    on the paper's example (X7) and on our instance (C3), so that both search the same sets.
+
+    Parameters
+    ----------
+    points : int
+        Number of candidates, a power of 2 (``random_base2``).
+    log10_box : (5, 2) array
+        ``[low, high]`` of ``log10`` of ``lambda, alpha_1..alpha_4``.
+    seed : int, default 0
+        Seed of the scrambling.
+
+    Returns
+    -------
+    (points, 5) array
+        The candidate weight sets.
+
+    Raises
+    ------
+    ValidationError
+        ``points`` not a power of 2, or a box not of shape (5, 2) with low < high.
+    """
+    from scipy import stats
+
+    box = np.asarray(log10_box, dtype=float)
+    if box.shape != (5, 2) or not np.all(box[:, 0] < box[:, 1]):
+        raise ValidationError(f"log10_box must be (5, 2) with low < high, found {box.tolist()}")
+    if isinstance(points, bool) or not isinstance(points, int | np.integer) or points < 1 \
+            or points & (points - 1):
+        raise ValidationError(f"points must be a power of 2, found {points!r}")
+    unit = stats.qmc.Sobol(5, scramble=True, seed=seed).random_base2(int(points).bit_length() - 1)
+    return 10 ** (box[:, 0] + unit * np.diff(box, axis=1)[:, 0])
 
 
 def theorem3_proof_envelope(
