@@ -234,6 +234,26 @@ def scenario_task(
 
     The methods travel with the task (a worker of an existing cluster may not have registered
     one's own); they are put in the worker's registry under their names before scoring.
+
+    Parameters
+    ----------
+    sc : Scenario
+        The scenario whose trial is simulated once and fed to every method.
+    methods : sequence of Method
+        The methods scored on that trial, in the order of the matrix's columns.
+    curves : bool
+        Keep each method's RMS error curve (for the figures) as well as its score.
+    short : bool
+        Accept a horizon shorter than the plant's time scale asks for (smoke tests only).
+
+    Returns
+    -------
+    cells : dict of str to Score
+        Each method's cell.
+    seconds : dict of str to float
+        Each method's wall time on the trial (for ``make bench``; never committed).
+    curves : Curves or None
+        The error curves and the windows, when ``curves`` is true.
     """
     for m in methods:
         METHODS[m.name] = m  # a worker process's own registry: the caller's methods, by name
@@ -261,7 +281,20 @@ def scenario_task(
 
 
 def check_dask_arguments(scheduler: object, workers: object) -> None:
-    """Refuse a ``scheduler`` that is not an address, a ``workers`` that is not a count, or both."""
+    """Refuse a ``scheduler`` that is not an address, a ``workers`` that is not a count, or both.
+
+    Parameters
+    ----------
+    scheduler : object
+        ``None`` or the address of a running Dask scheduler, such as ``'tcp://127.0.0.1:8786'``.
+    workers : object
+        ``None`` or the number of worker processes of a LocalCluster, an integer from 1 to 256.
+
+    Raises
+    ------
+    ValidationError
+        Naming the argument and what was expected.
+    """
     if scheduler is not None and not (isinstance(scheduler, str) and "://" in scheduler):
         raise ValidationError(f"scheduler must be a Dask scheduler address such as "
                               f"'tcp://127.0.0.1:8786', found {scheduler!r}")
