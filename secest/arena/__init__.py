@@ -18,6 +18,9 @@
    the command line ``python -m secest.arena`` over :func:`race`
 ``protocol``
    the pre-registered protocol of the arena (``protocol.toml``)
+``tuning``
+   the protocol's tuning rule: search grids, validation runs (validation seeds only), the choice,
+   and the command line ``python -m secest.arena.tuning``
 
 Importing any module of the arena registers the baselines and the five papers' methods.
 The arena uses the estimation library (:mod:`secest.core`) and the papers' methods

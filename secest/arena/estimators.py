@@ -36,7 +36,7 @@ from scipy import stats
 
 from secest.arena.scenarios import Scenario, Trial
 from secest.core.tolerances import DETERMINISTIC, Tolerance
-from secest.core.validation import ValidationError
+from secest.core.validation import ValidationError, check_probability
 
 __all__ = [
     "BOOTSTRAP",
@@ -53,6 +53,7 @@ __all__ = [
     "growth",
     "normalised_errors",
     "rate",
+    "rate_of_counts",
     "register",
     "score",
     "settle_steps",
@@ -291,17 +292,28 @@ class UndefendedKF(Method):
 
 @register
 class Chi2KF(Method):
-    """Centralised Kalman filter with a chi-square bad-data test on every node's innovation."""
+    """Centralised Kalman filter with a chi-square bad-data test on every node's innovation.
+
+    Parameters
+    ----------
+    false_alarm : float, default :data:`CHI2_ALPHA`
+        False-alarm probability per measurement of the test, in (0, 1): node ``i``'s data are
+        dropped when its normalised innovation exceeds ``chi2(1 - false_alarm, n_y)``
+        (the protocol's search set, ``protocol.toml`` [search.chi2-kf]).
+    """
 
     exchanges = False
     name = "chi2-kf"
     title = "centralised KF + chi-square bad-data detector"
     reading = "drops node i's data when its normalised innovation exceeds chi2(1 - 1e-3, ny)"
 
+    def __init__(self, false_alarm: float = CHI2_ALPHA) -> None:
+        self.false_alarm = check_probability("false_alarm", false_alarm, open_interval=True)
+
     def run(self, trial: Trial) -> Estimate:
         sc = trial.scenario
         runs, K1, N, ny = trial.y.shape
-        threshold = float(stats.chi2.ppf(1 - CHI2_ALPHA, ny))
+        threshold = float(stats.chi2.ppf(1 - self.false_alarm, ny))
         C, R = _stacked(sc)
         A, Q = sc.plant.A, sc.plant.Q
         x, P0 = _prior(sc, runs)
@@ -567,10 +579,32 @@ def rate(alarms: NDArray[np.bool_], where: NDArray[np.bool_]) -> tuple[float, fl
     -------
     (rate, low, high)
     """
-    from secest.core.montecarlo import bootstrap_interval, wilson_interval
-
     hits = (alarms & where).reshape(alarms.shape[0], -1).sum(axis=1)
     total = where.reshape(where.shape[0], -1).sum(axis=1)
+    return rate_of_counts(hits, total)
+
+
+def rate_of_counts(hits: NDArray[np.int_], total: NDArray[np.int_]) -> tuple[float, float, float]:
+    """:func:`rate` from per-run counts: ``sum(hits) / sum(total)`` with the same 95 % interval.
+
+    Runs of several trials (e.g. the validation seeds of the tuning) pool by concatenating their
+    counts: the Wilson interval of the pooled samples united with a bootstrap over the runs.
+
+    Parameters
+    ----------
+    hits, total : (runs,) integer arrays
+        Per run, the alarms on the selected samples and the number of selected samples.
+
+    Returns
+    -------
+    (rate, low, high)
+    """
+    from secest.core.montecarlo import bootstrap_interval, wilson_interval
+
+    hits, total = np.asarray(hits), np.asarray(total)
+    if hits.ndim != 1 or hits.shape != total.shape:
+        raise ValidationError(f"Incompatible dimensions of hits and total: expected two (runs,) "
+                              f"arrays, found {hits.shape} and {total.shape}")
     n_hits, n = int(hits.sum()), int(total.sum())
     if n == 0:
         raise ValidationError("where must select at least one sample")

@@ -15,7 +15,7 @@ from secest.arena.estimators import CHI2_ALPHA, Estimate, Method, register
 from secest.arena.scenarios import Scenario, Trial
 from secest.core import graphs, systems
 from secest.core.estimation import FeedthroughSVD, feedthrough_decomposition
-from secest.core.validation import ValidationError
+from secest.core.validation import ValidationError, check_probability
 from secest.methods.guo2023 import (
     GuoModel,
     run_estimator,
@@ -120,6 +120,10 @@ class Guo2023(Method):
         single-output nodes and the method answers "not applicable").
     rtol : float, default 1e-10
         Relative rank tolerance of the SVD of ``H_bar^i`` (decides ``p_i = rank H_bar^i``).
+    false_alarm : float, default :data:`~secest.arena.estimators.CHI2_ALPHA`
+        Level of the alarms' chi-square test (ours), in (0, 1): node ``i`` alarms when its
+        attack statistic exceeds ``chi2(1 - false_alarm, p_i)`` (``p_i = n_y`` with ``H^i = I``);
+        the alarms do not feed the estimate (``protocol.toml`` [search.guo2023]).
     """
 
     name = "guo2023"
@@ -137,11 +141,13 @@ class Guo2023(Method):
         "alarms (ours): chi-square test of u_hat_1 at 1e-3"
     )
 
-    def __init__(self, threat: str = "card", rtol: float = 1e-10) -> None:
+    def __init__(self, threat: str = "card", rtol: float = 1e-10,
+                 false_alarm: float = CHI2_ALPHA) -> None:
         if threat not in THREATS:
             raise ValidationError(f"threat must be one of {THREATS}, found {threat!r}")
         self.threat = threat
         self.rtol = rtol
+        self.false_alarm = check_probability("false_alarm", false_alarm, open_interval=True)
 
     def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
         mdl = arena_model(sc, self.threat)
@@ -193,7 +199,7 @@ class Guo2023(Method):
             dec = feedthrough_decomposition(H, sc.R[i], rtol=self.rtol)
             if dec.rank == 0:
                 continue
-            thr = threshold.setdefault(dec.rank, float(stats.chi2.ppf(1 - CHI2_ALPHA, dec.rank)))
+            thr = threshold.setdefault(dec.rank, float(stats.chi2.ppf(1 - self.false_alarm, dec.rank)))
             P_i = res.P[..., i, :, :]
             alarms[:, :, i] = attack_statistic(dec, sc.C[i], sc.R[i], P_i, res.u1[i]) > thr
         notes = {"threat": self.threat}
