@@ -2692,10 +2692,13 @@ if robustness_entries is not None:
 written = json.loads(results.write_claims(results_path, claims).read_text())
 for cid, c in written.items():
     share = c.get("robustness", {})
-    counts = share.get("outcomes", share.get("outcomes_under_previous_rule", {}))
-    over = (f" over the declared space ({counts.get('holds')} of {share['points']} points"
-            + (", previous rule, not re-swept" if "outcomes_under_previous_rule" in share else "") + ")"
-            if share else " (this point; no sweep summary yet)")
+    if "outcomes_under_previous_rule" in share:
+        over = (f" (the outcome here; the previous rule held at {share['outcomes_under_previous_rule']['holds']} "
+                f"of {share['points']} points of the sweep; not re-swept)")
+    elif share:
+        over = f" over the declared space (holds at {share['outcomes']['holds']} of {share['points']} points)"
+    else:
+        over = " (this point; no sweep summary yet)"
     print(f"{cid}: {results.point_verdict(c)} here; verdict {c['verdict']}{over}"
           + (" [by construction: not evidence]" if c["basis"] == "by-construction" else ""))
 
