@@ -27,7 +27,7 @@
 #
 # **Verdict:** the line computed in the verdict section by the one rule (README and ERRATA quote it; it
 # is not restated here, so that it cannot disagree with the computation), decided by C1 and C8 at the
-# paper's example and C2_nd, C3_u, C5, C7_nd on instances of ours — under one stated rule: a general result of the paper that its example cannot exercise (it
+# paper's example and C3_u, C5 on instances of ours — under one stated rule: a general result of the paper that its example cannot exercise (it
 # holds there vacuously or by identities) is decided on declared instances of ours that satisfy its
 # premises, and the example's evaluation is shown, not counted; a contribution that cannot be measured
 # here decides as not-checked. The paper's example exercises only
@@ -47,12 +47,18 @@
 # * **On instances of ours (deciding, by the rule):** Lemmas 1-2 (C5, on random general instances; also
 #   under our corrected reading E3-E5: with the printed symbol in (28) read literally the gain is far
 #   from optimal) and Theorem 2 (C3_u: the example and the variant with $A_k\to e^{3h}A_k$, where every
-#   local filter expands by $\sim10^5$ per period) hold. The unbiasedness of the local and of the input
-#   estimates with $K\ne0$ (C2_nd, C7_nd, our non-degenerate variant) is **not-checked** (round 4): its
-#   exact part holds by identities of the design ($KU_1=0$ for every $\Theta$ by the projector form of
-#   (28), $\bar G_1=0$, $\bar M_2C_2\bar G_2=I$), i.e. by construction — a negative control with the
-#   unconstrained gain shows the check can fail, not that the statement can — and its Monte Carlo part
-#   can only refute, and refutes nothing.
+#   local filter expands by $\sim10^5$ per period) holds — by a no-growth level of 1.01 that was checked
+#   only at that scale ($e^{sh}$, $s=3$) and is not a general test of boundedness (C3_u, round 5). Lemmas
+#   1-2 (C5, on random general instances; under our corrected reading E3-E5: with the printed symbol in (28)
+#   read literally the gain is far from optimal) are **not-checked** since round 5: every two-way part
+#   holds with orders of margin, but Lemma 1's gain at a random $\Gamma$ has, at some instances, a threshold
+#   of ours inside the derived round-off band, so whether it passes is round-off there (until round 4 an
+#   allowance $10^{-12}\kappa$, not derived from a bound, made it "holds"). The unbiasedness of the local
+#   and of the input estimates with $K\ne0$ (C2_nd, C7_nd, our non-degenerate variant) holds **by
+#   construction** (round 5) and does not decide: its exact part holds by identities of the design
+#   ($KU_1=0$ for every $\Theta$ by the projector form of (28), $\bar G_1=0$, $\bar M_2C_2\bar G_2=I$) — a
+#   negative control with the unconstrained gain shows the check can fail, not that the statement can —
+#   and its Monte Carlo refuter, recorded, refutes nothing.
 # * **Side statements:** Section V's "nodes 2 and 3" are locally unobservable (C4 holds); read as the
 #   complete list of such nodes — our reading, X5 (C4b until round 4) — it fails: node 4 is too. The
 #   structural identities (C6) hold by construction.
@@ -64,16 +70,20 @@
 #   predicts, exactly at our horizon and initial spread, the scatter its Fig. 1 must show. The constants
 #   of the bound (34) cannot be computed from the paper.
 # * **Rules changed, and recorded:** C2's Monte Carlo part is now a refuter only (at 500 runs it can
-#   refute only a bias $\gtrsim0.7$ sd), and since round 4 C2_nd and C7_nd are decided on it (their exact
-#   part is by construction); C5's rule was relaxed after a first variant run and after the first sweep,
-#   and is tightened again (a $\kappa$-scaled test of $KU_1$ at the random $\Gamma$); X3 applies the
+#   refute only a bias $\gtrsim0.7$ sd); in round 4 C2_nd and C7_nd were decided on it, and since round 5
+#   they are by construction (one stated criterion, Claims section; X1 too); C5's rule was relaxed after a
+#   first variant run and after the first sweep, tightened again in round 2 (a $\kappa$-scaled allowance),
+#   and since round 5 decides the random-$\Gamma$ part three-way with X3's derived band; X3 applies the
 #   first-stated rule's thresholds to every point and X4 to the first sweep's failing draw (`lemma_seed`
 #   29109, removed from the design in the same commit as the relaxation). **Round 4** made X3 and X4
 #   three-way with a stated round-off band $c\,\varepsilon\,\kappa\|S\Theta_\Gamma\|$ ($c=3n_y$) **after
 #   their two-way outcomes were known** — X3 held at 28 and failed at 9 of the 37 points, X4 failed at all
 #   37 — because the two-way outcome is machine-dependent: the replayed residual was $1.19\cdot10^{-10}$
 #   and $1.65\cdot10^{-10}$ in two runs on one machine and $9.1\cdot10^{-11}$ on a CI machine, against a
-#   threshold of $10^{-10}$. C8 lost its "holds" in round 4 (above), C4b became X5.
+#   threshold of $10^{-10}$ (numbers of those runs, not recorded in a committed artefact; X4 records this
+#   run's). C8 lost its "holds" in round 4 (above), C4b became X5. Round 5's changes were made after the
+#   round-4 outcomes were known; the sweep was not re-run: C2_nd's and C7_nd's counts are re-derived from
+#   its rows, C5's and C5_nd's are the previous rule's, labelled so.
 # * Algorithm 1 is garbled in print and several equations carry typos; the corrections are derived
 #   and checked below.
 
@@ -754,9 +764,9 @@ for name, val in c1_ex.items():
 #    Bonferroni $t$-interval $(\bar e\pm t_{1-0.025/m,\,n_{mc}-1}\,s/\sqrt{n_{mc}})/\sigma$. **Rule (a level of
 #    ours, `BIAS_TOL` = 0.5, stated once):** the part **fails** if some interval lies wholly outside
 #    $[-0.5,0.5]$; otherwise it records "no bias detected", which never makes the claim hold: at the
-#    example the exact part (1) decides "holds" (by construction), and since round 4 C2_nd is decided on
-#    this part, not-checked unless it refutes (see below; until round 3 the exact part decided "holds"
-#    there too) (issue #30, round-2 review: a Monte Carlo part whose "holds" depended on an
+#    example the exact part (1) decides "holds" (by construction), and so it does on the variant since
+#    round 5 (C2_nd by construction too, see below; in round 4 C2_nd was decided on this part, not-checked
+#    unless it refuted; until round 3 the exact part decided "holds" there as evidence) (issue #30, round-2 review: a Monte Carlo part whose "holds" depended on an
 #    interval of half-width $\approx0.21$ fitting inside $\pm0.5$ was a level matched to 500 runs). Why
 #    0.5: a bias of half the error's sd adds a quarter of the variance to the mean-square error
 #    ($\sigma^2(1+\beta^2)$), a bias no plot of the estimates could pass off as scatter. **Its resolution at
@@ -774,8 +784,9 @@ for name, val in c1_ex.items():
 # In the paper's example (1) is not due to the constraint: $K\equiv0$ (E6), and the decoupling
 # comes from the structure alone ($U_2^T\bar H=0$, $\bar M_2C_2\bar G_2=I$, $\bar G_1=0$: identities
 # that C6 marks true by construction). So C2 **at the example is by construction** (shown, not
-# evidence) and, by the rule of the verdict section, **C2_nd decides**: the same sentence, measured on
-# our non-degenerate variant, with $K\ne0$, where the constraint does the work.
+# evidence). C2_nd is the same sentence on our non-degenerate variant, with $K\ne0$, where the constraint
+# does the work — and there the constraint holds by the identity of (28) (below), so C2_nd is by
+# construction too (round 5).
 #
 # **The input estimates (C7, C7_nd).** Sec. III-B, after (9): "To ensure the unbiasedness of
 # $\hat u^i_{1,k}$ and $\hat u^i_{2,k-1}$, it is required that (10)"; the joint state and input estimate
@@ -785,10 +796,10 @@ for name, val in c1_ex.items():
 # $\le10^{-10}$ relative; Monte Carlo — the same refutation-only rule on the normalised bias (sd from the
 # exact input-error covariance). At the example the input errors (8)-(9) are free of $u$ by (10) and by
 # the structural decoupling of the state error — the identities of C6 — so C7 at the example is by
-# construction and **C7_nd decides**.
+# construction, and C7_nd on the variant as well (below).
 #
-# **What the exact part verifies, and why C2_nd and C7_nd are decided on the Monte Carlo part (round 4
-# of issue #30).** On the variant too the exact part holds by identities of the design: the projector
+# **What the exact part verifies, and why C2_nd and C7_nd are by construction (round 4; round 5).** On
+# the variant too the exact part holds by identities of the design: the projector
 # form of (28) gives $KU_1=S\Theta[U_1-U_1(U_1^T\Theta U_1)^{-1}U_1^T\Theta U_1]=0$ for **every** $\Theta$, and
 # with $\bar G_1=0$ and $\bar M_2C_2\bar G_2=I$ (10) the local error (16) and the input errors (8)-(9) are
 # free of $(d,a)$ whatever the data. So the exact part checks that our implementation satisfies these
@@ -796,11 +807,14 @@ for name, val in c1_ex.items():
 # itself can fail: the same exact part on the variant with the unconstrained gain $S\breve\Xi^\dagger$
 # (`gain="unconstrained"` of `run_estimator`), which does not satisfy $KU_1=0$, moves the errors by far
 # more than $10^{-10}$ (printed in the variant section; it is the precondition of the measurement,
-# required $>10^{-6}$). It does not show that the statement could fail: the statement is the identity. By
-# the rule, the contribution is then decided on the Monte Carlo part, which does not rest on the
-# linearity argument but can only refute: it **fails** C2_nd / C7_nd if a simultaneous interval lies
-# wholly outside $\pm0.5$ sd (or if the exact part fails), and otherwise leaves them **not-checked** ("no
-# bias detected" is not a measurement of unbiasedness). Until round 3 the exact part decided "holds".
+# required $>10^{-6}$). It does not show that the statement could fail: the statement is the identity.
+# **Round 5** (the one criterion of the Claims section): C2_nd and C7_nd are therefore `by-construction`,
+# like C2 and C7 at the example — their outcome is the identity's (holds unless the exact part fails), they
+# are shown and never decide. Their Monte Carlo part, which does not rest on the linearity argument, is kept
+# as a recorded refuter: it would **fail** them if a simultaneous interval lay wholly outside $\pm0.5$ sd;
+# "no bias detected" adds nothing to the identity. In round 4 they were `measured`, decided on that refuter
+# and not-checked unless it refuted; until round 3 the exact part decided "holds" and they counted as
+# evidence.
 
 # %%
 BIAS_TOL = 0.5  # ours: the refuter's level of the normalised bias, in sd (reason in the text above)
@@ -969,7 +983,8 @@ display(Markdown(
 # $A_k, C_k$ (period $2\pi/h\approx62.8$ steps) and do not grow; **rule**: $\underline p>0$ and the
 # maxima of $\lambda_{\max}(\bar P^i_k)$ and of $\operatorname{tr}P^i_k$ over the last five periods
 # are at most $1.01\times$ their maxima over the five periods before. (Why 1.01, ours: five periods are rounded to whole steps and $A_k, C_k$ are only quasi-periodic, so the maxima of a
-# bounded regime differ between windows by a sampling jitter well below 1 %; a growth of 1 % over five
+# bounded regime differ between windows by a sampling jitter well below 1 % — at the scale of these
+# instances, $s\le3$; not in general, see C3_u —; a growth of 1 % over five
 # periods is a rate of $3\cdot10^{-5}$ per step, and an unbounded error of the kind Theorem 2 excludes
 # grows far faster — in C3_u's instances the open loop's period-product norm is $4.26\cdot10^5=e^{12.96}$
 # (measured, `open_loop_period_norm_max`; an earlier version wrote $e^{18.9}$, which is $e^{6\pi}$, the
@@ -1101,29 +1116,35 @@ for name, val in c3.items():
 # Each gain is scored by $\operatorname{tr}\bar P^{i,i}(K)$ from the full expansion (25) (not
 # from (29)), so (29) is checked too. Lemma 1's form is computed through
 # $(\Gamma\breve\Xi\Gamma^T)^{-1}$, whose condition number a random $\Gamma$ does not control, so its
-# round-off grows with it: its gap is judged against $10^{-9}+10^{-12}\kappa(\Gamma\breve\Xi\Gamma^T)$.
-# (This allowance was added after the first run of the variant, where one of 800 node-steps drew a
-# $\Gamma$ with a relative gap of $4.5\cdot10^{-8}$ while the KKT and cvxpy gaps stayed below
-# $10^{-14}$; cvxpy's constraint residual $\|KU_1\|\approx3\cdot10^{-8}$ at its tolerances is
-# likewise recorded, not tested. The first robustness sweep (73 points) then found C5 and C5_nd
+# round-off grows with it. **Since round 5** (after the hostile review of round 4) C5 decides that
+# random-$\Gamma$ part three-way with the round-off band derived below for X3 — $\|K_{(27)}U_1\|<10^{-10}$
+# and the gap $<10^{-9}$ (both thresholds ours) on every instance, holds if value $+\,b<$ threshold on
+# every instance, fails if value $-\,b>$ threshold on one, else not-checked — and no longer against the
+# allowance $10^{-12}\kappa$ that rounds 1-4 used. That rule, X3's, was chosen for C5 after its outcome
+# on the committed draws was known (X3: not-checked at every point); we adopt it because it is the only
+# rule for that part here that is derived rather than fitted, and say so.
+#
+# **History of the random-$\Gamma$ part (numbers of commits named, not of this run).** In commit 146b9f8
+# the gap of (27) got the allowance $10^{-9}+10^{-12}\kappa(\Gamma\breve\Xi\Gamma^T)$ after the first
+# run of the variant, where — as that commit's notebook text says; no artefact of that run was committed —
+# one of 800 node-steps drew a $\Gamma$ with a relative gap of $4.5\cdot10^{-8}$ while the KKT and cvxpy
+# gaps stayed below $10^{-14}$, and cvxpy's constraint residual $\|KU_1\|$ was about $3\cdot10^{-8}$ at its
+# tolerances; cvxpy's residual has been recorded, not tested, since (this run's value is
+# `max_KU1_cvxpy` in C5's and C5_nd's measured values, printed above; C5_nd now checks 200 node-steps,
+# 50 steps at 4 nodes). The first robustness sweep (73 points) then found C5 and C5_nd
 # failing at one draw each — `lemma_seed` 29109 and `variant_seed` 994542, 9 points each — because
 # $\|KU_1\|$ of the random-$\Gamma$ gain reached $1.7\cdot10^{-10}$ and $4.9\cdot10^{-10}$ where
-# $\kappa$ reached $2\cdot10^8$, while (28)'s own $\|KU_1\|$ stayed below $3\cdot10^{-14}$; that
-# residual is therefore recorded, not tested, too: the projector in (28) makes $KU_1=0$ for every
+# $\kappa$ reached $2\cdot10^8$, while (28)'s own $\|KU_1\|$ stayed below $3\cdot10^{-14}$ (numbers of the
+# message of commit 56c8733; the per-point records were not committed); that
+# residual was then recorded, not tested: the projector in (28) makes $KU_1=0$ for every
 # $\Theta$ up to round-off amplified by $\|\Theta\|$. That change, made after a failing sweep (in the
-# same commit as the cut of the design from 8 to 4 Sobol points, which removed `lemma_seed` 29109), turned
-# those 18 fails into holds. Round 2 of the issue #30 review tests that residual again, scaled as its
-# round-off is: $\|K_{(27)}U_1\|\le10^{-10}+10^{-12}\kappa\|S\Theta_\Gamma\|$ (a changed rule, declared: an
-# untested constraint at arbitrary $\Gamma$ would let a leak of $10^{-3}$ pass). **What this allowance
-# admits:** at the largest $\kappa$ of a run it admits a leak of up to $10^{-12}\kappa\|S\Theta_\Gamma\|$,
-# which is not small where $\kappa\|S\Theta_\Gamma\|$ is large: about $2.5\cdot10^{-5}$ at $\kappa\approx10^6$ on the
-# variant's default draw, and about $0.15$ at $\kappa\approx1.9\cdot10^8$ on the replayed draw `lemma_seed`
-# 29109 (computed for every run: `KU1_allowance_at_max_cond`, `max_KU1_allowance`, in C5's and C5_nd's
-# check texts and X4's measured values); the factor $10^{-12}\approx4504\,\varepsilon$ is $4504/(3n_y)$ times the
-# round-off band below (for $n_y\le6$: at least 250 times), and not derived from a bound; C5's check text
-# compares each run's residuals with $\varepsilon\kappa\|S\Theta_\Gamma\|$ (`max_KU1_L1_over_eps_kappa_STheta`) and
-# says whether the factor decides anything there; it is kept as round 2 stated it rather than changed again
-# after the outcome.
+# same commit, 56c8733, as the cut of the design from 8 to 4 Sobol points, which removed `lemma_seed` 29109), turned
+# those 18 fails into holds. Round 2 of the issue #30 review tested that residual again against
+# $10^{-10}+10^{-12}\kappa\|S\Theta_\Gamma\|$. **What that allowance admitted** (why round 5 drops it): a leak
+# of up to $10^{-12}\kappa\|S\Theta_\Gamma\|$ at an instance, not small where $\kappa\|S\Theta_\Gamma\|$ is
+# large (this run: `KU1_allowance_at_max_cond`, `max_KU1_allowance` in C5's and C5_nd's measured values
+# and in X4's for the replayed draw); the factor $10^{-12}\approx4504\,\varepsilon$ was not derived from a bound.
+# The outcome under that rule is still recorded (`holds_round2_allowance_rule`).
 #
 # **X3 and X4: the first-stated thresholds, three-way with a stated round-off band (round 4).** **X3**
 # applies the rule as first stated — $\|KU_1\|<10^{-10}$ and the (27) gap $<10^{-9}$ without allowance,
@@ -1135,7 +1156,11 @@ for name, val in c3.items():
 # for both, three-way on every instance, with the band of that instance
 #
 # $$b_{KU_1}=c\,\varepsilon\,\kappa\,\|S\Theta_\Gamma\|_2,\qquad b_{\rm gap}=c\,\varepsilon\,\kappa,\qquad
-# \kappa=\operatorname{cond}(\Gamma\breve\Xi\Gamma^T),\ \varepsilon=2.2\cdot10^{-16},\ c=3n_y:$$
+# \kappa=\operatorname{cond}(\Gamma\breve\Xi\Gamma^T),\ \varepsilon=2^{-52},\ c=3n_y:$$
+#
+# ($\varepsilon$ is float64 machine epsilon, $2^{-52}\approx2.2\cdot10^{-16}$; the claims file records it as its
+# base-2 exponent, `eps_log2` $=-52$, because the package-wide rounding of recorded numbers to multiples of
+# $10^{-13}$ near zero would write it as 0.)
 #
 # holds if every instance lies below both thresholds by more than its band (value $+\,b<$ threshold),
 # fails if one lies above one by more than its band (value $-\,b>$ threshold), else not-checked. Why
@@ -1154,7 +1179,9 @@ for name, val in c3.items():
 # rule cannot decide this draw, nothing about Lemma 1. **This rule was made after the two-way outcomes
 # were known** (X3 held at 28 and failed at 9 of the 37 points; X4 failed at all 37 in round 3 and was
 # made "fails only beyond C5's allowance, else not-checked" by the lead in round 4 before this change);
-# the two-way outcomes are still recorded (`*_two_way`). The same comparison runs on 50 evenly spaced
+# the two-way outcomes are still recorded (`*_two_way`). Since round 5 this three-way rule is C5's and
+# C5_nd's own rule for the random-$\Gamma$ part, so X3 is their combined outcome, kept as the record of the
+# first-stated thresholds. The same comparison runs on 50 evenly spaced
 # steps of the non-degenerate variant below (cvxpy on a few steps).
 
 
@@ -1211,7 +1238,8 @@ def gain_cvxpy(lc):
 
 
 BAND_C_PER_NY = 3  # ours: c = 3 n_y in the round-off band c eps kappa ||S Theta_Gamma|| (reason in the text above)
-EPS = float(np.finfo(float).eps)  # double precision, 2.2e-16
+EPS = float(np.finfo(float).eps)  # float64 machine epsilon, 2^-52 ~ 2.2e-16
+EPS_LOG2 = int(np.log2(EPS))  # -52: how the claims file records it (it rounds numbers near zero to 0)
 
 
 def theta_from_gamma(lc, Gamma):
@@ -1579,14 +1607,25 @@ display(Markdown(
 # (some node's local error dynamics without fusion does not contract over a period: local period-product
 # norm $\ge1$) evaluated, not assumed. The two instances are ours (declared variants), not the paper's
 # example; their keys are prefixed `unstable_`.
+#
+# **The level 1.01 was checked at $s=3$ only, and is not a general test of boundedness (round 5).** The
+# hostile review of round 4 scaled $A_k$ by $e^{sh}$ with larger $s$: there the per-period maxima of
+# $\operatorname{tr}\bar P$ swing in slow beats, so the ratio of two five-period maxima depends on where the
+# windows fall in a beat and can exceed 1.01 although nothing shows growth. We record the same probe on the
+# example (`rule_probe_*` in C3_u's measured values: $s=30,50,70$ over twice `n_steps_bound` steps — the
+# growth ratios of $\operatorname{tr}\bar P$ and $\operatorname{tr}P$ and the spread max/min of the per-period
+# maxima over the last ten periods), printed below; it is not tested. So C3_u's "holds" says: at $s=3$,
+# over `n_steps_bound` steps, no growth beyond 1 % between the two windows; the rule would call some
+# non-growing instances at larger $s$ "fails", and we have not replaced it (a trend test over whole beat
+# periods would be the general form; not done here).
 
 # %%
 UNSTABLE_SHIFT = 3.0  # ours: A_k -> exp(UNSTABLE_SHIFT h) A_k, rates -1, -2, -1 -> +2, +1, +2
 
 
-def unstable(mdl):
-    """``mdl`` with A_k scaled by exp(UNSTABLE_SHIFT h): every mode of the example's A_k unstable (ours)."""
-    factor, A_base = np.exp(UNSTABLE_SHIFT * mdl.h), mdl.A
+def unstable(mdl, shift=UNSTABLE_SHIFT):
+    """``mdl`` with A_k scaled by exp(shift h): every mode of the example's A_k unstable (ours)."""
+    factor, A_base = np.exp(shift * mdl.h), mdl.A
     return SimpleNamespace(**{**vars(mdl), "label": mdl.label + ", A_k unstable",
                               "A": lambda k: factor * A_base(k)})
 
@@ -1610,6 +1649,33 @@ premise_c3_u = all(m["min_abs_det_A"] > 0 and m["collective_rank_min"] == model.
 precondition_c3_u = all(m["local_period_norm_max"] >= 1.0 for m in c3_u.values())
 c3_u_flat = {f"{name}_{key}": val for name, m in c3_u.items() for key, val in m.items()}
 c3_u_flat["growth_tr_P_exact_max"] = max(m["growth_tr_P_exact"] for m in c3_u.values())
+
+
+def rule_probe(mdl, shifts, n_steps):
+    """Round 5 (after the review): the C3 growth ratios, and the spread of the per-period maxima of
+    tr P_bar over the last ten periods (max / min), on the example with A_k -> exp(s h) A_k for larger s.
+    Recorded, not tested: it shows at which scale the level 1.01 was checked (s = UNSTABLE_SHIFT only)."""
+    w1, out = int(round(2 * np.pi / mdl.h)), {}
+    w5 = 5 * w1
+    for s_ in shifts:
+        P_bar_s, P_exact_s, _ = bounded_run(unstable(mdl, s_), n_steps, x0_spread)
+        tr_bar = np.trace(P_bar_s[1:], axis1=-2, axis2=-1).max(axis=-1)
+        tr_ex = np.trace(P_exact_s[1:], axis1=-2, axis2=-1).max(axis=-1)
+        per_period = np.array([tr_bar[i:i + w1].max() for i in range(len(tr_bar) - 10 * w1, len(tr_bar), w1)])
+        out[s_] = {"growth_tr_Pbar": float(tr_bar[-w5:].max() / tr_bar[-2 * w5:-w5].max()),
+                   "growth_tr_P_exact": float(tr_ex[-w5:].max() / tr_ex[-2 * w5:-w5].max()),
+                   "per_period_max_spread_tr_Pbar": float(per_period.max() / per_period.min())}
+    return out
+
+
+PROBE_SHIFTS = (30.0, 50.0, 70.0)  # ours, after the review of round 4 (its scratch runs used these)
+probe = rule_probe(model, PROBE_SHIFTS, 2 * n_steps_bound)
+c3_u_flat["rule_probe_shifts"] = list(PROBE_SHIFTS)
+c3_u_flat["rule_probe_horizon"] = 2 * n_steps_bound
+for key in ("growth_tr_Pbar", "growth_tr_P_exact", "per_period_max_spread_tr_Pbar"):
+    c3_u_flat[f"rule_probe_{key}"] = [probe[s_][key] for s_ in PROBE_SHIFTS]
+print("rule probe (example, A_k -> exp(s h) A_k, " f"{2 * n_steps_bound} steps):",
+      {s_: {k: round(v, 4) for k, v in p_.items()} for s_, p_ in probe.items()})
 display(Markdown(
     "| measured (exact, " + f"{n_steps_bound} steps) | example, $e^{{3h}}A_k$ | variant, $e^{{3h}}A_k$ |\n|---|---|---|\n"
     + "".join(f"| {key} | {c3_u['unstable_example'][key]:.7g} | {c3_u['unstable_variant'][key]:.7g} |\n"
@@ -1889,6 +1955,20 @@ plt.show()
 # seeds) and the default point — and "holds at 37 of 37" means "holds at 5 of 5 draws". The sweep's
 # `evaluations` (the number of distinct outcome/value pairs of a claim over the points, printed below the
 # table) says the same; its Wilson interval over 37 points is a design artefact.
+#
+# **Which interval the claims file gives (round 5).** The sweep's interval counts each distinct *record*
+# (a fingerprint of the whole measured record at 10 significant digits) once; signal cells of one draw
+# that differ only by round-off then count as separate samples (C2: 9 records from 5 draws, Wilson lower
+# end 0.70 instead of 0.57). The package-wide summary is left as it is; for guo2023 the claims file's
+# `robustness.interval` is the Wilson interval over the **independent draws** — decided points grouped by
+# their non-signal axes, $n=\min(\text{records},\text{draws})$ — wherever that is smaller than the records
+# (the sweep's own interval is kept as `interval_counting_records`). **Rules changed after the sweep
+# (round 5), not re-swept:** C2_nd and C7_nd are by construction now, and their outcomes under the new rule
+# are re-derived from the committed rows (a row not-checked under round 4's rule is one where the exact
+# part held and the refuter refuted nothing, which the new rule calls holds); C5 and C5_nd decide the
+# random-$\Gamma$ part with the derived band now, which the committed rows cannot re-derive, so their
+# counts are the previous rule's, labelled so (`outcomes_under_previous_rule`), and their verdict is the
+# outcome at this point.
 
 # %%
 sweep_table = results.robustness_markdown("guo2023")
@@ -1909,26 +1989,43 @@ else:
 # instances (the example and the variant with $A_k\to e^{3h}A_k$). V, R and U are instances of ours;
 # only E is the paper's. Monte Carlo parts decide by a rule on a 95 % confidence interval (so the rule means the same
 # at any run count; `runs` is recorded); everything else is exact. **D**: decides the ReScience verdict;
-# **BC**: true by construction (shown, not evidence).
+# **BC**: true by construction (shown, not evidence). Thresholds and levels marked "ours" are ours, not
+# the paper's.
+#
+# **One criterion for "by construction" (round 5, stated once, applied to every claim).** A check is
+# *by construction* when what it verifies is an identity of the design or of our implementation that
+# holds for any data — whatever the signals, the noise, the draw — so that it could fail only if our code
+# broke the identity, never because the paper's statement is false. Such a claim has basis
+# `by-construction`: its outcome is the identity's, it is shown and never decides, whatever else is
+# recorded with it. A check is *measured* when it is a numerical test of one of the paper's results that
+# could come out false if the result were false. Applied: C6 (the SVD split, (10), the fusion weights),
+# C2 and C7 at the example ($K\equiv0$), **C2_nd and C7_nd** (their exact part is the projector identity
+# $KU_1=0$ for every $\Theta$ with $\bar G_1=0$, $\bar M_2C_2\bar G_2=I$; their Monte Carlo refuter is kept as a
+# record and would fail them) and **X1** (the errors' change under other signal sets, $\le10^{-10}$: the
+# same identities) are by construction; C1 (the bound $\bar P\succeq P$ of Theorem 1 against the exact
+# covariance: it fails if the bound is wrong, as E3's printed cross terms would make it), C3/C3_u
+# (Theorem 2's boundedness), C5/C5_nd ((28) against an independent KKT solve and cvxpy: a wrong gain or a
+# wrong (29) fails them, as the literal reading of (28) does) and X2-X5 are measured. Until round 4, C2_nd,
+# C7_nd and X1 were recorded as `measured`.
 #
 # | id | paper (source) | where | what we measure, and the rule |
 # |---|---|---|---|
-# | C1 (D) | Theorem 1: $(\hat x^i_k,\bar P^i_k)$ is consistent, $P^i_k\preceq\bar P^i_k$ | E | exact: $\lambda_{\min}(\bar P-P)\ge-10^{-12}$ for $k\ge1$, $\rho\le1+10^{-9}$ (fused and local); Monte Carlo: 95 % t-interval of the ANEES against 1 (three-way). Premise: `x0_spread` $\le1$. **Rests on our corrected reading** of (24)-(25) and Algorithm 1 (E1, E3, E7) |
+# | C1 (D) | Theorem 1: $(\hat x^i_k,\bar P^i_k)$ is consistent, $P^i_k\preceq\bar P^i_k$ | E | exact: $\lambda_{\min}(\bar P-P)\ge-10^{-12}$ for $k\ge1$, $\rho\le1+10^{-9}$ (fused and local; both round-off margins ours); Monte Carlo: 95 % t-interval of the ANEES against 1 (three-way). Premise: `x0_spread` $\le1$. **Rests on our corrected reading** of (24)-(25) and Algorithm 1 (E1, E3, E7) |
 # | C1_nd | the same | V | the same |
 # | C2 (BC) | Sec. III-B, after (16): with $KU_1=0$ "the **local** estimate $\hat x^{i,i}_k$ is unbiased", whatever $d_k$, $a_k$ | E | as C2_nd; here $K\equiv0$ and the decoupling is by the identities C6 marks by construction: shown, not evidence |
-# | C2_nd (D) | the same sentence | V | **decided on the Monte Carlo part** (round 4): fails if a simultaneous 95 % interval of the normalised bias lies wholly outside $\pm0.5$ sd (level ours; resolution $\gtrsim0.71$ sd at 500 runs) or the exact part fails, else **not-checked**; the exact part (the local errors' response to $d,a$ $\le10^{-10}$ relative, $\max\|KU_1\|<10^{-10}$) holds by identities of the design (by construction). Precondition: a negative control with the unconstrained gain $S\breve\Xi^\dagger$ moves the errors by $>10^{-6}$ |
-# | C3 | Lemma 3 / Theorem 2: $\bar P^i_k$ bounded, mean-square error uniformly bounded | E | exact over `n_steps_bound` steps: $\underline p>0$; maxima of $\lambda_{\max}(\bar P)$ and $\operatorname{tr}P$ over the last 5 periods $\le1.01\times$ those over the 5 before. Premise: Assumptions 1-2 and, as a precondition of the measurement, some node's local error dynamics without fusion $(I-KC)(I-JC)A_{k-1}$ does not contract over a period (it does at every node: **fails-premise**; does not decide) |
-# | C3_u (D) | the same, decided on instances of ours that satisfy its premises | U | the C3 rule on both unstable instances; premise and precondition evaluated there |
+# | C2_nd (BC) | the same sentence | V | **by construction** (round 5; decided on its Monte Carlo refuter in round 4): the exact part (the local errors' response to $d,a$ $\le10^{-10}$ relative, $\max\|KU_1\|<10^{-10}$) holds by identities of the design; the Monte Carlo refuter (a simultaneous 95 % interval of the normalised bias wholly outside $\pm0.5$ sd, level ours; resolution $\gtrsim0.71$ sd at 500 runs) recorded, and would fail it. Precondition: a negative control with the unconstrained gain $S\breve\Xi^\dagger$ moves the errors by $>10^{-6}$ |
+# | C3 | Lemma 3 / Theorem 2: $\bar P^i_k$ bounded, mean-square error uniformly bounded | E | exact over `n_steps_bound` steps: $\underline p>0$; maxima of $\lambda_{\max}(\bar P)$ and $\operatorname{tr}P$ over the last 5 periods $\le1.01\times$ those over the 5 before (1.01 ours, checked only at these instances' scale, not a general test of boundedness: C3_u). Assumptions 1-2 hold (recorded separately); the precondition of the measurement — some node's local error dynamics without fusion $(I-KC)(I-JC)A_{k-1}$ does not contract over a period — fails (it contracts at every node): **fails-premise**; does not decide |
+# | C3_u (D) | the same, decided on instances of ours that satisfy its premises | U | the C3 rule on both unstable instances ($e^{sh}A_k$, $s=3$); premise and precondition evaluated there. The level 1.01 (ours) was checked only at $s=3$: at larger $s$ the per-period maxima of bounded errors beat slowly and the ratio exceeds 1.01 (recorded, `rule_probe_*`), so the rule is not a general test |
 # | C4 | Sec. V: nodes 2 and 3 are locally unobservable, the network is collectively observable | E | window ranks per node and collective; solvability of (13) |
-# | C5 (D) | Lemmas 1-2: (28) satisfies $KU_1=0$ and minimises $\operatorname{tr}\bar P^{i,i}$; (29) | R | $\|KU_1\|<10^{-10}$ ((28), KKT, Lemma 2), $\le10^{-10}+10^{-12}\kappa\|S\Theta_\Gamma\|$ ((27), random $\Gamma$; round 2); relative trace gap of (28) to KKT $\le10^{-9}$, excess over cvxpy $\le10^{-9}$, gap to (27) with random $\Gamma$ $\le10^{-9}+10^{-12}\kappa$; $\lvert(29)-(25)\rvert<10^{-10}$. Decided on instances of ours (the example cannot exercise it). **Rests on our corrected reading** E3-E5 |
+# | C5 (D) | Lemmas 1-2: (28) satisfies $KU_1=0$ and minimises $\operatorname{tr}\bar P^{i,i}$; (29) | R | $\|KU_1\|<10^{-10}$ ((28), KKT, Lemma 2), relative trace gap of (28) to KKT $\le10^{-9}$, excess over cvxpy $\le10^{-9}$, $\lvert(29)-(25)\rvert<10^{-10}$ (thresholds ours); Lemma 1's (27) at a random $\Gamma$: $\|KU_1\|<10^{-10}$ and gap $<10^{-9}$ three-way with the derived band $c\,\varepsilon\,\kappa\|S\Theta_\Gamma\|$ (gap: $c\,\varepsilon\,\kappa$), $c=3n_y$ (round 5; rounds 2-4: the allowance $10^{-12}\kappa\|S\Theta_\Gamma\|$, outcome recorded). Decided on instances of ours (the example cannot exercise it). **Rests on our corrected reading** E3-E5 |
 # | C5_nd | the same | V | the same at every node on 50 evenly spaced steps (cvxpy at three of them) |
 # | C6 (BC) | Sec. III-B/C: $\bar G_1M_1T_1=0$ ($\hat A=A$, $\hat Q=Q$), (10), fusion weights (20) | E, V | max deviations $<10^{-12}$, with $\sum_jW^{i,j}=I$ and our $T_1RU_2=0$ (identities of our implementation) |
 # | C7 (BC) | Sec. III-B, before (10): "To ensure the unbiasedness of $\hat u_1$ and $\hat u_2$, it is required that (10)" (its unbiasedness: Sec. III-B; the joint estimate is contribution 1: abstract, Sec. VI) | E | as C7_nd; here by the identities of C6: shown, not evidence |
-# | C7_nd (D) | the same | V | input errors, decided as C2_nd: the Monte Carlo refuter, else not-checked; the exact part (response to $d,a$ $\le10^{-10}$ relative) by identities; the same negative control |
+# | C7_nd (BC) | the same | V | input errors, as C2_nd: by construction (round 5), the exact part (response to $d,a$ $\le10^{-10}$ relative) by identities; the Monte Carlo refuter at $\pm0.5$ sd (the level of C2, ours) recorded; the same negative control |
 # | C8 (D) | abstract: "a numerical example is provided to show the effectiveness"; Sec. V: the estimates "track ... well" (Figs. 1-2), "remains to be effective" with nodes 2 and 3 locally unobservable | E | **not-checked** (round 4): the rule — run 0, $k\ge0$, per node RMS error / signal RMS $<1$ for $\hat d$, $\hat a$ and the fused $\hat x$ (the zero estimate's level; our weakest reading of "well") — is decided by the size of our invented signals (the errors do not depend on them, X1); ratios and the rule's outcome at our signals recorded |
-# | X1 | ours, from (15)-(16) and (21): the errors do not depend on the signals at all | E, V | the second set, the random set and $d=a=0$ change the errors by $\le10^{-10}$ relative |
+# | X1 (BC) | ours, from (15)-(16) and (21): the errors do not depend on the signals at all | E, V | the second set, the random set and $d=a=0$ change the errors by $\le10^{-10}$ relative: the identities of C2_nd, by construction (round 5; `measured` until round 4) |
 # | X2 | ours: prediction for Fig. 1 — the scatter of $\hat d$, $\hat a$ is fixed by the example | E | exact sd per node; Monte Carlo/exact mean-square ratio: every 95 % t-interval inside $[0.9,1.1]$ (margin ours, reason in its section) |
-# | X3 | ours: C5 and C5_nd under the thresholds of the rule as first stated ($\|KU_1\|<10^{-10}$ and the gap $<10^{-9}$ for the random-$\Gamma$ gain too) | R, V | three-way per instance with the band $c\,\varepsilon\,\kappa\|S\Theta_\Gamma\|$ (gap: $c\,\varepsilon\,\kappa$), $c=3n_y$ (round 4, after the two-way outcome was known; that outcome recorded) |
+# | X3 | ours: C5 and C5_nd under the thresholds of the rule as first stated ($\|KU_1\|<10^{-10}$ and the gap $<10^{-9}$ for the random-$\Gamma$ gain too) | R, V | three-way per instance with the band $c\,\varepsilon\,\kappa\|S\Theta_\Gamma\|$ (gap: $c\,\varepsilon\,\kappa$), $c=3n_y$ (round 4, after the two-way outcome was known; that outcome recorded); since round 5 C5's and C5_nd's own rule for that part, so X3 is their combined outcome |
 # | X4 | ours: the first-sweep draw `lemma_seed` 29109 (removed from the design by commit 56c8733) under the same thresholds and band | R | replayed, one evaluation; not-checked by construction where the band at its largest $\kappa$ exceeds $10^{-10}$ |
 # | X5 | ours (C4b until round 4): Sec. V read as a complete list — the locally unobservable nodes are 2 and 3 only (the paper does not say "only") | E | the set of nodes with window rank $<3$ is $\{2,3\}$ |
 
@@ -1936,7 +2033,10 @@ else:
 MC_TOL = results.Tolerance(
     rtol=1e-6, atol=1e-10,
     reason="Monte Carlo averages over many runs and round-off residues (< 1e-10): another CPU or BLAS "
-    "build changes the last bits of the sums; every decision has a wide margin")
+    "build changes the last bits of the sums; every decision has a wide margin. Entries named *_in_eps are "
+    "round-off magnitudes in units of float64 machine epsilon (recorded because the claims file rounds "
+    "numbers near zero to multiples of 1e-13): on another machine they reproduce in order of magnitude "
+    "only, and a verify there reports them beyond this tolerance")
 CVX_TOL = results.Tolerance(
     rtol=1e-6, atol=1e-3,
     reason="cvxpy / CLARABEL solutions are accurate to the solver's tolerances (~1e-8 relative); "
@@ -1946,7 +2046,10 @@ CVX_TOL = results.Tolerance(
     "the other entries are linear algebra whose values at round-off vary from run to run even on "
     "one machine (the random-Gamma residual 1.194e-10 -> 1.654e-10 and 1.99e-11 -> 6.9e-12 between "
     "two runs here), so where a threshold is near round-off the decision is three-way with a stated "
-    "band (X3, X4), never on the last digits")
+    "band (C5, C5_nd, X3, X4), never on the last digits. Entries named *_in_eps are round-off magnitudes "
+    "in units of float64 machine epsilon (the claims file rounds numbers near zero to multiples of "
+    "1e-13): on another machine they reproduce in order of magnitude only, and a verify there reports "
+    "them beyond this tolerance")
 PREMISE_C1 = ("the initial pair is consistent, cov(x_0 - x0_hat) = x0_spread^2 P_0 <= P_0 "
               "(x0_spread <= 1): Theorem 1's induction starts from it", bool(x0_spread <= 1.0))
 C1_PAPER = ("Theorem 1 (Sec. III-C): with (23)-(25), the fused pair (x_hat_k^i, P_bar_k^i) is "
@@ -1966,8 +2069,9 @@ def c1_claim(m, where, decides=False):
         check="under our corrected reading (E1, E3, E7): P_bar is computed with the corrected (24)-(25) "
         "(misplaced parenthesis, non-conformable cross terms in print, which cannot be evaluated as "
         "printed) in the reconstructed Algorithm 1 with y^a in the update; the verdict rests on that "
-        "reading. Exact joint covariance, k >= 1: lambda_min(P_bar - P) >= -1e-12 and rho = "
-        "lambda_max(P_bar^-1/2 P P_bar^-1/2) <= 1 + 1e-9 (fused and local); Monte Carlo "
+        "reading. Exact joint covariance, k >= 1: lambda_min(P_bar - P) >= -1e-12 (ours) and rho = "
+        "lambda_max(P_bar^-1/2 P P_bar^-1/2) <= 1 + 1e-9 (ours) (fused and local; both margins are ours, "
+        "for round-off); Monte Carlo "
         f"({m['n_runs']} runs): the 95% t-interval of the mean per-run ANEES (k >= 1, all nodes) "
         "has its upper end <= 1 (holds), its lower end > 1 (fails), else not-checked (the interval "
         "contains the level 1 at this run count); the exact part failing is a fail",
@@ -1988,61 +2092,55 @@ EXACT_PART_BY_IDENTITY = (
     "(the projector form of (28)), G_bar_1 = 0 and M_bar_2 C_2 G_bar_2 = I (10) make the local and the "
     "input errors free of (d, a) whatever the data; the negative control (the same exact part with the "
     "unconstrained gain S Xi_breve^+) shows that the check itself can fail, not that the statement "
-    "could; so the exact part is shown, not evidence, and the claim is decided on its Monte Carlo part, "
-    "which can only refute: 'no bias detected' leaves it not-checked")
+    "could. So, by the one criterion of the Claims section (round 5), the claim is by construction: its "
+    "outcome is the identity's, shown, never evidence, never deciding; its Monte Carlo part is kept as a "
+    "recorded refuter that would fail it (round 4 decided the claim on that refuter, not-checked unless it "
+    "refuted, as a measured claim)")
 
 
-def decided_on_mc(exact, mc_part):
-    """C2_nd / C7_nd (round 4): False if the exact part or the Monte Carlo refuter fails, else None
-    (the exact part holds by identities; the refuter cannot establish a hold)."""
-    return False if (not exact or mc_part == "fails") else None
-
-
-def c2_claim(m, where, decides=False, basis="measured", control=None):
-    """Unbiasedness and decoupling of the local estimates on one case. At the example (basis
-    by-construction) the outcome is the exact part's; on the variant (measured, deciding) it is
-    decided on the Monte Carlo refuter (:func:`decided_on_mc`), with the negative control as the
-    precondition of the measurement."""
+def c2_claim(m, where, control=None):
+    """Unbiasedness and decoupling of the local estimates on one case, by construction (the criterion of
+    the Claims section): at the example by the identities of C6 (K == 0), on the variant (``control``
+    given) by the projector identity of (28) as well, with the negative control as the precondition of the
+    measurement. The outcome is the exact part's; the Monte Carlo refuter is recorded and can fail it."""
     exact = bool(m["relative_local_gap_max"] <= 1e-10 and m["max_KU1"] < 1e-10)
-    by_mc = basis == "measured"
-    holds = decided_on_mc(exact, m["mc_part"]) if by_mc else bool(exact and m["mc_part"] != "fails")
+    variant = control is not None
+    holds = bool(exact and m["mc_part"] != "fails")
     return results.claim(
         paper=C2_PAPER + where,
         check=("BY CONSTRUCTION at the example: K == 0 (E6), so the local error is free of (d, a) by the "
                "identities M_bar_2 C_2 G_bar_2 = I, G_bar_1 = 0, U_2^T H_bar = 0 that C6 marks by construction; "
-               "shown, not evidence (C2_nd decides). " if basis == "by-construction" else
-               "DECIDED ON THE MONTE CARLO PART (round 4 of issue #30): " + EXACT_PART_BY_IDENTITY + ". Negative "
-               f"control (precondition of the measurement): with the unconstrained gain the local errors change by "
-               f"{control['relative_local_gap']:.2g} relative with d = a = 0, same noise (> {NC_LEVEL:g} required). ")
+               "shown, not evidence. " if not variant else
+               "BY CONSTRUCTION on the variant (round 5 of issue #30; round 4 decided it on its Monte Carlo part): "
+               + EXACT_PART_BY_IDENTITY + ". Negative control (precondition of the measurement): with the "
+               f"unconstrained gain the local errors change by {control['relative_local_gap']:.2g} relative "
+               f"with d = a = 0, same noise (> {NC_LEVEL:g} required, ours). ")
         + "local estimates x_hat^{i,i}_k, k >= 1 (the estimate the quoted sentence is about; the "
-        "fused errors are measured and recorded, not tested). Exact part ("
-        + ("decides holds" if not by_mc else "by construction here: it can only fail the claim") + "): the errors are "
+        "fused errors are measured and recorded, not tested). Exact part (the identity's outcome, which the "
+        "claim takes): the errors are "
         "linear in the initial error, the noise and (d, a), with data-independent gains, so the bias is the "
         "error's response to (d, a): re-run with d = a = 0, the second and the random signal set, same "
-        "noise, the local errors change by <= 1e-10 x max(1, |x|, |u|); max_k ||K U_1|| < 1e-10. Monte "
-        f"Carlo part ({m['n_runs']} runs), a refuter only: the normalised bias E[error]/sd (sd exact) at each "
-        f"of {m['n_bias_tests']} (k, node, state), simultaneous 95% Bonferroni t-intervals; it fails the "
-        f"claim if one interval lies wholly outside +-{BIAS_TOL} sd (level ours: a bias of half the error's sd "
-        "adds a quarter of the variance to the MSE), else records 'no bias detected', which never makes "
-        f"the claim hold. Its resolution at {m['n_runs']} runs: it can refute only |bias| >~ "
-        f"{m['mc_refutable_bias_sd']:.2f} sd (0.5 + the largest half-width). Recorded, not used: the round-1 "
-        "equivalence reading of this part (mc_part_old_equivalence_reading) and the pre-issue-#30 "
-        "fraction of |z| > 3 (z_fraction_old_rule)",
+        "noise, the local errors change by <= 1e-10 (ours) x max(1, |x|, |u|); max_k ||K U_1|| < 1e-10 (ours). "
+        f"Monte Carlo part ({m['n_runs']} runs), a refuter only, recorded: the normalised bias E[error]/sd "
+        f"(sd exact) at each of {m['n_bias_tests']} (k, node, state), simultaneous 95% Bonferroni "
+        f"t-intervals; it fails the claim if one interval lies wholly outside +-{BIAS_TOL} sd (level ours: a "
+        "bias of half the error's sd adds a quarter of the variance to the MSE), else records 'no bias "
+        f"detected', which adds nothing to the identity. Its resolution at {m['n_runs']} runs: it can refute "
+        f"only |bias| >~ {m['mc_refutable_bias_sd']:.2f} sd (0.5 + the largest half-width). Recorded, not "
+        "used: the round-1 equivalence reading of this part (mc_part_old_equivalence_reading) and the "
+        "pre-issue-#30 fraction of |z| > 3 (z_fraction_old_rule)",
         measured=m if control is None else {**m, "negative_control": control},
         threshold={"relative_local_gap_max": 1e-10, "max_KU1": 1e-10,
-                   "normalised_bias_level": BIAS_TOL, **({"negative_control": NC_LEVEL} if by_mc else {})},
-        holds=holds, basis=basis,
-        not_checked=None if holds is not None else (
-            "the exact part holds by identities (by construction); the Monte Carlo part can only refute and "
-            f"detected no bias (it refutes only |bias| >~ {m['mc_refutable_bias_sd']:.2f} sd at {m['n_runs']} runs)"),
-        premise=None if not by_mc else (
+                   "normalised_bias_level": BIAS_TOL, **({"negative_control": NC_LEVEL} if variant else {})},
+        holds=holds, basis="by-construction",
+        premise=None if not variant else (
             f"negative control: the same exact part with the unconstrained gain S Xi_breve^+ detects the "
             f"attack (relative change of the local errors > {NC_LEVEL:g})",
             bool(control["relative_local_gap"] > NC_LEVEL)),
         source="Sec. III-B, the sentence after (16); (15)-(16)",
         interval=results.interval(m["bias_ci_low"], m["bias_ci_high"], level=0.95,
                                   method="t, Bonferroni over every (k, node, state), envelope"),
-        key="bias_ci_reach", tolerance=MC_TOL, runs=int(m["n_runs"]), decides=decides,
+        key="bias_ci_reach", tolerance=MC_TOL, runs=int(m["n_runs"]),
         section="Unbiasedness, decoupling and signal invariance")
 
 
@@ -2051,52 +2149,58 @@ C7_PAPER = ("Sec. III-B, after (9): 'To ensure the unbiasedness of u_hat_{1,k}^i
             "contribution 1 (abstract, Sec. VI): the input estimates are unbiased, whatever d_k and a_k")
 
 
-def c7_claim(m, where, decides=False, basis="measured", control=None):
-    """Unbiasedness of the input estimates on one case (measured and decided like C2)."""
+def c7_claim(m, where, control=None):
+    """Unbiasedness of the input estimates on one case, by construction like C2 (:func:`c2_claim`)."""
     u = m["input"]
     exact = bool(u["relative_input_gap_max"] <= 1e-10)
-    by_mc = basis == "measured"
-    holds = decided_on_mc(exact, u["mc_part"]) if by_mc else bool(exact and u["mc_part"] != "fails")
+    variant = control is not None
+    holds = bool(exact and u["mc_part"] != "fails")
     return results.claim(
         paper=C7_PAPER + where,
         check=("BY CONSTRUCTION at the example: K == 0, so the input errors (8)-(9) are free of (d, a) by "
                "(10) and the structural decoupling of the state error, identities C6 marks by construction; "
-               "shown, not evidence (C7_nd decides). " if basis == "by-construction" else
-               "DECIDED ON THE MONTE CARLO PART (round 4 of issue #30): " + EXACT_PART_BY_IDENTITY + ". Negative "
-               f"control (precondition of the measurement): with the unconstrained gain the input errors change by "
-               f"{control['relative_input_gap']:.2g} relative with d = a = 0, same noise (> {NC_LEVEL:g} required). ")
-        + "input-estimate errors u_hat^i_k - u_k, k >= 1 (k = 0 is the prior's estimate). Exact part ("
-        + ("decides holds" if not by_mc else "by construction here: it can only fail the claim") + "): re-run with d = a = 0, the second and the random signal set, same noise: the "
-        "input errors change by <= 1e-10 x max(1, |x|, |u|) (the errors are linear in the data with "
-        f"data-independent gains, so this change is the bias). Monte Carlo part ({u['n_runs']} runs), a "
-        f"refuter only: normalised bias E[error]/sd (sd from the exact input-error covariance) at each of "
-        f"{u['n_bias_tests']} (k, node, component), simultaneous 95% Bonferroni t-intervals; fails the claim "
-        f"if one lies wholly outside +-{BIAS_TOL} sd (the level of C2), else 'no bias detected' (never a "
-        f"hold by itself); resolution at {u['n_runs']} runs: |bias| >~ {u['mc_refutable_bias_sd']:.2f} sd",
+               "shown, not evidence. " if not variant else
+               "BY CONSTRUCTION on the variant (round 5 of issue #30; round 4 decided it on its Monte Carlo part): "
+               + EXACT_PART_BY_IDENTITY + ". Negative control (precondition of the measurement): with the "
+               f"unconstrained gain the input errors change by {control['relative_input_gap']:.2g} relative "
+               f"with d = a = 0, same noise (> {NC_LEVEL:g} required, ours). ")
+        + "input-estimate errors u_hat^i_k - u_k, k >= 1 (k = 0 is the prior's estimate). Exact part (the "
+        "identity's outcome, which the claim takes): re-run with d = a = 0, the second and the random signal "
+        "set, same noise: the input errors change by <= 1e-10 (ours) x max(1, |x|, |u|) (the errors are "
+        "linear in the data with data-independent gains, so this change is the bias). Monte Carlo part "
+        f"({u['n_runs']} runs), a refuter only, recorded: normalised bias E[error]/sd (sd from the exact "
+        f"input-error covariance) at each of {u['n_bias_tests']} (k, node, component), simultaneous 95% "
+        f"Bonferroni t-intervals; fails the claim if one lies wholly outside +-{BIAS_TOL} sd (the level of C2, "
+        f"ours), else 'no bias detected' (adds nothing to the identity); resolution at {u['n_runs']} runs: "
+        f"|bias| >~ {u['mc_refutable_bias_sd']:.2f} sd",
         measured=u if control is None else {**u, "negative_control": control},
         threshold={"relative_input_gap_max": 1e-10, "normalised_bias_level": BIAS_TOL,
-                   **({"negative_control": NC_LEVEL} if by_mc else {})},
-        holds=holds, basis=basis,
-        not_checked=None if holds is not None else (
-            "the exact part holds by identities (by construction); the Monte Carlo part can only refute and "
-            f"detected no bias (it refutes only |bias| >~ {u['mc_refutable_bias_sd']:.2f} sd at {u['n_runs']} runs)"),
-        premise=None if not by_mc else (
+                   **({"negative_control": NC_LEVEL} if variant else {})},
+        holds=holds, basis="by-construction",
+        premise=None if not variant else (
             f"negative control: the same exact part with the unconstrained gain S Xi_breve^+ detects the "
             f"attack (relative change of the input errors > {NC_LEVEL:g})",
             bool(control["relative_input_gap"] > NC_LEVEL)),
         source="Sec. III-B, (8)-(10) and the sentence before (10) (unbiasedness); abstract, Sec. VI (the joint estimate)",
         interval=results.interval(u["bias_ci_low"], u["bias_ci_high"], level=0.95,
                                   method="t, Bonferroni over every (k, node, component), envelope"),
-        key="bias_ci_reach", tolerance=MC_TOL, runs=int(u["n_runs"]), decides=decides,
+        key="bias_ci_reach", tolerance=MC_TOL, runs=int(u["n_runs"]),
         section="Unbiasedness, decoupling and signal invariance")
 
 
-def c5_holds(m, lemma_tol=1e-9):
-    """The rule of C5 on the headline numbers of a set of local steps (round 2: with the kappa-scaled
-    test of (27)'s K U_1 at the random Gamma)."""
+def c5_holds_round2(m, lemma_tol=1e-9):
+    """C5's rule of rounds 2-4 (history, recorded as holds_round2_allowance_rule): the random-Gamma part
+    (27) against the allowances 1e-9 + 1e-12 kappa (gap) and 1e-10 + 1e-12 kappa ||S Theta_Gamma||
+    (||K U_1||), a factor not derived from a bound."""
     return bool(m["max_KU1"] < 1e-10 and m["max_rel_gap_kkt"] <= lemma_tol
                 and m["max_rel_excess_over_cvxpy"] <= lemma_tol and m["max_L1_allowance_used"] <= 1.0
                 and m["max_KU1_L1_allowance_used"] <= 1.0 and m["max_eq29_vs_25"] < 1e-10)
+
+
+def c5_holds(m):
+    """C5's rule since round 5: the shared parts two-way, the random-Gamma part of (27) three-way with
+    the derived round-off band (:func:`first_rule_three_way`, X3's rule): True, False or None."""
+    return first_rule_three_way(m)
 
 
 def c5_holds_first_rule(m, lemma_tol=1e-9):
@@ -2144,26 +2248,32 @@ C5_CHECK = ("under our corrected reading (E3, E4, E5): the symbol Xi_tilde in (2
             "matrix in (28) is not the minimiser (below). The verdict rests on that reading: read literally, "
             "with Xi_breve in (28), the gain keeps K U_1 = 0 but its trace exceeds the optimum in every "
             "instance (ratio_Xi_breve_read_into_28, recorded), so the printed reading fails. "
-            "Relative trace gap of (28) to the KKT solve <= 1e-9; (28) above cvxpy's (CLARABEL) "
-            "optimum by <= 1e-9 relative (one-sided: cvxpy above (28) is the solver's tolerance); gap to (27) "
-            "with a random Gamma <= 1e-9 + 1e-12 cond(Gamma Xi_breve Gamma^T) (its round-off grows with "
-            "that condition number), each gain scored by the full expansion (25); ||K U_1|| < 1e-10 "
-            "for (28), KKT and Lemma 2's Gamma; for (27) at the random Gamma ||K U_1|| <= 1e-10 + 1e-12 "
-            "cond(Gamma Xi_breve Gamma^T) ||S Theta_Gamma|| (round 2 of the issue #30 review, a changed "
-            "rule: the round-off of the projector grows with kappa and ||S Theta||; between commit 56c8733 "
-            "and round 2 this residual was recorded, not tested; X3 keeps the first-stated rule); cvxpy's "
-            "residual is recorded, not tested (its solver tolerance); "
-            "|(29) - (25)| < 1e-10")
+            "Two-way parts (every threshold ours; their values lie four orders or more below them): relative "
+            "trace gap of (28) to the KKT solve <= 1e-9; (28) above cvxpy's (CLARABEL) optimum by <= 1e-9 "
+            "relative (one-sided: cvxpy above (28) is the solver's tolerance); ||K U_1|| < 1e-10 for (28), KKT "
+            "and Lemma 2's Gamma; |(29) - (25)| < 1e-10; each gain scored by the full expansion (25). Lemma "
+            "1's gain (27) at a random Gamma (round 5 of issue #30: X3's rule, adopted for C5 after its "
+            "outcome on the committed draws was known, because it is derived, not fitted): ||K U_1|| < 1e-10 "
+            "(ours) and relative trace gap to (28) < 1e-9 (ours), decided three-way on every instance with "
+            "the round-off band b = c eps kappa ||S Theta_Gamma||_2 (gap: c eps kappa), kappa = cond(Gamma "
+            "Xi_breve Gamma^T), c = 3 n_y, eps = float64 machine epsilon 2^-52 (reason for c: the forward "
+            "error of a solve is <= kappa times its backward error, <= gamma_3n ~ 3 n eps for LU/Cholesky of "
+            "order n <= n_y, Higham 2002, Thm 9.4): holds if value + b < threshold on every instance, fails "
+            "if value - b > threshold on one, else not-checked (a threshold inside an instance's band: "
+            "whether the value passes it is round-off, not Lemma 1). Rounds 2-4 judged this part against "
+            "the allowances 1e-9 + 1e-12 kappa (gap) and 1e-10 + 1e-12 kappa ||S Theta_Gamma|| (||K U_1||), "
+            "introduced after failing runs (commit 146b9f8; round 2 after 56c8733 had stopped testing the "
+            "residual) and not derived from a bound; that rule's outcome is recorded "
+            "(holds_round2_allowance_rule). cvxpy's residual is recorded, not tested (its solver tolerance)")
 claims = {}
 claims["C1"] = c1_claim(c1_ex, " (the paper's example)", decides=True)
 claims["C1_nd"] = c1_claim(c1_nd, " (our non-degenerate variant, K != 0)")
-claims["C2"] = c2_claim(c2_ex, " (the paper's example, where K == 0: decoupling by structure)",
-                        basis="by-construction")
+claims["C2"] = c2_claim(c2_ex, " (the paper's example, where K == 0: decoupling by structure)")
 claims["C2_nd"] = c2_claim(c2_nd, " (on an instance of ours: the non-degenerate variant, K != 0, where the "
-                           "constraint does the work)", decides=True, control=nc_nd)
-claims["C7"] = c7_claim(c2_ex, " (the paper's example, where K == 0)", basis="by-construction")
+                           "constraint does the work)", control=nc_nd)
+claims["C7"] = c7_claim(c2_ex, " (the paper's example, where K == 0)")
 claims["C7_nd"] = c7_claim(c2_nd, " (on an instance of ours: the non-degenerate variant, K != 0)",
-                           decides=True, control=nc_nd)
+                           control=nc_nd)
 c8["rule_outcome_at_our_signals"] = bool(c8["ratio_max"] < 1.0)
 claims["C8"] = results.claim(
     paper="Abstract: 'a numerical example is provided to show the effectiveness of the proposed estimation "
@@ -2202,20 +2312,28 @@ claims["C3"] = results.claim(
     check=f"exact, over {n_steps_bound} steps: min eigenvalue of P_bar > 0; the maxima of "
     "lambda_max(P_bar) and of tr P (true MSE) over the last 5 periods of A_k (2 pi / h steps) are "
     "<= 1.01 x their maxima over the 5 periods before (no growth; 1.01 is ours: sampling jitter of the "
-    "maxima of a quasi-periodic bounded regime, far below any growth Theorem 2 excludes). At the example "
+    "maxima of a quasi-periodic bounded regime at the scale of the example and of C3_u's instances, s <= 3; "
+    "not a general test of boundedness, see C3_u). Theorem 2's Assumptions 1-2 hold at the example "
+    "(assumptions_1_2_hold, recorded separately); the premise entry is the precondition of the "
+    "measurement, which fails. At the example "
     "the precondition fails: every node's local error dynamics without fusion, (I - KC)(I - JC)A_{k-1}, "
     "contracts over a period (local_period_norm_per_node), so every local filter is bounded without the "
     "fusion and a bounded error says nothing about Theorem 2. Does not decide (the rule of the verdict "
     "section): Theorem 2 is decided at instances of ours that satisfy its premises, C3_u",
-    measured=c3, threshold={"p_lower": 0.0, "growth": 1.01},
+    measured={**c3, "assumptions_1_2_hold": premise_c3, "min_abs_det_A": float(min_det_A),
+              "collective_rank_min": int(rank_coll.min()),
+              "precondition_holds": bool(c3["local_period_norm_max"] >= 1.0)},
+    threshold={"p_lower": 0.0, "growth": 1.01},
     holds=bounded_holds(c3),
     source="Sec. IV, Lemma 3, Theorem 2, (34)",
-    premise=("Assumptions 1-2 (A_k invertible, (A_k, C_2,k) collectively observable), and, as a "
-             "precondition of the measurement, some node's local error dynamics without fusion does not "
+    premise=("precondition of the measurement (precondition_holds): some node's local "
+             "error dynamics without fusion does not "
              "contract over a period: max_i max_k0 ||Phi^i_{k0+w}...Phi^i_{k0+1}|| >= 1, Phi^i_k = "
              "(I - K^i_k C^i_k)(I - J^i_k C^i_k) A_{k-1}, w = 2 pi / h (otherwise every node's local "
              "filter is bounded on its own and the check says nothing about Theorem 2's mechanism, "
-             "boundedness through collective observability and the fusion)",
+             "boundedness through collective observability and the fusion); together with Theorem 2's "
+             "Assumptions 1-2 (A_k invertible, (A_k, C_2,k) collectively observable), recorded separately "
+             f"(assumptions_1_2_hold: {premise_c3})",
              premise_c3 and c3["local_period_norm_max"] >= 1.0),
     key="growth_tr_P_exact", section="Boundedness (Lemma 3, Theorem 2)")
 claims["C3_u"] = results.claim(
@@ -2224,8 +2342,18 @@ claims["C3_u"] = results.claim(
     "non-degenerate variant with A_k replaced by exp(3h) A_k (rates -1, -2, -1 mirrored to +2, +1, +2), "
     "where the local error dynamics do not contract",
     check=f"the C3 rule on both instances, exact over {n_steps_bound} steps: min eigenvalue of P_bar > 0, "
-    "no growth (<= 1.01) of the maxima of lambda_max(P_bar) and tr P over the last 5 periods against "
-    "the 5 before; holds only if both instances hold. Premise evaluated on the instances: Assumption 1 "
+    "no growth (<= 1.01, ours) of the maxima of lambda_max(P_bar) and tr P over the last 5 periods against "
+    "the 5 before; holds only if both instances hold. The level 1.01 was checked only at these "
+    f"instances' scale, A_k -> exp(s h) A_k with s = {UNSTABLE_SHIFT:g}, and is not a general test of "
+    "boundedness (round 5, after the review of round 4): on the example at s = "
+    + ", ".join(f"{s_:g}" for s_ in PROBE_SHIFTS) + f" over {2 * n_steps_bound} steps the growth ratio of "
+    "tr P_bar is " + ", ".join(f"{g:.4g}" for g in c3_u_flat["rule_probe_growth_tr_Pbar"])
+    + " and the per-period maxima of its last ten periods spread by a factor "
+    + ", ".join(f"{g:.3g}" for g in c3_u_flat["rule_probe_per_period_max_spread_tr_Pbar"])
+    + " (rule_probe_*, recorded, not tested): there the ratio of two five-period maxima is set by slow "
+    "beats of the per-period maxima, and the rule could record as 'fails' an error that does not grow. "
+    "C3_u's outcome says no more than: no growth beyond 1 % between the two windows at s = "
+    f"{UNSTABLE_SHIFT:g}. Premise evaluated on the instances: Assumption 1 "
     "(min |det A_k| > 0), Assumption 2 (window rank of (A_k, stacked C_2,k) = 3), and the precondition "
     "of C3: some node's local error dynamics without fusion, (I - KC)(I - JC)A_{k-1}, does not contract "
     "over a period (local period-product norm >= 1). Decides for Theorem 2 (the rule of the verdict "
@@ -2271,35 +2399,44 @@ c5 = {**lemma_measures(rows),
       "ratio_Xi_breve_read_into_28": [float(ratio_breve.min()), float(np.median(ratio_breve)),
                                       float(ratio_breve.max())],
       "example_max_abs_K": c2_ex["max_abs_K"]}
-claims["C5"] = results.claim(
-    paper=C5_PAPER + " (decided on instances of ours: random general instances; the example cannot "
-    "exercise it, K == 0 there, E6)",
-    check=f"{len(rows)} random general instances of ours (lemma_seed {lemma_seed}), not the paper's "
-    "example: " + C5_CHECK + "."
-    + f" Largest leak the ||K U_1|| allowance of (27) admits here: {c5['KU1_allowance_at_max_cond']:.2g} at the "
-    f"largest kappa ({c5['max_cond_lemma1_random_gamma']:.2g}), {c5['max_KU1_allowance']:.2g} at most over the "
-    "instances; the factor 1e-12 is 4504 eps, 4504 / (3 n_y) >= 250 times the band c eps kappa ||S Theta|| "
-    "(c = 3 n_y) that X3 and X4 use; the measured residuals reach at most "
-    f"{c5['max_KU1_L1_over_eps_kappa_STheta']:.2g} of eps kappa ||S Theta|| (max_KU1_L1_over_eps_kappa_STheta)"
-    + (", so any factor between eps and 1e-12 gives the same outcome here" if c5['max_KU1_L1_over_eps_kappa_STheta'] <= 1
-       else "") + "; the factor is kept as stated in round 2 (not changed after the outcome)",
-    measured=c5, threshold={"KU1": 1e-10, "rel_gap": 1e-9, "eq29": 1e-10}, holds=c5_holds(c5),
-    source="Sec. III-D, Lemmas 1-2, (26)-(30)", key="max_rel_gap_kkt", tolerance=CVX_TOL,
-    decides=True, section="Lemmas 1 and 2 on random general instances")
-claims["C5_nd"] = results.claim(
-    paper=C5_PAPER + " (on an instance of ours: the non-degenerate variant, 50 evenly spaced steps, every node)",
-    check=f"{c5_nd['n_steps_checked']} node-steps of the variant (cvxpy on {c5_nd['n_cvxpy']}): "
-    + C5_CHECK + "."
-    + f" Largest leak the ||K U_1|| allowance of (27) admits here: {c5_nd['KU1_allowance_at_max_cond']:.2g} at the "
-    f"largest kappa ({c5_nd['max_cond_lemma1_random_gamma']:.2g}), {c5_nd['max_KU1_allowance']:.2g} at most over the "
-    "instances; the factor 1e-12 is 4504 eps, 4504 / (3 n_y) >= 250 times the band c eps kappa ||S Theta|| "
-    "(c = 3 n_y) that X3 and X4 use; the measured residuals reach at most "
-    f"{c5_nd['max_KU1_L1_over_eps_kappa_STheta']:.2g} of eps kappa ||S Theta|| (max_KU1_L1_over_eps_kappa_STheta)"
-    + (", so any factor between eps and 1e-12 gives the same outcome here" if c5_nd['max_KU1_L1_over_eps_kappa_STheta'] <= 1
-       else "") + "; the factor is kept as stated in round 2 (not changed after the outcome)",
-    measured=c5_nd, threshold={"KU1": 1e-10, "rel_gap": 1e-9, "eq29": 1e-10}, holds=c5_holds(c5_nd),
-    source="Sec. III-D, Lemmas 1-2, (26)-(30)", key="max_rel_gap_kkt", tolerance=CVX_TOL,
-    section="A non-degenerate variant: the design at work ($K\\ne0$)")
+C5_THRESHOLD = {"KU1": 1e-10, "rel_gap": 1e-9, "eq29": 1e-10,
+                "band_KU1_random_gamma": "c eps cond(Gamma Xi_breve Gamma^T) ||S Theta_Gamma||_2",
+                "band_rel_gap_random_gamma": "c eps cond(Gamma Xi_breve Gamma^T)", "c_per_n_y": BAND_C_PER_NY,
+                "eps": "float64 machine epsilon, 2^-52", "eps_log2": EPS_LOG2}
+
+
+def c5_claim(m, paper_where, check_head, section, decides=False):
+    """C5 / C5_nd on a set of local steps: the round-5 rule (:func:`c5_holds`), the round 2-4 outcome
+    and the leak its allowance admitted recorded."""
+    m = {**m, "holds_round2_allowance_rule": c5_holds_round2(m)}
+    holds = c5_holds(m)
+    return results.claim(
+        paper=C5_PAPER + paper_where,
+        check=check_head + C5_CHECK + ". At this point: the random-Gamma part has "
+        f"{m['first_rule_rows_below']} instances below both thresholds by more than their band, "
+        f"{m['first_rule_rows_above']} above one by more than its band and {m['first_rule_rows_inside_band']} "
+        "with a threshold inside the band (first_rule_rows_*). History: the round 2-4 allowance admitted a "
+        f"leak of up to {m['KU1_allowance_at_max_cond']:.2g} at the largest kappa "
+        f"({m['max_cond_lemma1_random_gamma']:.2g}), {m['max_KU1_allowance']:.2g} at most over the instances "
+        f"(measured residuals: at most {m['max_KU1_L1_over_eps_kappa_STheta']:.2g} of eps kappa ||S Theta||, "
+        "max_KU1_L1_over_eps_kappa_STheta)",
+        measured=m, threshold=C5_THRESHOLD, holds=holds,
+        not_checked=None if holds is not None else (
+            f"a threshold of the random-Gamma part lies inside the round-off band of "
+            f"{m['first_rule_rows_inside_band']} of the {m['n_steps_checked']} instances (none above its band; "
+            "the two-way parts hold): whether those residuals pass 1e-10 / 1e-9 is round-off here"),
+        source="Sec. III-D, Lemmas 1-2, (26)-(30)", key="max_rel_gap_kkt", tolerance=CVX_TOL,
+        decides=decides, section=section)
+
+
+claims["C5"] = c5_claim(
+    c5, " (decided on instances of ours: random general instances; the example cannot exercise it, K == 0 "
+    "there, E6)", f"{len(rows)} random general instances of ours (lemma_seed {lemma_seed}), not the paper's "
+    "example: ", "Lemmas 1 and 2 on random general instances", decides=True)
+claims["C5_nd"] = c5_claim(
+    c5_nd, " (on an instance of ours: the non-degenerate variant, 50 evenly spaced steps, every node)",
+    f"{c5_nd['n_steps_checked']} node-steps of the variant (cvxpy on {c5_nd['n_cvxpy']}): ",
+    "A non-degenerate variant: the design at work ($K\\ne0$)")
 # The C5 rule as first stated (before the kappa allowance of the (27) gap, added after a first variant
 # run, and before commit 56c8733, 25 Nov 2026, which also cut the design from 8 to 4 Sobol points after
 # the failing first sweep, removing the failing draw lemma_seed 29109) required ||K U_1|| < 1e-10 of
@@ -2312,12 +2449,13 @@ rows_29109 = [lemma_row(random_instance(replay_rng, *shapes[n % len(shapes)]), r
               for n in range(30)]
 FIRST_RULE_THRESHOLD = {"KU1_lemma1_random_gamma": 1e-10, "rel_gap_lemma1_random_gamma": 1e-9,
                         "band_KU1": "c eps cond(Gamma Xi_breve Gamma^T) ||S Theta_Gamma||_2",
-                        "band_rel_gap": "c eps cond(Gamma Xi_breve Gamma^T)", "c_per_n_y": BAND_C_PER_NY, "eps": EPS}
+                        "band_rel_gap": "c eps cond(Gamma Xi_breve Gamma^T)", "c_per_n_y": BAND_C_PER_NY,
+                        "eps": "float64 machine epsilon, 2^-52", "eps_log2": EPS_LOG2}
 FIRST_RULE_TEXT = (
     "The first-stated rule's two thresholds on Lemma 1's gain (27) at a random Gamma, ||K U_1|| < 1e-10 "
     "and relative trace gap to (28) < 1e-9, decided three-way on every instance with its round-off "
     f"band (c = {BAND_C_PER_NY} n_y): band_KU1 = c eps kappa ||S Theta_Gamma||_2, band_gap = c eps kappa, "
-    "kappa = cond(Gamma Xi_breve Gamma^T), eps = 2.2e-16. Why c = 3 n_y: the forward error of a solve "
+    "kappa = cond(Gamma Xi_breve Gamma^T), eps = float64 machine epsilon, 2^-52 (recorded as eps_log2 = -52). Why c = 3 n_y: the forward error of a solve "
     "with condition kappa is <= kappa times its backward error, which is bounded by gamma_{3n} ~ 3 n eps "
     "for an LU/Cholesky solve of order n (Higham 2002, Thm 9.4), n <= n_y here; c was first set to 1 (the "
     "first-order bound kappa eps alone) and raised to 3 n_y before the sweep, after one fast-mode run of "
@@ -2325,7 +2463,7 @@ FIRST_RULE_TEXT = (
     "(max_KU1_L1_over_eps_kappa_STheta is recorded at every point). Holds if every instance lies below both thresholds by more than its band "
     "(value + band < threshold), fails if one lies above one by more than its band (value - band > "
     "threshold), else not-checked (a threshold inside an instance's band: whether the value passes "
-    "it depends on the machine and the run, not on Lemma 1). The parts shared with C5's current rule "
+    "it depends on the machine and the run, not on Lemma 1). The parts shared with C5's rule "
     "((28), KKT and Lemma 2's ||K U_1|| < 1e-10, the KKT gap and cvxpy excess <= 1e-9, |(29) - (25)| "
     "< 1e-10) are two-way as in C5: their values lie four orders or more below the thresholds. "
     "Round 4 of issue #30 made this rule three-way AFTER the two-way outcomes were known (X3 held "
@@ -2345,6 +2483,8 @@ x3 = {"C5_max_KU1_all_gains": max(c5["max_KU1"], c5["max_KU1_lemma1_random_gamma
       "C5_rows_above": c5["first_rule_rows_above"], "C5_nd_rows_above": c5_nd["first_rule_rows_above"],
       "C5_first_rule_three_way": x3_c5, "C5_nd_first_rule_three_way": x3_nd,
       "C5_holds_current_rule": c5_holds(c5), "C5_nd_holds_current_rule": c5_holds(c5_nd),
+      "C5_holds_round2_allowance_rule": c5_holds_round2(c5),
+      "C5_nd_holds_round2_allowance_rule": c5_holds_round2(c5_nd),
       "C5_holds_first_rule_two_way": c5_holds_first_rule(c5),
       "C5_nd_holds_first_rule_two_way": c5_holds_first_rule(c5_nd)}
 x3["max_KU1_all_gains"] = max(x3["C5_max_KU1_all_gains"], x3["C5_nd_max_KU1_all_gains"])
@@ -2355,20 +2495,23 @@ claims["X3"] = results.claim(
     "||K U_1|| < 1e-10 also for Lemma 1's gain (27) with a random Gamma, and its trace gap < 1e-9 with no "
     "allowance, decided three-way with a stated round-off band (round 4 of issue #30)",
     check="on C5's and on C5_nd's draws of this point; holds iff both hold, fails if one fails, else "
-    "not-checked. " + FIRST_RULE_TEXT + ". History: the rule was relaxed twice (the allowance 1e-9 + "
-    "1e-12 kappa of the (27) gap after a first variant run, where one of 800 node-steps had a gap of "
+    "not-checked. " + FIRST_RULE_TEXT + ". History (numbers of the named commits' texts, not of this run): the rule was relaxed twice (the "
+    "allowance 1e-9 + 1e-12 kappa of the (27) gap in commit 146b9f8, after a first variant run where, as "
+    "that commit's notebook says (no artefact of the run was committed), one of 800 node-steps had a gap of "
     "4.5e-8; in commit 56c8733, after the first sweep (73 points), the random-Gamma residual recorded "
     "instead of tested: it reached 1.7e-10 (lemma_seed 29109, C5) and 4.9e-10 (variant_seed 994542, "
     "C5_nd) at kappa ~ 2e8 while (28)'s own residual stayed below 3e-14; the same commit cut the design "
-    "from 8 to 4 Sobol points, which removed the draw lemma_seed 29109, replayed in X4); round 2 tests "
-    "that residual again in C5, kappa-scaled",
+    "from 8 to 4 Sobol points, which removed the draw lemma_seed 29109, replayed in X4); round 2 tested "
+    "that residual again in C5 against the kappa-scaled allowance; since round 5 C5 and C5_nd decide the "
+    "random-Gamma part by this three-way rule, so X3 is their combined outcome",
     measured=x3, threshold=FIRST_RULE_THRESHOLD, holds=x3_holds,
     not_checked=None if x3_holds is not None else (
         f"a first-rule threshold lies inside the round-off band of {x3['C5_rows_inside_band']} of C5's "
         f"and {x3['C5_nd_rows_inside_band']} of C5_nd's instances (no instance above its band)"),
     source="ours (the C5 rule as first stated)", key="max_KU1_all_gains", tolerance=CVX_TOL,
     section="Lemmas 1 and 2 on random general instances")
-x4 = {**lemma_measures(rows_29109), "holds_current_rule_without_cvxpy": c5_holds(lemma_measures(rows_29109))}
+x4 = {**lemma_measures(rows_29109),
+      "holds_round2_allowance_rule_without_cvxpy": c5_holds_round2(lemma_measures(rows_29109))}
 x4["holds_first_rule_two_way_without_cvxpy"] = c5_holds_first_rule(x4)
 x4_holds = first_rule_three_way(x4)
 x4_by_band = bool(x4["max_band_KU1_lemma1_random_gamma"] > 1e-10 and x4["first_rule_rows_above"] == 0)
@@ -2383,7 +2526,7 @@ claims["X4"] = results.claim(
        f"{x4['max_band_KU1_lemma1_random_gamma']:.2g}, far above the threshold 1e-10, so no residual "
        "below that band can be decided: X4 records that the first rule cannot decide this draw, "
        "nothing about Lemma 1. " if x4_by_band else "")
-    + "Recorded: the current rule's outcome on the draw (holds_current_rule_without_cvxpy) and the "
+    + "Recorded: the round 2-4 allowance rule's outcome on the draw (holds_round2_allowance_rule_without_cvxpy) and the "
     "first rule's two-way outcome (holds_first_rule_two_way_without_cvxpy)",
     measured=x4, threshold=FIRST_RULE_THRESHOLD, holds=x4_holds,
     not_checked=None if x4_holds is not None else (
@@ -2419,10 +2562,14 @@ claims["X1"] = results.claim(
     paper="(ours) consequence of (15)-(16) and (21) with K U_1 = 0: the state and input-estimate "
     "errors do not depend on d_k or a_k at all, so the paper's Figs. 1-2 show the same errors "
     "whatever signals it used",
-    check=f"the first {n_invariance} Monte Carlo runs re-run with identical noise and the second "
+    check=f"BY CONSTRUCTION (the criterion of the Claims section, round 5; measured until round 4): the "
+    "errors' independence of (d, a) is the identity of C2_nd's exact part (K U_1 = 0 for every Theta, "
+    "G_bar_1 = 0, M_bar_2 C_2 G_bar_2 = I (10)), which holds for any data; shown, not evidence. The first "
+    f"{n_invariance} Monte Carlo runs re-run with identical noise and the second "
     "signal set, the random set and d = a = 0 (example and variant): max change of the state and "
-    "input-estimate errors <= 1e-10 x max(1, |x|, |u|) (round-off is ~1e-16 of that scale)",
+    "input-estimate errors <= 1e-10 (ours) x max(1, |x|, |u|) (round-off is ~1e-16 of that scale)",
     measured=x1, threshold=1e-10, holds=bool(x1["max_relative_gap"] <= 1e-10), source="ours",
+    basis="by-construction",
     key="max_relative_gap", tolerance=MC_TOL, runs=n_invariance,
     section="Unbiasedness, decoupling and signal invariance")
 x2_ci = x2["ratio_ci_per_node_component"]
@@ -2443,12 +2590,115 @@ claims["X2"] = results.claim(
                               method="t, envelope of the per-node, per-component intervals"),
     key="worst_ratio_deviation", tolerance=MC_TOL, runs=n_mc,
     section="The scatter of the input estimates (prediction for Fig. 1)")
-written = json.loads(results.write_claims(results_path, claims,
-                                          robustness="figures/guo2023/robustness.json").read_text())
+
+
+def with_round_off_in_eps(measured):
+    """Round 5: every top-level number of a measured record that the claims file's rounding would cut
+    (0 < |x| < 1e-9, where multiples of 1e-13 keep fewer than four digits; the package-wide rule of
+    ``results.write_claims``) is recorded also in units of float64 machine epsilon, as <name>_in_eps."""
+    if not isinstance(measured, dict):
+        return measured
+    return {**measured, **{f"{k}_in_eps": float(v) / EPS for k, v in measured.items()
+                           if isinstance(v, float) and 0 < abs(v) < 1e-9}}
+
+
+for entry in claims.values():
+    entry["measured"] = with_round_off_in_eps(entry["measured"])
+
+# Round 5: rules changed after the committed sweep (which is not re-run). Where the committed rows carry
+# the information, the outcomes under the current rule are re-derived from them; where they do not, the
+# sweep's counts are kept, labelled as the previous rule's, and the verdict is the outcome at this point.
+BC_RESWEEP = ("round 5 made the claim by construction (the criterion of the Claims section): holds unless "
+              "the exact part or the Monte Carlo refuter fails. The committed sweep ran under round 4's rule "
+              "(not-checked unless refuted), under which a point is not-checked exactly when the exact part "
+              "held and the refuter refuted nothing, i.e. holds under the current rule: outcomes re-derived "
+              "from the committed robustness.csv rows (not-checked -> holds, fails -> fails), not re-swept")
+C5_NOT_RESWEPT = ("counts under the previous rule (rounds 2-4: the random-Gamma part of (27) against the "
+                  "allowance 1e-12 kappa), not re-swept: the committed rows do not carry the per-instance "
+                  "bands the round-5 rule needs, so its outcome over the space is not known; the verdict is "
+                  "the outcome at this point")
+SWEEP_RULE_CHANGED = {"C2_nd": (BC_RESWEEP, {"not-checked": "holds", "fails": "fails"}),
+                      "C7_nd": (BC_RESWEEP, {"not-checked": "holds", "fails": "fails"}),
+                      "C5": (C5_NOT_RESWEPT, None), "C5_nd": (C5_NOT_RESWEPT, None)}
+DRAW_TEXT = ("wilson over the independent draws: decided points grouped by their non-signal axes (n_steps, "
+             "x0_spread, seed, variant_seed, lemma_seed; the 9 signal cells of a draw are exact replicates, "
+             "X1), a draw holding if all its points hold; n = min(distinct records, draws)")
+
+
+def sweep_summary_guo2023():
+    """The committed sweep: its summary, rows and design points (None if there is none), and, per claim,
+    the robustness entry the claims file gets: the sweep's, re-derived where a rule changed after it
+    (SWEEP_RULE_CHANGED), with the interval over the independent draws where the sweep's counts
+    replicates (round 5: C2's 9 records of 5 draws)."""
+    import csv
+
+    from secest.core.montecarlo import wilson_interval
+    from secest.repro import sweep as sweep_mod
+
+    summary_path = results.resolve("figures/guo2023/robustness.json")
+    rows_path = results.resolve("figures/guo2023/robustness.csv")
+    if not (summary_path.exists() and rows_path.exists()):
+        return None
+    summary = json.loads(summary_path.read_text())
+    with rows_path.open() as fh:
+        rows = list(csv.DictReader(fh))
+    space = spaces.load("guo2023")
+    points = spaces.design(space)
+    if len(points) != len(rows) or any(str(p["seed"]) != r["seed"] for p, r in zip(points, rows, strict=True)):
+        raise ValidationError("robustness.csv does not follow the declared design: re-run the sweep")
+    non_signal = [a for a in space.axes if a not in ("d_signal", "a_signal")]
+    entries = {}
+    for cid, s_ in summary.items():
+        entry = dict(s_)
+        rule = SWEEP_RULE_CHANGED.get(cid)
+        cid_rows = rows
+        if rule is not None and rule[1] is not None:
+            cid_rows = [{**r, f"{cid}.outcome": rule[1][r[f"{cid}.outcome"]]} for r in rows]
+            entry = {**sweep_mod.summarise(space, cid_rows, points)[cid], "rule_changed_after_sweep": rule[0],
+                     "outcomes_under_the_sweep_rule": s_["outcomes"],
+                     "verdict_under_the_sweep_rule": s_["verdict"]}
+        elif rule is not None:
+            entry = {k: v for k, v in s_.items() if k not in ("verdict", "outcomes", "fraction_holds",
+                                                              "interval", "region")}
+            entry.update({"rule_changed_after_sweep": rule[0],
+                          "outcomes_under_previous_rule": s_["outcomes"],
+                          "verdict_under_previous_rule": s_["verdict"],
+                          "region": f"under the previous rule: {s_['region']}; not re-swept"})
+        if cid != "C8" and entry.get("decided"):
+            decided = [r for r in cid_rows if r[f"{cid}.outcome"] in ("holds", "fails")]
+            draws = {}
+            for r in decided:
+                key_ = tuple(r[a] for a in non_signal)
+                draws[key_] = draws.get(key_, True) and r[f"{cid}.outcome"] == "holds"
+            n = min(entry["records"], len(draws))
+            entry["independent_draws"] = len(draws)
+            if n < entry["records"]:
+                lo, hi = wilson_interval(sum(draws.values()), n)
+                entry["interval_counting_records"] = entry["interval"]
+                entry["interval"] = results.interval(lo, hi, method=DRAW_TEXT)
+        entries[cid] = entry
+    return entries
+
+
+robustness_entries = sweep_summary_guo2023()
+if robustness_entries is not None:
+    for cid, entry in claims.items():
+        if cid in robustness_entries:
+            rob = robustness_entries[cid]
+            entry["robustness"] = rob
+            entry["verdict"] = rob["verdict"] if "verdict" in rob else results.point_verdict(entry)
+            if "verdict" not in rob:
+                rob["verdict"] = entry["verdict"]
+written = json.loads(results.write_claims(results_path, claims).read_text())
 for cid, c in written.items():
     share = c.get("robustness", {})
-    over = (f" over the declared space ({share['outcomes']['holds']} of {share['points']} points)"
-            if share else " (this point; no sweep summary yet)")
+    if "outcomes_under_previous_rule" in share:
+        over = (f" (the outcome here; the previous rule held at {share['outcomes_under_previous_rule']['holds']} "
+                f"of {share['points']} points of the sweep; not re-swept)")
+    elif share:
+        over = f" over the declared space (holds at {share['outcomes']['holds']} of {share['points']} points)"
+    else:
+        over = " (this point; no sweep summary yet)"
     print(f"{cid}: {results.point_verdict(c)} here; verdict {c['verdict']}{over}"
           + (" [by construction: not evidence]" if c["basis"] == "by-construction" else ""))
 
@@ -2464,9 +2714,11 @@ for cid, c in written.items():
 # Sec. VI):
 #
 # * "a novel distributed state estimator is developed against unknown inputs and deception attacks",
-#   a joint state **and input** estimator (abstract, Sec. VI) — the local estimate is unbiased whatever
-#   $d_k$, $a_k$ (C2 / **C2_nd**), the input estimates are unbiased (C7 / **C7_nd**), the fused pair is
-#   consistent (Theorem 1, **C1**), the constrained trace-optimal gain (Lemmas 1-2, **C5**);
+#   a joint state **and input** estimator (abstract, Sec. VI) — the fused pair is consistent (Theorem 1,
+#   **C1**), the constrained trace-optimal gain (Lemmas 1-2, **C5**); the local estimate is unbiased
+#   whatever $d_k$, $a_k$ (C2 / C2_nd) and the input estimates are unbiased (C7 / C7_nd) — these two are by
+#   construction at the example and on our variant alike (the criterion of the Claims section, round 5),
+#   so they are shown and do not decide;
 # * "a sufficient condition is provided by showing that the estimation error in each node is uniformly
 #   bounded in mean square" — Theorem 2 (C3 / **C3_u**);
 # * "Finally, a numerical example is provided to show the effectiveness of the proposed estimation
@@ -2490,10 +2742,12 @@ for cid, c in written.items():
 #   precondition (`fails-premise`, not deciding); **C3_u decides**, on our two unstable instances (U);
 # * the unbiasedness of the local estimate (C2) and of the input estimates (C7): at the example they
 #   reduce to the identities C6 marks by construction ($K\equiv0$, $\bar M_2C_2\bar G_2=I$, $\bar G_1=0$),
-#   so C2 and C7 there are `by-construction`; **C2_nd and C7_nd decide**, on our non-degenerate variant
-#   (V), with the same quotes — and there too their exact part holds by identities (the projector form of
-#   (28) gives $KU_1=0$ for every $\Theta$), so since round 4 they are decided on their Monte Carlo part,
-#   which can only refute: not-checked unless it refutes;
+#   so C2 and C7 there are `by-construction`; on our non-degenerate variant (V) their exact part holds by
+#   identities too (the projector form of (28) gives $KU_1=0$ for every $\Theta$), so C2_nd and C7_nd are
+#   `by-construction` as well (round 5) and **do not decide**: there is no declared instance on which these
+#   statements could fail other than through a broken implementation. (Rounds 2-3: C2_nd and C7_nd decided
+#   as measured; round 4: decided on their Monte Carlo refuter, not-checked.) The contribution is not
+#   checked here by a measurement that could fail, and the verdict does not count it either way;
 # * Theorem 1 (C1) is exercised by the example (the bound $\bar P$ and the true covariance differ there)
 #   and decides there.
 #
@@ -2511,10 +2765,14 @@ for cid, c in written.items():
 # (an independent hostile review) found that C8's "holds" was set by our invented signal size and that
 # the exact parts of C2_nd and C7_nd hold by identities: C8 is not-checked, C2_nd and C7_nd are decided on
 # their Monte Carlo refuter (not-checked unless it refutes) — after their round-3 outcomes (holds at 37 of
-# 37 points) were known; the verdict moves from [Re] to what the line below says. The
-# remaining `_nd` claims (C1_nd, C5_nd: the example or R
-# already decides those results), C4 (a side statement of Sec. V), C6 (by construction) and the X
-# claims (ours; X5 was C4b) do not decide. C1 and C5 hold under our corrected reading of garbled equations (E3-E5, E7;
+# 37 points) were known; the verdict moved from [Re] to [Re, partial]. **Round 5** (the same review,
+# re-read): one stated criterion for "by construction" (Claims section) makes C2_nd, C7_nd and X1
+# by construction, so C2_nd and C7_nd no longer decide; C5's random-$\Gamma$ part is decided with the derived
+# round-off band instead of the allowance $10^{-12}\kappa$ (not-checked where a threshold lies inside an
+# instance's band) — both made after the round-4 outcomes were known, by the criterion and the derived band,
+# not for an outcome. The remaining `_nd` claims (C1_nd, C5_nd: the example or R
+# already decides those results), C2_nd, C7_nd, C4 (a side statement of Sec. V), C6 and X1 (by
+# construction) and the other X claims (ours; X5 was C4b) do not decide. C1 and C5 hold under our corrected reading of garbled equations (E3-E5, E7;
 # said in their check texts): the verdict rests on that reading. Computed from the claims just written:
 
 # %%
@@ -2523,9 +2781,9 @@ print(VERDICT["line"])
 
 # %% [markdown]
 # The verdict is the line printed above, computed by the rule (README and ERRATA quote it). What it rests
-# on: C1 (and C8, not-checked) at the paper's example; C3_u and C5 at instances of ours (U, R), C2_nd and
-# C7_nd (not-checked: by identities, refuted by nothing) on V, by the stated rule, because the example
-# exercises neither the gain design ($K\equiv0$) nor Theorem 2 (every local filter contracts there).
+# on: C1 (and C8, not-checked) at the paper's example; C3_u and C5 at instances of ours (U, R), by the
+# stated rule, because the example exercises neither the gain design ($K\equiv0$) nor Theorem 2 (every local
+# filter contracts there). C2_nd and C7_nd are by construction (round 5) and do not decide.
 # Further limits of the evidence, not of the rule: the paper's Figs. 1-2 are not
 # available to us, and the constants of (34) cannot be computed.
 # %% [markdown]
@@ -2550,7 +2808,7 @@ print(VERDICT["line"])
 # | A1 | consistency checks | Theorem 1 only | exact joint covariance + Monte Carlo ANEES; extra figure | a numerical check of Theorem 1 the paper does not make |
 # | A2 | accuracy of Figs. 1-2 | "track well", no numbers | signal invariance (X1) and the exact scatter of the input estimates (X2); no accuracy range of ours is presented as the paper's | the paper gives no number to compare with |
 # | A3 | non-degenerate variant | — | third output per node, generic $R$ (ours, `variant_seed`) | the only way to exercise the paper's gain design on its example's dynamics |
-# | A4 | decision rules | — | C2, C7: exact bias (the errors' response to $d,a$) decides "holds" (at the example, by construction; on the variant until round 3); a Monte Carlo part on the normalised bias (level 0.5 sd, ours; simultaneous intervals) can only refute (round 2 of the issue #30 review; round 1 had it as a three-way equivalence rule, recorded), replacing in issue #30 the $\lvert z\rvert>3$-rate rule whose meaning changed with the run count; C1, X2: three-way interval rules (issue #30; no committed outcome changed); C5: (28) not above cvxpy's optimum (one-sided), Lemma 1 with a random $\Gamma$ within $10^{-9}+10^{-12}\kappa$ (added after a first variant run), the random-$\Gamma$ residual $\|KU_1\|$ recorded, not tested, from the first sweep (commit 56c8733) to round 2, now tested $\kappa$-scaled, $\le10^{-10}+10^{-12}\kappa\|S\Theta_\Gamma\|$ (the leak it admits, computed in C5's check text and X4's measured values, reaches about $0.15$ at $\kappa\approx1.9\cdot10^8$ on the replayed draw); X3 applies the first-stated thresholds, X4 replays the removed draw; **round 4**: X3 and X4 decided three-way with the band $c\,\varepsilon\,\kappa\|S\Theta_\Gamma\|$, $c=3n_y$, after their two-way outcomes were known (X3 held at 28, failed at 9 of 37 points; X4 failed at 37), because those outcomes were machine-dependent; C2_nd, C7_nd decided on their Monte Carlo refuter (exact part by identities; a negative control with $S\breve\Xi^\dagger$); C8 not-checked (its ratio is set by our signals' size), $\hat a$ added to its rule | our rules, stated with each claim |
+# | A4 | decision rules | — | C2, C7: exact bias (the errors' response to $d,a$) decides "holds" (at the example, by construction; on the variant until round 3); a Monte Carlo part on the normalised bias (level 0.5 sd, ours; simultaneous intervals) can only refute (round 2 of the issue #30 review; round 1 had it as a three-way equivalence rule, recorded), replacing in issue #30 the $\lvert z\rvert>3$-rate rule whose meaning changed with the run count; C1, X2: three-way interval rules (issue #30; no committed outcome changed); C5: (28) not above cvxpy's optimum (one-sided), Lemma 1 with a random $\Gamma$ within $10^{-9}+10^{-12}\kappa$ (added after a first variant run), the random-$\Gamma$ residual $\|KU_1\|$ recorded, not tested, from the first sweep (commit 56c8733) to round 2, now tested $\kappa$-scaled, $\le10^{-10}+10^{-12}\kappa\|S\Theta_\Gamma\|$ (the leak it admits, computed in C5's check text and X4's measured values, reaches about $0.15$ at $\kappa\approx1.9\cdot10^8$ on the replayed draw); X3 applies the first-stated thresholds, X4 replays the removed draw; **round 4**: X3 and X4 decided three-way with the band $c\,\varepsilon\,\kappa\|S\Theta_\Gamma\|$, $c=3n_y$, after their two-way outcomes were known (X3 held at 28, failed at 9 of 37 points; X4 failed at 37), because those outcomes were machine-dependent; C2_nd, C7_nd decided on their Monte Carlo refuter (exact part by identities; a negative control with $S\breve\Xi^\dagger$); C8 not-checked (its ratio is set by our signals' size), $\hat a$ added to its rule; **round 5** (after the round-4 outcomes were known): one stated criterion for "by construction" — C2_nd, C7_nd and X1 by construction, C2_nd and C7_nd no longer deciding; C5 and C5_nd decide the random-$\Gamma$ part three-way with X3's derived band (the allowance $10^{-12}\kappa$ dropped, its outcome recorded); C3/C3_u's level 1.01 stated as checked at $s=3$ only (a probe at $s=30,50,70$ recorded); C3's assumptions and its measurement's precondition recorded separately; round-off magnitudes recorded in units of $\varepsilon$ (`*_in_eps`) | our rules, stated with each claim |
 # | A5 | C3_u | — | the example and our variant with $A_k\to e^{3h}A_k$ (ours) | the only instances here where Theorem 2's boundedness can fail; deciding by the rule of the verdict section |
 
 # %%
