@@ -2033,10 +2033,8 @@ else:
 MC_TOL = results.Tolerance(
     rtol=1e-6, atol=1e-10,
     reason="Monte Carlo averages over many runs and round-off residues (< 1e-10): another CPU or BLAS "
-    "build changes the last bits of the sums; every decision has a wide margin. Entries named *_in_eps are "
-    "round-off magnitudes in units of float64 machine epsilon (recorded because the claims file rounds "
-    "numbers near zero to multiples of 1e-13): on another machine they reproduce in order of magnitude "
-    "only, and a verify there reports them beyond this tolerance")
+    "build changes the last bits of the sums; every decision has a wide margin. Entries named *_at_most_1e3_eps say whether a "
+    "residue below 1e-9 is round-off (at most 1000 float64 machine epsilons); booleans, exact on every machine")
 CVX_TOL = results.Tolerance(
     rtol=1e-6, atol=1e-3,
     reason="cvxpy / CLARABEL solutions are accurate to the solver's tolerances (~1e-8 relative); "
@@ -2046,10 +2044,8 @@ CVX_TOL = results.Tolerance(
     "the other entries are linear algebra whose values at round-off vary from run to run even on "
     "one machine (the random-Gamma residual 1.194e-10 -> 1.654e-10 and 1.99e-11 -> 6.9e-12 between "
     "two runs here), so where a threshold is near round-off the decision is three-way with a stated "
-    "band (C5, C5_nd, X3, X4), never on the last digits. Entries named *_in_eps are round-off magnitudes "
-    "in units of float64 machine epsilon (the claims file rounds numbers near zero to multiples of "
-    "1e-13): on another machine they reproduce in order of magnitude only, and a verify there reports "
-    "them beyond this tolerance")
+    "band (C5, C5_nd, X3, X4), never on the last digits. Entries named *_at_most_1e3_eps say whether a "
+    "residue below 1e-9 is round-off (at most 1000 float64 machine epsilons); booleans, exact on every machine")
 PREMISE_C1 = ("the initial pair is consistent, cov(x_0 - x0_hat) = x0_spread^2 P_0 <= P_0 "
               "(x0_spread <= 1): Theorem 1's induction starts from it", bool(x0_spread <= 1.0))
 C1_PAPER = ("Theorem 1 (Sec. III-C): with (23)-(25), the fused pair (x_hat_k^i, P_bar_k^i) is "
@@ -2592,18 +2588,21 @@ claims["X2"] = results.claim(
     section="The scatter of the input estimates (prediction for Fig. 1)")
 
 
-def with_round_off_in_eps(measured):
-    """Round 5: every top-level number of a measured record that the claims file's rounding would cut
-    (0 < |x| < 1e-9, where multiples of 1e-13 keep fewer than four digits; the package-wide rule of
-    ``results.write_claims``) is recorded also in units of float64 machine epsilon, as <name>_in_eps."""
+def with_round_off_bound(measured):
+    """Round 5: the claims file rounds numbers near zero to multiples of 1e-13 (the package-wide rule of
+    ``results.write_claims``), so a round-off residue such as 8.8e-15 is written 0.0. Every top-level number
+    below 1e-9 of a measured record gets beside it <name>_at_most_1e3_eps: whether it is at most 1000 float64
+    machine epsilons (2.2e-13), i.e. round-off, not an exact zero's claim. A boolean, so it reproduces on
+    every machine (the residues themselves differ in their digits from machine to machine; the notebook
+    prints them)."""
     if not isinstance(measured, dict):
         return measured
-    return {**measured, **{f"{k}_in_eps": float(v) / EPS for k, v in measured.items()
-                           if isinstance(v, float) and 0 < abs(v) < 1e-9}}
+    return {**measured, **{f"{k}_at_most_1e3_eps": bool(abs(v) <= 1e3 * EPS) for k, v in measured.items()
+                           if isinstance(v, float) and abs(v) < 1e-9}}
 
 
 for entry in claims.values():
-    entry["measured"] = with_round_off_in_eps(entry["measured"])
+    entry["measured"] = with_round_off_bound(entry["measured"])
 
 # Round 5: rules changed after the committed sweep (which is not re-run). Where the committed rows carry
 # the information, the outcomes under the current rule are re-derived from them; where they do not, the
@@ -2808,7 +2807,7 @@ print(VERDICT["line"])
 # | A1 | consistency checks | Theorem 1 only | exact joint covariance + Monte Carlo ANEES; extra figure | a numerical check of Theorem 1 the paper does not make |
 # | A2 | accuracy of Figs. 1-2 | "track well", no numbers | signal invariance (X1) and the exact scatter of the input estimates (X2); no accuracy range of ours is presented as the paper's | the paper gives no number to compare with |
 # | A3 | non-degenerate variant | — | third output per node, generic $R$ (ours, `variant_seed`) | the only way to exercise the paper's gain design on its example's dynamics |
-# | A4 | decision rules | — | C2, C7: exact bias (the errors' response to $d,a$) decides "holds" (at the example, by construction; on the variant until round 3); a Monte Carlo part on the normalised bias (level 0.5 sd, ours; simultaneous intervals) can only refute (round 2 of the issue #30 review; round 1 had it as a three-way equivalence rule, recorded), replacing in issue #30 the $\lvert z\rvert>3$-rate rule whose meaning changed with the run count; C1, X2: three-way interval rules (issue #30; no committed outcome changed); C5: (28) not above cvxpy's optimum (one-sided), Lemma 1 with a random $\Gamma$ within $10^{-9}+10^{-12}\kappa$ (added after a first variant run), the random-$\Gamma$ residual $\|KU_1\|$ recorded, not tested, from the first sweep (commit 56c8733) to round 2, now tested $\kappa$-scaled, $\le10^{-10}+10^{-12}\kappa\|S\Theta_\Gamma\|$ (the leak it admits, computed in C5's check text and X4's measured values, reaches about $0.15$ at $\kappa\approx1.9\cdot10^8$ on the replayed draw); X3 applies the first-stated thresholds, X4 replays the removed draw; **round 4**: X3 and X4 decided three-way with the band $c\,\varepsilon\,\kappa\|S\Theta_\Gamma\|$, $c=3n_y$, after their two-way outcomes were known (X3 held at 28, failed at 9 of 37 points; X4 failed at 37), because those outcomes were machine-dependent; C2_nd, C7_nd decided on their Monte Carlo refuter (exact part by identities; a negative control with $S\breve\Xi^\dagger$); C8 not-checked (its ratio is set by our signals' size), $\hat a$ added to its rule; **round 5** (after the round-4 outcomes were known): one stated criterion for "by construction" — C2_nd, C7_nd and X1 by construction, C2_nd and C7_nd no longer deciding; C5 and C5_nd decide the random-$\Gamma$ part three-way with X3's derived band (the allowance $10^{-12}\kappa$ dropped, its outcome recorded); C3/C3_u's level 1.01 stated as checked at $s=3$ only (a probe at $s=30,50,70$ recorded); C3's assumptions and its measurement's precondition recorded separately; round-off magnitudes recorded in units of $\varepsilon$ (`*_in_eps`) | our rules, stated with each claim |
+# | A4 | decision rules | — | C2, C7: exact bias (the errors' response to $d,a$) decides "holds" (at the example, by construction; on the variant until round 3); a Monte Carlo part on the normalised bias (level 0.5 sd, ours; simultaneous intervals) can only refute (round 2 of the issue #30 review; round 1 had it as a three-way equivalence rule, recorded), replacing in issue #30 the $\lvert z\rvert>3$-rate rule whose meaning changed with the run count; C1, X2: three-way interval rules (issue #30; no committed outcome changed); C5: (28) not above cvxpy's optimum (one-sided), Lemma 1 with a random $\Gamma$ within $10^{-9}+10^{-12}\kappa$ (added after a first variant run), the random-$\Gamma$ residual $\|KU_1\|$ recorded, not tested, from the first sweep (commit 56c8733) to round 2, now tested $\kappa$-scaled, $\le10^{-10}+10^{-12}\kappa\|S\Theta_\Gamma\|$ (the leak it admits, computed in C5's check text and X4's measured values, reaches about $0.15$ at $\kappa\approx1.9\cdot10^8$ on the replayed draw); X3 applies the first-stated thresholds, X4 replays the removed draw; **round 4**: X3 and X4 decided three-way with the band $c\,\varepsilon\,\kappa\|S\Theta_\Gamma\|$, $c=3n_y$, after their two-way outcomes were known (X3 held at 28, failed at 9 of 37 points; X4 failed at 37), because those outcomes were machine-dependent; C2_nd, C7_nd decided on their Monte Carlo refuter (exact part by identities; a negative control with $S\breve\Xi^\dagger$); C8 not-checked (its ratio is set by our signals' size), $\hat a$ added to its rule; **round 5** (after the round-4 outcomes were known): one stated criterion for "by construction" — C2_nd, C7_nd and X1 by construction, C2_nd and C7_nd no longer deciding; C5 and C5_nd decide the random-$\Gamma$ part three-way with X3's derived band (the allowance $10^{-12}\kappa$ dropped, its outcome recorded); C3/C3_u's level 1.01 stated as checked at $s=3$ only (a probe at $s=30,50,70$ recorded); C3's assumptions and its measurement's precondition recorded separately; round-off residues below $10^{-9}$ marked as such (`*_at_most_1e3_eps`, at most $10^3\varepsilon$) | our rules, stated with each claim |
 # | A5 | C3_u | — | the example and our variant with $A_k\to e^{3h}A_k$ (ours) | the only instances here where Theorem 2's boundedness can fail; deciding by the rule of the verdict section |
 
 # %%
