@@ -170,9 +170,20 @@ def test_agent1_alone_is_fooled(claims) -> None:
     # the all-coordinate error (recorded next to the theta-sum rule, not a rule): one entry per
     # attack size; at pi/3 its last-window value is the offset law's max error 3/(4 gamma) |v_1|_inf
     for key in ("resilient_inf_error_by_attack", "resilient_inf_error_peak_after_attack",
-                "resilient_inf_settle_s_by_attack"):
+                "resilient_inf_settle_s_by_attack", "resilient_inf_error_previous_window_by_attack",
+                "resilient_inf_error_by_attack_T_ex"):
         assert len(m[key]) == len(m["attack_sizes"]), key
-    assert m["resilient_inf_error_by_attack"][0] == pytest.approx(SQRT3 / 3 * 0.75 / 2.0, abs=0.01)
+    # on a run of amplitude_T = 60 s (session-13 review of issue #30: over T_ex = 40 s the largest
+    # attack's error was still a transient), settled iff the last two windows agree within 2 tol_inf
+    assert m["resilient_inf_horizon_s"] == pytest.approx(60.0)
+    tol_inf = 10 * 0.5 * DT * 2 / np.sqrt(6)
+    gap = np.abs(np.subtract(m["resilient_inf_error_by_attack"],
+                             m["resilient_inf_error_previous_window_by_attack"])).max()
+    assert m["resilient_inf_settled"] is bool(gap <= 2 * tol_inf)
+    # at the default point the settled all-coordinate error is the offset law's 3/(4 gamma) |v_1|_inf
+    # at every attack size (measured)
+    np.testing.assert_allclose(m["resilient_inf_error_by_attack"], SQRT3 / 3 * 0.75 / 2.0, atol=0.01)
+    assert "footnote 3" not in c3["source"]  # footnote 3 is C11
     assert all(p >= f for p, f in zip(m["resilient_inf_error_peak_after_attack"],
                                       m["resilient_inf_error_by_attack"], strict=True))
 
@@ -194,6 +205,9 @@ def test_footnote3_attack_looks_like_a_plant_trajectory(claims) -> None:
     assert c11["innovation_by_window"][-1] == pytest.approx(c11["innovation_last_window"])
     assert c11["window_starts_s"][0] == pytest.approx(10.0)
     assert claims["C11"]["holds"] is bool(c11["z_shift"] <= 1e-2 and c11["innovation"] <= 1e-3)
+    # a step attack makes the innovation jump by |a| at the step: fails by construction, never decides
+    assert c11["innovation_by_window"][0] >= A_PAPER
+    assert claims["C11"]["basis"] == "by-construction" and not claims["C11"].get("decides")
 
 
 def test_offset_law(claims) -> None:
@@ -221,20 +235,44 @@ def _step_slopes(gammas: list[float], errors: list[float]) -> np.ndarray:
     return np.diff(np.log(errors)) / np.diff(np.log(gammas))
 
 
+def _a_bar_rigid_torsion() -> np.ndarray:
+    """A_bar = W A V in the example's modal basis: blockdiag of the rigid, (1,0,-1), (1,-2,1) blocks."""
+    blocks = [np.array([[0.0, 1.0], [-w2, -0.7]]) for w2 in (0.0, 137.0, 411.0)]
+    out = np.zeros((6, 6))
+    for b, blk in enumerate(blocks):
+        out[2 * b : 2 * b + 2, 2 * b : 2 * b + 2] = blk
+    return out
+
+
 def test_error_shrinks_with_gamma(claims, alt) -> None:
     """C4 (Theorem 2, "arbitrary precision"): the log-log slope of the error against gamma."""
     for data, gammas in ((claims, [2.0, 5.0, 20.0]), (alt, [2.0, 3.0, 5.0, 20.0])):
         c4 = data["C4"]
         m, t = c4["measured"], c4["threshold"]
         assert m["gammas"] == gammas and t["largest_step_slope"] == -0.5
-        slopes = _step_slopes(gammas, m["max_error"])
+        # the slopes are taken over the gains whose error exceeds the chattering floor only
+        used = [g for g, e in zip(gammas, m["max_error"], strict=True) if e > t["max_error_floor"]]
+        assert m["gammas_above_floor"] == used
+        errs = [e for e in m["max_error"] if e > t["max_error_floor"]]
+        slopes = _step_slopes(used, errs)
         np.testing.assert_allclose(m["step_slopes"], slopes, rtol=1e-9)
-        assert m["largest_step_slope"] == pytest.approx(slopes.max())
-        measurable = min(m["max_error"]) > t["max_error_floor"]
+        measurable = len(used) >= 2
+        if measurable:
+            assert m["largest_step_slope"] == pytest.approx(slopes.max())
         assert c4["holds"] is (bool(slopes.max() <= -0.5) if measurable else None)
         assert c4["decides"] is True
+        # Theorem 2's gain premise: kappa > kappa* >= N n sqrt(n) ||A_bar|| V(0) (its proof's constant)
+        assert m["A_bar_norm"] == pytest.approx(np.linalg.norm(_a_bar_rigid_torsion(), 2), rel=1e-6)
+        assert m["kappa_star_lower_bound"] == pytest.approx(5 * 6 * np.sqrt(6) * m["A_bar_norm"] * m["V0"])
+        assert c4["premise"]["holds"] is bool(m["kappa"] > m["kappa_star_lower_bound"])
+        assert "kappa*" in c4["premise"]["statement"]
+        # X9 (ours) is C4's measurement, not deciding
+        x9 = data["X9"]
+        assert x9["measured"]["step_slopes"] == m["step_slopes"] and not x9.get("decides")
+        assert x9["holds"] is c4["holds"]
         # the negative control: the averaging baseline at the same gains, through the same rule
-        base = _step_slopes(gammas, m["baseline_max_error"])
+        base = _step_slopes(used, [b for b, e in zip(m["baseline_max_error"], m["max_error"], strict=True)
+                                   if e > t["max_error_floor"]])
         np.testing.assert_allclose(m["baseline_step_slopes"], base, rtol=1e-9)
         assert m["baseline_passes_rule"] is bool(base.max() <= -0.5)
         # the old rule (a decrease at every step) is recorded for both
@@ -342,7 +380,10 @@ def test_identification_at_effective_attacks(claims) -> None:
     # C7b is the measured part: no clean agent flagged; agent 1's flag is C7c, by construction
     assert c7b["holds"] is all(set(f) <= {1} for f in m["flagged"].values())
     assert c7b["key"] == "clean_over_threshold_max"
-    assert c7b["premise"]["holds"] is True and c7b["decides"] is True
+    # C7b does not decide (session-13 review of issue #30): it is C8's bound on the same runs
+    assert not c7b.get("decides")
+    assert "block-diagonal" in c7b["premise"]["statement"]
+    assert c7b["premise"]["holds"] is bool(claims["C8"]["measured"]["offgroup_relative"] <= 1e-9)
     c7c = claims["C7c"]
     assert c7c["basis"] == "by-construction" and not c7c.get("decides")
     assert c7c["measured"]["attacked_over_threshold_min"] == pytest.approx(resid[:, 0].min() / theta)
@@ -377,8 +418,12 @@ def test_plug_and_play(claims, cid: str) -> None:
     assert c["holds"] is bool(ratio <= 1.0)
     # the recovery window is the declared parameter (twice the known 22.5 s transient), not T_ex's leftover
     assert t["recovery_window_s"] == pytest.approx(45.0)
-    assert "compact set" in c["premise"]["statement"]
-    assert c["decides"] is True and c["premise"]["holds"] is True
+    assert "compact set" in c["premise"]["statement"] and "kappa*" in c["premise"]["statement"]
+    assert c["decides"] is True
+    # Theorem 2's gain condition is part of the premise (session-13 review of issue #30)
+    assert m["kappa_star_lower_bound"] >= claims["C4"]["measured"]["kappa_star_lower_bound"]
+    if c["premise"]["holds"]:
+        assert claims["C4"]["measured"]["kappa"] > m["kappa_star_lower_bound"]
     # the uninterrupted reference continued over the later window has the steady error of C4's run
     assert m["max_error_uninterrupted"] == pytest.approx(claims["C4"]["measured"]["max_error"][0],
                                                          abs=0.01)
@@ -395,12 +440,43 @@ def test_plug_and_play_details(claims) -> None:
     assert "leaving" in claims["C13"]["paper"] and "re-initialised" in claims["C12"]["paper"]
 
 
+def test_seamlessly(claims) -> None:
+    """C14 (Introduction, "seamlessly"): the untouched agents' error after each event."""
+    c14 = claims["C14"]
+    m, t = c14["measured"], c14["threshold"]
+    allow = t["allowance_over_uninterrupted"]
+    assert allow == pytest.approx(2 * 10 * 0.5 * DT * 2 / np.sqrt(6))  # twice the chattering tolerance
+    ratios = []
+    for ev in ("C12: re-initialisation", "C13: leaving", "C13: rejoining"):
+        e = m[ev]
+        dis, ref = np.array(e["max_error"]), np.array(e["max_error_uninterrupted"])
+        assert dis.shape == ref.shape == (len(e["agents"]),)
+        assert e["ratio"] == pytest.approx(float((dis / (ref + allow)).max()))
+        ratios.append(e["ratio"])
+    # the agents judged are those not re-initialised (C12: pnp_agents 1, 2, 4) / not leaving (C13: 4)
+    assert m["C12: re-initialisation"]["agents"] == [3, 5]
+    assert m["C13: leaving"]["agents"] == m["C13: rejoining"]["agents"] == [1, 2, 3, 5]
+    assert m["worst_ratio"] == pytest.approx(max(ratios))
+    assert c14["holds"] is bool(max(ratios) <= 1.0)
+    assert c14["decides"] is True and c14["source"].startswith("Sec. I")
+    assert "seamlessly" in c14["paper"] and "AFTER" in c14["check"]
+    assert c14["premise"]["holds"] is claims["C13"]["premise"]["holds"]
+    # the same measurements are recorded in C12 and C13
+    m12, m13 = claims["C12"]["measured"], claims["C13"]["measured"]
+    assert m12["disruption"] == m["C12: re-initialisation"]
+    assert m13["disruption_leaving"] == m["C13: leaving"]
+    assert m13["disruption_rejoining"] == m["C13: rejoining"]
+    assert m13["away_max_error_remaining"] == pytest.approx(max(m["C13: leaving"]["max_error"]))
+    # C12/C13 quote the Introduction without its 'seamlessly' (that is C14)
+    assert "seamlessly" not in claims["C12"]["paper"].split("(its word")[0]
+
+
 def test_verdict_is_computed_from_the_deciding_claims(claims) -> None:
     verdict = rescience_verdict({k: v for k, v in claims.items() if not k.startswith("_")})
-    assert set(verdict["deciding"]) == {"C1", "C3", "C4", "C7b", "C8", "C12", "C13"}
-    # C7: premise fails everywhere (does not decide); identities and constructions: by construction
-    assert not claims["C7"].get("decides")
-    for cid in ("C6", "C7c", "C9", "C10"):
+    assert set(verdict["deciding"]) == {"C1", "C3", "C4", "C8", "C12", "C13", "C14"}
+    # C7: premise fails everywhere; C7b rests on C8's bound (session-13 review): neither decides
+    assert not claims["C7"].get("decides") and not claims["C7b"].get("decides")
+    for cid in ("C6", "C7c", "C9", "C10", "C11"):
         assert claims[cid]["basis"] == "by-construction"
     outcomes = [d["example"] for d in verdict["deciding"].values()]
     spaces_ = [d["space"] for d in verdict["deciding"].values()]
