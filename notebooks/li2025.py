@@ -62,8 +62,8 @@
 #   statement "for given positive scalars"). Fig. 7 as printed (C1c, not deciding) fails at the default.
 # * **Not checked.** Figs. 2–4 (C7, deciding): relative RMS error 0.34 / 0.32 / 0.21 (our corrected design;
 #   0.71 / 0.97 / 0.95 of the open-loop prediction's), printed-coefficient design beside it; no scale in the
-#   paper. (8) under the replacement attack cannot track (X4): the per-step optimal gain gives 0.17 / 0.19 /
-#   0.16, an oracle dropping attacked packets 0.015.
+#   paper. Under the replacement attack no gain in (8) gets below X4's level 0.1 (ours): the per-step optimal
+#   gain gives 0.17 / 0.19 / 0.16, an oracle dropping attacked packets 0.016 / 0.013 / 0.012.
 # * **Undetermined.** "ZOH is not better" (C2, not deciding) holds at every reading cell of 4 of the 5
 #   independent draws; it fails at 2 of the 16 cells of the draw with $T=147$ (target 1, ratio 0.98
 #   [0.97, 0.996]).
@@ -1888,7 +1888,7 @@ print(f"printed coefficients at psi = 1, alpha = 1: c0 = {c0_p}, kappa_x = {kx_p
 # * **oracle Kalman filter** — centralised, knows $\psi_i(k)$ and drops attacked packets (exact covariance
 #   given each run's $\psi$ sequence, averaged over the $F$ draws, 95 % interval);
 # * **no attack** — the design in use with $\check\psi_i=1$;
-# * **additive reading of (6)** — the paper design re-derived for $y_i=\bar y_i+(1-\psi_i)\Phi\xi_i$ (a
+# * **additive reading of (6)** — the design re-derived for $y_i=\bar y_i+(1-\psi_i)\Phi\xi_i$ (a
 #   sensitivity row: the paper's (6) replaces);
 # * **open-loop prediction** — $L=0$.
 #
