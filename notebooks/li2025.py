@@ -1199,7 +1199,7 @@ def mixed_design(weights, variant) -> tuple[dict, int]:
 def split_share(variant) -> dict:
     """C1b's certificate, max over the finite steps, with one printed coefficient (weights W_PRINTED)."""
     ex, last = mixed_design(W_PRINTED, variant)
-    share = share_curve({"S": ex["S"][:last + 1], "P": ex["P"][:last + 1]}).max(axis=0)
+    share = share_curve({"S": ex["S"][:last + 1], "P": ex["P"][:last + 1]}).max(axis=0) if last else None
     return {"max_share": share, "last_finite_k": last}
 
 
