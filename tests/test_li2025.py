@@ -135,6 +135,13 @@ def test_c1b_printed_coefficients_measured(claims) -> None:
     assert m["first_violating_k"] == [2, 2, 2]
     assert max(m["max_share_alpha2_gt_alpha3"]) <= 1.0
     assert all(r < 0.01 for r in m["trS_over_mse_exact"])
+    # the two printed errors apart, same weights: the printed c0 with the derived kappa's, and the
+    # derived c0 with the printed kappa_x (its bound overflows float64 after k = 58: max over finite steps)
+    split = m["one_printed_coefficient"]
+    c0_only, kx_only = split["printed c0, corrected kappa_x"], split["corrected c0, printed kappa_x"]
+    assert c0_only["last_finite_k"] == 100 and kx_only["last_finite_k"] == 58
+    assert c0_only["max_share"] == pytest.approx([2829.18, 18276.68, 334974.69], rel=1e-4)
+    assert kx_only["max_share"] == pytest.approx([0.7675, 0.5612, 0.3793], abs=1e-4)
 
 
 def test_c2_decided_on_informative_targets_only(claims) -> None:
@@ -194,6 +201,7 @@ def test_c3_theorem3_premise_and_vacuous_envelope(claims) -> None:
                             search["min_ratio_kappa_x_nonnegative"], strict=True):
         assert floor is not None and (ratio is None or ratio >= floor)
     assert b["premise"]["holds"] is (a["premise"]["holds"] and x7["measured"]["all_targets_met"])
+    assert b["holds"] is None if not b["premise"]["holds"] else isinstance(b["holds"], bool)
     m = b["measured"]
     ratios = [r for r in m["UB_T_over_max_mse"] if r is not None]
     assert ratios and min(ratios) > 1e9  # the data-driven envelope is vacuous where defined
@@ -209,7 +217,6 @@ def test_c3_theorem3_on_our_instance(claims) -> None:
     assert m["weight_sets_searched"] == 4096
     assert m["eligible_weight_sets"] == 38 and m["eligible_cases"] == 7719
     np.testing.assert_allclose(m["X_star_sq"], [3.0, 3.0], rtol=1e-9)
-    assert c["premise"]["holds"] is (m["eligible_weight_sets"] > 0)
     assert m["max_ratio"] == pytest.approx(0.08612, rel=1e-3)
     assert m["max_ratio_subsystem2"] <= m["max_ratio"]
     assert c["threshold"] == 1.0
@@ -220,11 +227,15 @@ def test_c3_theorem3_on_our_instance(claims) -> None:
     assert level == 0.01  # C2's gain_negligible
     informative = m["max_gain_share"] >= level and m["max_error_reduction"] >= level
     assert m["gain_informative"] is informative
-    if informative:
+    # the precondition is part of C3's premise (CONVENTIONS point 6): where it fails, fails-premise
+    assert c["premise"]["holds"] is (m["eligible_weight_sets"] > 0 and informative)
+    assert "informative" in c["premise"]["statement"]
+    if c["premise"]["holds"]:
         assert c["holds"] is (m["max_ratio"] <= 1.0)
     else:
-        assert c["holds"] is None and c["verdict"] == "not-checked" and "precondition" in c["not_checked"]
+        assert c["holds"] is None and point_verdict(c) == "fails-premise"
     x9 = claims["X9"]
+    assert x9["premise"]["holds"] is (m["eligible_weight_sets"] > 0)
     assert x9["measured"] == m and x9["source"].startswith("ours") and not x9.get("decides")
     assert x9["holds"] is (m["max_ratio"] <= 1.0)
     # measured at the default point (the instance is fixed): the gains are ~0 and L = 0 gives the ratio
@@ -317,6 +328,18 @@ def test_c8_theorem2_gain_perturbations(claims) -> None:
     assert declared["indefinite_pi_steps_with_S_pd"] == 145
     assert m["min_eig_S_at_indefinite_pi_declared"] == pytest.approx(5.287e-6, rel=1e-3)
     assert m["declared_trajectory_min_eig_S"] > 0  # Theorem 1's positive-definite solutions
+    # a step along Pi's most negative direction lowers tr (18) and keeps S(k|k) positive definite
+    assert m["declared_indefinite_steps"] == declared["steps_with_pi_indefinite"]
+    assert 0 <= m["declared_descent_keeping_S_pd"] <= m["declared_indefinite_steps"]
+    assert m["declared_descent_keeping_S_pd"] == 145
+    # the two printed errors apart along each mixed design's own trajectory: with kappa_x >= 0 and
+    # c0 > 0 Pi > 0 (algebra), measured; the printed kappa_x alone leaves Pi indefinite
+    split = m["one_printed_coefficient"]
+    for r in split.values():
+        assert (r["indefinite_steps"] == 0) is (r["min_eig_pi_relative"] >= level)
+        assert r["descent_keeping_S_pd"] <= r["indefinite_steps"]
+    assert split["printed c0, corrected kappa_x"]["min_eig_pi_relative"] > 0
+    assert split["corrected c0, printed kappa_x"]["min_eig_pi_relative"] < level
     # default point: Pi is positive definite along the printed design (min eigenvalue ~10)
     assert grid[0]["min_eig_pi"] == pytest.approx(10.011, rel=1e-3)
     # (18)'s first factor read literally moves the minimiser away from (28)
@@ -325,25 +348,32 @@ def test_c8_theorem2_gain_perturbations(claims) -> None:
 
 def test_c7_rows_measured_exactly(claims) -> None:
     c = claims["C7"]
-    rows = c["measured"]["relative_rms"]
-    assert c["measured"]["max_relative_rms"] == max(rows["paper design"])
-    assert c["holds"] is (max(rows["paper design"]) <= 0.1)
-    # next to the headline: the design's relative RMS over the open-loop prediction's
-    assert c["measured"]["ratio_to_open_loop"] == pytest.approx(
-        [p / o for p, o in zip(rows["paper design"], rows["open-loop prediction"], strict=True)], rel=1e-9)
-    assert c["measured"]["ratio_to_open_loop"] == pytest.approx([0.708, 0.972, 0.955], abs=2e-3)
-    # region: the rule holds only for the first horizons (rho is causal)
-    assert c["measured"]["holds_up_to_horizon"] == c["measured"]["horizons_holding"] == 5
+    m = c["measured"]
+    rows = m["relative_rms"]
+    # no scale in the paper: recorded, not judged (not-checked, deciding as such)
+    assert c["holds"] is None and c["threshold"] is None and "no scale" in c["not_checked"]
+    assert c["decides"] and point_verdict(c) == "not-checked"
+    assert m["max_relative_rms"] == max(rows["our corrected design"])
+    assert m["max_relative_rms_printed"] == max(rows["printed-coefficient design"])
+    # next to each design: its relative RMS over the open-loop prediction's
+    for design in ("our corrected design", "printed-coefficient design"):
+        assert m["ratio_to_open_loop"][design] == pytest.approx(
+            [p / o for p, o in zip(rows[design], rows["open-loop prediction"], strict=True)], rel=1e-9)
+    assert m["ratio_to_open_loop"]["our corrected design"] == pytest.approx([0.708, 0.972, 0.955], abs=2e-3)
+    assert m["ratio_to_open_loop"]["printed-coefficient design"] == pytest.approx([0.961, 0.991, 0.986],
+                                                                                 abs=2e-3)
     # exact expectations at the default point (T = 100, grid weights)
-    assert rows["paper design"] == pytest.approx([0.339, 0.319, 0.214], abs=2e-3)
+    assert rows["our corrected design"] == pytest.approx([0.339, 0.319, 0.214], abs=2e-3)
+    assert rows["printed-coefficient design"] == pytest.approx([0.460, 0.326, 0.221], abs=2e-3)
     assert rows["per-step optimal gain for (8)"] == pytest.approx([0.174, 0.188, 0.164], abs=2e-3)
     assert rows["debiased innovation, optimal gain"] == pytest.approx([0.114, 0.126, 0.115], abs=2e-3)
     assert rows["no attack (psi_check = 1)"] == pytest.approx([0.0118, 0.0068, 0.0034], abs=5e-4)
-    lo, hi = c["measured"]["oracle_interval"]
+    lo, hi = m["oracle_interval"]
     assert all(a <= v <= b for a, v, b in zip(lo, rows["oracle Kalman filter"], hi, strict=True))
-    # the per-step optimal gain cannot do worse than the paper's gain at any step: same class (8)
-    assert all(o <= p + 1e-12 for o, p in zip(rows["per-step optimal gain for (8)"],
-                                               rows["paper design"], strict=True))
+    # the per-step optimal gain cannot do worse than (28)'s gain at any step: same class (8)
+    for design in ("our corrected design", "printed-coefficient design"):
+        assert all(o <= p + 1e-12 for o, p in zip(rows["per-step optimal gain for (8)"], rows[design],
+                                                   strict=True))
 
 
 def test_x_claims_measured(claims) -> None:
@@ -360,9 +390,9 @@ def test_x_claims_measured(claims) -> None:
 
 
 def test_identities_without_attack(no_attack) -> None:
-    """psi_check = 1: debiasing changes nothing, 'no attack' is the paper design, no attacks drawn."""
+    """psi_check = 1: debiasing changes nothing, 'no attack' is the design in use, no attacks drawn."""
     c7 = no_attack["C7"]["measured"]["relative_rms"]
-    np.testing.assert_allclose(c7["no attack (psi_check = 1)"], c7["paper design"], rtol=1e-12)
+    np.testing.assert_allclose(c7["no attack (psi_check = 1)"], c7["our corrected design"], rtol=1e-12)
     assert abs(no_attack["X1"]["measured"]["mse_reduction_target1"]) < 1e-12
     assert no_attack["C5"]["measured"]["frequency"] == [0.0, 0.0, 0.0]
     shares = no_attack["X5"]["measured"]["max_share_per_scenario"]
@@ -397,8 +427,8 @@ def test_figures_and_data_written(no_attack) -> None:
     assert below.tolist() == pytest.approx(no_attack["X6"]["measured"]["fraction_k_mse_below"])
     with (fig_dir / "extra_tracking_baselines.csv").open() as fh:
         last = list(csv.DictReader(fh))[-1]
-    paper = no_attack["C7"]["measured"]["relative_rms"]["paper design"]
-    assert [float(last[f"paper_design[{i}]"]) for i in range(3)] == pytest.approx(paper, rel=1e-8)
+    ours = no_attack["C7"]["measured"]["relative_rms"]["our corrected design"]
+    assert [float(last[f"our_corrected_design[{i}]"]) for i in range(3)] == pytest.approx(ours, rel=1e-8)
 
 
 def _robustness_rows() -> list[dict]:
@@ -424,6 +454,22 @@ def test_robustness_table_and_committed_verdicts() -> None:
             if "holds" in outcomes:
                 assert 0.0 < s["fraction_holds"] < 1.0
         assert committed[cid]["verdict"] == s["verdict"]
+    # copied cells are marked; C3 (its premise: an informative gain) fails it at every point, C7 has no scale
+    assert rows[0]["copied"] == "" and all("C3" in r["copied"] and "C7" in r["copied"] for r in rows[1:])
+    assert {r["C3.outcome"] for r in rows} == {"fails-premise"} and {r["C7.outcome"] for r in rows} == {"not-checked"}
+    # claims.json's interval is over the independent draws (T, mc_seed) of the decided points, or over
+    # their distinct records where fewer; the package's interval over records is kept beside it
+    for cid in CLAIM_IDS:
+        rob = committed[cid]["robustness"]
+        decided = [r for r in rows if r[f"{cid}.outcome"] in ("holds", "fails")]
+        draws = {(r["T"], r["mc_seed"]) for r in decided}
+        records = {(r[f"{cid}.outcome"], r[f"{cid}.record"]) for r in decided}
+        assert rob["draws"] == len(draws) <= 5, cid
+        assert rob["independent"] == min(len(draws), len(records)), cid
+        assert rob["interval"]["method"].startswith("wilson over the independent draws"), cid
+        kept, package = rob["interval_records"], summary[cid]["interval"]
+        assert kept["method"] == package["method"], cid
+        assert [kept["low"], kept["high"]] == pytest.approx([package["low"], package["high"]], rel=1e-9), cid
     # the first row is the default point: it agrees with the committed claims
     default = rows[0]
     assert (default["T"], default["weight_rule"], default["mc_seed"]) == ("100", "grid", "2025")
