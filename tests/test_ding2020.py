@@ -27,7 +27,7 @@ ROOT = repo_root()
 ATTACKED = ("sensor4", "sensor12")
 FIG = ROOT / "figures" / "ding2020"
 # claims whose headline value does not depend on the Monte Carlo size (fast vs paper mode)
-MODE_FREE = ("C2a", "X6", "C6", "C7", "X7", "X8", "X4", "C11", "C8c", "C8", "C12")
+MODE_FREE = ("X6", "C6", "C7", "X7", "X8", "X4", "C11", "C8c", "C8", "C12")
 MC_RUNS = 50  # Monte Carlo runs of the default-point execution
 
 
@@ -55,6 +55,11 @@ def _decide(lo: float, hi: float, level: float, side: str) -> bool | None:
     if side == "above":
         return True if lo >= level else (False if hi < level else None)
     return True if hi <= level else (False if lo > level else None)
+
+
+def _gated(claims, value: bool | None) -> bool | None:
+    """An attack claim's holds: None when its working precondition is undecided (its interval contains 0.5)."""
+    return None if _working_vote(claims["C1"]["measured"]["mc_working_runs"].values()) is None else value
 
 
 def _and3(*parts: bool | None) -> bool | None:
@@ -97,12 +102,13 @@ def test_c1_detection_rule(claims) -> None:
         assert m["mc_reject_rate_window"][s] >= m["mc_runs_all_rejected"][s] - 1e-12
     assert _inside(m["mc_runs_all_rejected_min"], c["interval"])
     iv = c["interval"]
-    assert c["holds"] is _and3(m["default_rejected_in_windows"] == 12, _decide(iv["low"], iv["high"], 0.95, "above"))
+    assert c["holds"] is _gated(claims, _and3(m["default_rejected_in_windows"] == 12, _decide(iv["low"], iv["high"], 0.95, "above")))
 
 
 def test_c2a_shift_against_own_error(claims) -> None:
     c = claims["C2a"]
-    m = c["measured"]
+    mc = c["measured"]
+    m = mc["default_run"]  # the figure's run, an illustration
     ratios = []
     for s in ("sensor4", "sensor12", "sensor20"):
         v = m[s]
@@ -115,7 +121,27 @@ def test_c2a_shift_against_own_error(claims) -> None:
     assert m["sensor20"]["hops_to_attacked"] >= 1
     if ratios:
         assert m["max_shift_over_case_a_error"] == pytest.approx(max(ratios))
-    assert c["holds"] is bool(ratios and max(ratios) <= 1.0)
+    # decided over the Monte Carlo runs: the fraction of eligible runs meeting the per-run rule, Wilson, 0.5
+    assert mc["mc_runs"] == MC_RUNS and 0 <= mc["mc_runs_meeting_rule"] <= mc["mc_eligible_runs"] <= MC_RUNS
+    assert mc["mc_eligible_fraction"] == pytest.approx(mc["mc_eligible_runs"] / MC_RUNS)
+    if mc["mc_eligible_runs"]:
+        assert mc["mc_fraction_meeting_rule"] == pytest.approx(mc["mc_runs_meeting_rule"] / mc["mc_eligible_runs"])
+        assert _inside(mc["mc_fraction_meeting_rule"], c["interval"])
+        # the median ratio is on the same side of 1 as the fraction is of 1/2 (up to ties at the median)
+        if mc["mc_fraction_meeting_rule"] < 0.5:
+            assert mc["mc_median_max_shift_over_case_a_error"] > 1.0
+    ivl = stats.binomtest(mc["mc_runs_meeting_rule"], max(mc["mc_eligible_runs"], 1)).proportion_ci(
+        0.95, method="wilson")
+    if mc["mc_eligible_runs"]:
+        assert c["interval"]["low"] == pytest.approx(ivl.low, abs=1e-9)
+        assert c["interval"]["high"] == pytest.approx(ivl.high, abs=1e-9)
+    elig = stats.binomtest(mc["mc_eligible_runs"], MC_RUNS).proportion_ci(0.95, method="wilson")
+    premise_vote = _decide(elig.low, elig.high, 0.5, "above")
+    assert c["premise"]["holds"] is (premise_vote is not False)
+    if premise_vote is None:
+        assert c["holds"] is None
+    elif premise_vote:
+        assert c["holds"] is _decide(c["interval"]["low"], c["interval"]["high"], 0.5, "above")
 
 
 def test_x6_leak_by_hop_consistency(claims) -> None:
@@ -141,7 +167,7 @@ def test_kappa0_decouples_exactly(claims_k0) -> None:
     assert all(v["max"] == 0.0 for v in by_hops.values())
     assert claims_k0["X6"]["measured"]["min_median_ratio_per_hop"] is None
     assert claims_k0["X6"]["holds"] is bool(by_hops)  # 0 <= 0.1 * 0 at every hop: exact
-    assert claims_k0["C2a"]["measured"]["sensor20"]["shift"] == 0.0
+    assert claims_k0["C2a"]["measured"]["default_run"]["sensor20"]["shift"] == 0.0
     assert claims_k0["X4"]["measured"]["leak_unattacked"] == 0.0
 
 
@@ -153,11 +179,11 @@ def test_c3_c4_monte_carlo_ratios(claims) -> None:
     assert c3["measured"]["mc_median_ratio_max"] == max(c3["measured"]["mc_median_ratio"].values())
     assert _inside(c3["measured"]["mc_median_ratio_max"], c3["interval"])
     m3 = c3["measured"]
-    assert c3["holds"] is _and3(*(_decide(m3["mc_ci_lower"][s], m3["mc_ci_upper"][s], 3.0, "below") for s in ATTACKED),
-                                max(m3["default_max_abs_error"].values()) <= 2.0)
+    assert c3["holds"] is _gated(claims, _and3(*(_decide(m3["mc_ci_lower"][s], m3["mc_ci_upper"][s], 3.0, "below") for s in ATTACKED),
+                                max(m3["default_max_abs_error"].values()) <= 2.0))
     assert _inside(c4["measured"]["mc_median_ratio_vs_B_min"], c4["interval"])
     m4 = c4["measured"]
-    assert c4["holds"] is _and3(*(_decide(m4["mc_ci_lower"][s], m4["mc_ci_upper"][s], 1.0, "above") for s in ATTACKED))
+    assert c4["holds"] is _gated(claims, _and3(*(_decide(m4["mc_ci_lower"][s], m4["mc_ci_upper"][s], 1.0, "above") for s in ATTACKED)))
 
 
 def test_c5_bounds_against_exact_covariance(claims) -> None:
@@ -280,7 +306,7 @@ def test_c9_both_readings_of_the_comparison_filter(claims) -> None:
     assert m["attack_window_ratio_min"] == min(v for f in ("corrector", "predictor")
                                                for v in m[f]["attack_window_ratio"].values())
     assert _inside(m["attack_window_ratio_min"], c["interval"])
-    assert c["holds"] is _and3(*(_and3(m[f]["similar"], m[f]["more_reliable"]) for f in ("corrector", "predictor")))
+    assert c["holds"] is _gated(claims, _and3(*(_and3(m[f]["similar"], m[f]["more_reliable"]) for f in ("corrector", "predictor"))))
 
 
 def test_x8_vectorised_equals_per_node(claims) -> None:
@@ -326,26 +352,39 @@ def test_lockout_claims_are_consistent(claims) -> None:
     assert _inside(x3["measured"]["runs_with_a_locked_node"], x3["interval"])
     assert x3["measured"]["node_runs_locked"] <= x3["measured"]["runs_with_a_locked_node"]
     assert x3["holds"] is _decide(x3["interval"]["low"], x3["interval"]["high"], 0.05, "below")
-    assert x5["holds"] is (True if x5["interval"]["low"] > 0.0 else None)
+    # "lockout occurs at kappa = 0": the largest locked fraction against 0.05 (X1's level), can fail
+    assert x5["holds"] is _decide(x5["interval"]["low"], x5["interval"]["high"], 0.05, "above")
+    assert _inside(x5["measured"]["locked_fraction_max"], x5["interval"])
+
+
+def _working_vote(counts) -> bool | None:
+    """The precondition's rule restated: every working fraction's Wilson interval against 0.5 (ours)."""
+    votes = []
+    for c in counts:
+        ci = stats.binomtest(int(c), MC_RUNS).proportion_ci(0.95, method="wilson")
+        votes.append(_decide(ci.low, ci.high, 0.5, "above"))
+    return _and3(*votes)
 
 
 def test_attack_claims_need_the_measured_sensors_to_work_without_attack(claims) -> None:
-    """No level: the Monte Carlo attack claims need at least one run where the attacked sensor works."""
+    """The working precondition is decided on the working fraction's interval, not on a count."""
     working = claims["C1"]["measured"]["mc_working_runs"]
     assert all(0 <= working[s] <= MC_RUNS for s in ATTACKED)
+    vote = _working_vote(working.values())
     for cid in ("C1", "C3", "C4", "C9"):
-        if min(working.values()) == 0:
+        if vote is False:
             assert claims[cid]["premise"]["holds"] is False, cid
-    if min(working.values()) > 0:
-        assert claims["C4"]["premise"]["holds"] is True and claims["C9"]["premise"]["holds"] is True
+        elif vote is None:
+            assert claims[cid]["holds"] is None, cid
+    for cid in ("C4", "C9"):
+        assert claims[cid]["premise"]["holds"] is (vote is not False), cid
     x1w = claims["X1"]["measured"]["working_runs"]
-    assert claims["X1"]["premise"]["holds"] is (min(x1w.values()) > 0)
-    assert claims["X2"]["premise"]["holds"] is (min(x1w.values()) > 0)  # X2 uses X1's and C1's denominators
-    c2a = claims["C2a"]["measured"]
+    vote_n = _working_vote(x1w.values())
+    assert claims["X1"]["premise"]["holds"] is (vote_n is not False)
+    assert claims["X2"]["premise"]["holds"] is (vote_n is not False)  # X2 uses X1's and C1's denominators
+    c2a = claims["C2a"]["measured"]["default_run"]
     assert set(c2a["compared_sensors"]) <= {"sensor4", "sensor12", "sensor20"}
-    # an attacked plotted sensor free of Case-A lockout is needed: sensor 20 alone cannot show the attack
     assert c2a["compared_attacked_sensors"] == [s for s in c2a["compared_sensors"] if s in ATTACKED]
-    assert claims["C2a"]["premise"]["holds"] is bool(c2a["compared_attacked_sensors"])
     if c2a["compared_sensors"]:
         assert c2a["max_shift_over_case_a_error"] == pytest.approx(max(
             c2a[s]["shift"] / c2a[s]["case_a_error"] for s in c2a["compared_sensors"]))
