@@ -2085,7 +2085,7 @@ def sweep_scatter(ax, rows, cid: str, threshold: float | None, ylabel: str) -> N
         ax.axhline(threshold, color="k", lw=0.7)
     ax.set_xlabel("horizon T [steps]")
     ax.set_ylabel(ylabel)
-    ax.legend(fontsize=6.5, loc="best")
+    ax.legend(fontsize=6.5, loc="upper center", bbox_to_anchor=(0.5, -0.2), frameon=False)  # below: covers no point
 
 
 fig, axes = plt.subplots(1, 3, figsize=(plotting.PAGE_WIDTH, 3.4), layout="constrained",
