@@ -99,13 +99,20 @@ def _rule(cid: str, m: dict) -> bool | None:
                 and mm["growth_tr_P_exact"] <= 1.01)
 
     def c5(mm):
-        # round 5: the random-Gamma part three-way with the derived band (X3's rule); the round 2-4
-        # allowance rule's outcome is recorded
+        # round 6: two-way parts (the KKT solve's ||K U_1||, not the projector forms', which are
+        # by-construction records) and the random-Gamma trace gap three-way with its band c eps kappa;
+        # the round 2-4 allowance rule's and round 5's outcomes are recorded
         round2 = (mm["max_KU1"] < 1e-10 and mm["max_rel_gap_kkt"] <= 1e-9
                   and mm["max_rel_excess_over_cvxpy"] <= 1e-9 and mm["max_L1_allowance_used"] <= 1.0
                   and mm["max_KU1_L1_allowance_used"] <= 1.0 and mm["max_eq29_vs_25"] < 1e-10)
         assert mm["holds_round2_allowance_rule"] is round2
-        return first_rule(mm)
+        assert mm["holds_round5_rule"] is first_rule(mm)
+        assert mm["gap_rows_below"] + mm["gap_rows_above"] + mm["gap_rows_inside_band"] == mm["n_steps_checked"]
+        two_way = (mm["max_KU1_kkt"] < 1e-10 and mm["max_rel_gap_kkt"] <= 1e-9
+                   and mm["max_rel_excess_over_cvxpy"] <= 1e-9 and mm["max_eq29_vs_25"] < 1e-10)
+        if not two_way or mm["gap_rows_above"] > 0:
+            return False
+        return True if mm["gap_rows_inside_band"] == 0 else None
 
     rules = {
         "C1": c1, "C1_nd": c1, "C2": c2, "C2_nd": c2, "C7": c7, "C7_nd": c7,
@@ -257,30 +264,30 @@ def test_c3_u_theorem_2_where_the_plant_does_not_contract(claims) -> None:
     assert "s = 3" in claims["C3_u"]["check"] and "not a general test" in claims["C3_u"]["check"]
 
 
-def test_round_off_residues_are_marked_round_off_not_zero(claims) -> None:
-    """Round 5: the claims file rounds numbers near zero to multiples of 1e-13; every top-level measured
-    number below 1e-9 gets <name>_at_most_1e3_eps beside it (a boolean, exact on every machine), consistent
-    with the written value."""
-    eps = np.finfo(float).eps
-    seen = 0
+def _written_zeros(x) -> bool:
+    if isinstance(x, dict):
+        return any(_written_zeros(v) for v in x.values())
+    if isinstance(x, list):
+        return any(_written_zeros(v) for v in x)
+    return isinstance(x, float) and x == 0.0
+
+
+def test_values_written_zero_are_said_to_be_rounded(claims) -> None:
+    """Round 6: no round-off flags; the claims whose measured records hold a value written 0.0 (the claims
+    file writes numbers near zero to multiples of 1e-13) say in their check text, and in their tolerance
+    reason, that such a value is below 5e-14, not an exact zero (constant text, exact on every machine)."""
+    sentence = "so a value written 0.0 here is one below 5e-14 in magnitude"
     for cid, entry in claims.items():
-        m = entry.get("measured") if not cid.startswith("_") else None
-        if not isinstance(m, dict):
+        if cid.startswith("_"):
             continue
-        for k, v in m.items():
-            if k.endswith("_at_most_1e3_eps"):
-                base = m[k[: -len("_at_most_1e3_eps")]]
-                assert isinstance(v, bool), (cid, k, v)
-                # the written value is rounded to 1e-13: consistent with the flag up to that rounding
-                assert v == (abs(base) <= 1e3 * eps) or abs(abs(base) - 1e3 * eps) <= 1e-13, (cid, k, base)
-                seen += 1
-            elif isinstance(v, float) and abs(v) < 1e-9:
-                assert f"{k}_at_most_1e3_eps" in m, (cid, k)
-    assert seen > 10
-    # the quantities the review found written as 0.0 are round-off, marked so
-    assert claims["C2"]["measured"]["max_abs_K"] == 0.0
-    assert claims["C2"]["measured"]["max_abs_K_at_most_1e3_eps"] is True
-    assert claims["C5"]["measured"]["max_rel_gap_kkt_at_most_1e3_eps"] is True
+        assert not any(k.endswith(("_at_most_1e3_eps", "_in_eps")) for k in entry["measured"]
+                       if isinstance(entry["measured"], dict)), cid
+        if _written_zeros(entry["measured"]):
+            assert sentence in entry["check"], cid
+            if "tolerance" in entry:
+                assert sentence in entry["tolerance"]["reason"], cid
+    for cid in ("C2", "X1"):  # residues of identities at every point (K == 0 at the example; X1's changes)
+        assert _written_zeros(claims[cid]["measured"]) and sentence in claims[cid]["check"], cid
 
 
 def test_x3_x4_first_rule_three_way_with_a_stated_band(claims) -> None:
@@ -302,14 +309,14 @@ def test_x3_x4_first_rule_three_way_with_a_stated_band(claims) -> None:
         t = claims[cid]["threshold"]
         if cid.startswith("X"):
             assert t["KU1_lemma1_random_gamma"] == 1e-10 and t["rel_gap_lemma1_random_gamma"] == 1e-9, cid
-        else:
-            assert t["KU1"] == 1e-10 and t["rel_gap"] == 1e-9, cid
+        else:  # round 6: the KKT solve's ||K U_1|| decides; the projector forms' are records
+            assert t["KU1_kkt"] == 1e-10 and t["rel_gap"] == 1e-9, cid
         # the band's constant, recorded so that the claims file's rounding near zero keeps it
         assert t["c_per_n_y"] == 3 and t["eps"].startswith("float64 machine epsilon"), cid
         assert 2.0 ** t["eps_log2"] == np.finfo(float).eps, cid
-    # since round 5 C5 and C5_nd decide the random-Gamma part by X3's rule: X3 is their combination
-    assert m["C5_first_rule_three_way"] is claims["C5"]["holds"]
-    assert m["C5_nd_first_rule_three_way"] is claims["C5_nd"]["holds"]
+    # in round 5 C5 and C5_nd decided the random-Gamma part by X3's rule (recorded); since round 6 by the gap
+    assert m["C5_first_rule_three_way"] is claims["C5"]["measured"]["holds_round5_rule"]
+    assert m["C5_nd_first_rule_three_way"] is claims["C5_nd"]["measured"]["holds_round5_rule"]
     # the first sweep's failing draw, replayed: at cond ~ 2e8 the band of ||K U_1|| is far above the
     # threshold 1e-10, so the three-way rule cannot decide it (1.194e-10 and 1.654e-10 here, 9.1e-11 on
     # a CI machine): not-checked by construction, unless a residual lies above its band
@@ -498,9 +505,14 @@ def test_default_row_agrees_with_committed_claims() -> None:
         assert default[f"{cid}.holds"] == ("" if entry["holds"] is None else str(entry["holds"])), cid
         assert default[f"{cid}.outcome"] == point_verdict(entry), cid
         value = headline_value(entry)
+        if cid in ("X3", "X4"):
+            # outcomes only (compared above): their headlines are round-off residues of Lemma 1's gain at a
+            # random Gamma (X3: 6.9e-12 in the sweep's default row, 1.99e-11 in the claims file; X4: 1.654e-10
+            # and 1.194e-10), which differ between runs on one machine; their declared atol (1e-3) could
+            # not make a comparison fail
+            continue
         if value is not None:
-            # within the claim's declared tolerance: a headline at round-off (X3's largest residual,
-            # 6.9e-12 in the sweep, 1.99e-11 in a later run on this machine) is not reproduced digit by digit
+            # within the claim's declared tolerance
             tol = entry.get("tolerance", {})
             assert float(default[f"{cid}.value"]) == pytest.approx(
                 value, rel=max(1e-6, tol.get("rtol", 0.0)), abs=max(1e-12, tol.get("atol", 0.0))), cid
