@@ -306,7 +306,11 @@ def test_c9_both_readings_of_the_comparison_filter(claims) -> None:
     assert m["attack_window_ratio_min"] == min(v for f in ("corrector", "predictor")
                                                for v in m[f]["attack_window_ratio"].values())
     assert _inside(m["attack_window_ratio_min"], c["interval"])
-    assert c["holds"] is _gated(claims, _and3(*(_and3(m[f]["similar"], m[f]["more_reliable"]) for f in ("corrector", "predictor"))))
+    part_i = _and3(*(m[f]["similar"] for f in ("corrector", "predictor")))
+    part_ii = _and3(*(m[f]["more_reliable"] for f in ("corrector", "predictor")))
+    assert m["part_i_no_attack_similar"] is part_i and m["part_ii_more_reliable"] is part_ii
+    # (i), over all runs, decides alone; the working precondition gates (ii) only
+    assert c["holds"] is (False if part_i is False else _gated(claims, _and3(part_i, part_ii)))
 
 
 def test_x8_vectorised_equals_per_node(claims) -> None:
@@ -352,9 +356,21 @@ def test_lockout_claims_are_consistent(claims) -> None:
     assert _inside(x3["measured"]["runs_with_a_locked_node"], x3["interval"])
     assert x3["measured"]["node_runs_locked"] <= x3["measured"]["runs_with_a_locked_node"]
     assert x3["holds"] is _decide(x3["interval"]["low"], x3["interval"]["high"], 0.05, "below")
-    # "lockout occurs at kappa = 0": the largest locked fraction against 0.05 (X1's level), can fail
-    assert x5["holds"] is _decide(x5["interval"]["low"], x5["interval"]["high"], 0.05, "above")
-    assert _inside(x5["measured"]["locked_fraction_max"], x5["interval"])
+    # "lockout occurs at kappa = 0": over the runs where the sensor works without attack at kappa = 0 (as X1
+    # counts), the largest locked fraction against 0.05 (X1's level), can fail; precondition by X1's rule
+    w5 = x5["measured"]["working_runs"]
+    for s in ATTACKED:
+        assert 0 <= w5[s] <= runs
+        lk5 = x5["measured"]["locked_fraction"][s]
+        if lk5 is not None:  # locked among the working runs <= locked among all runs
+            assert round(lk5 * w5[s]) <= round(x5["measured"]["locked_fraction_all_runs"][s] * runs)
+    vote5 = _working_vote(w5.values())
+    assert x5["premise"]["holds"] is (vote5 is not False)
+    if vote5 is None or x5["interval"] is None:
+        assert x5["holds"] is None
+    else:
+        assert x5["holds"] is _decide(x5["interval"]["low"], x5["interval"]["high"], 0.05, "above")
+        assert _inside(x5["measured"]["locked_fraction_max"], x5["interval"])
 
 
 def _working_vote(counts) -> bool | None:
@@ -371,13 +387,18 @@ def test_attack_claims_need_the_measured_sensors_to_work_without_attack(claims) 
     working = claims["C1"]["measured"]["mc_working_runs"]
     assert all(0 <= working[s] <= MC_RUNS for s in ATTACKED)
     vote = _working_vote(working.values())
+    # C9's precondition gates its part (ii) only: a failing part (i), over all runs, decides alone
+    c9_fails_alone = claims["C9"]["measured"]["part_i_no_attack_similar"] is False
     for cid in ("C1", "C3", "C4", "C9"):
+        if cid == "C9" and c9_fails_alone:
+            assert claims[cid]["holds"] is False and claims[cid]["premise"]["holds"] is True
+            continue
         if vote is False:
             assert claims[cid]["premise"]["holds"] is False, cid
         elif vote is None:
             assert claims[cid]["holds"] is None, cid
     for cid in ("C4", "C9"):
-        assert claims[cid]["premise"]["holds"] is (vote is not False), cid
+        assert claims[cid]["premise"]["holds"] is (vote is not False or (cid == "C9" and c9_fails_alone)), cid
     x1w = claims["X1"]["measured"]["working_runs"]
     vote_n = _working_vote(x1w.values())
     assert claims["X1"]["premise"]["holds"] is (vote_n is not False)
