@@ -30,14 +30,13 @@
 # none of the paper's main claims holds: the bound as printed (C1b) and Theorem 2's statement that (28)
 # minimises the bound "for given positive scalars" (C8) fail at the example; Theorem 3 (C3) fails its
 # premise (the example cannot satisfy it, C3a; on a declared instance of ours $L=0$ meets the envelope at
-# every eligible case, searched or the re-review's, so the measurement does not discriminate, the precondition
-# as restated in session 14; the ratio is X9, ours); the tracking of Figs. 2–4 (C7) is not checked, since the paper gives no scale for
+# every eligible case, so the measurement does not discriminate, its precondition since session 14; the
+# ratio is X9, ours); the tracking of Figs. 2–4 (C7) is not checked, since the paper gives no scale for
 # "well match" (the relative RMS errors are recorded). Our corrected bound holds (X5), but it is ours and
 # does not decide. The counts over the declared space are in the claims table at the end.
 #
-# **Reading the verdict.** (i) Among the 4,096 searched weight sets the eligible gains are $\approx0$; the re-review's
-# eligible set has an informative gain, yet $L=0$ meets the envelope there too: on this stable instance the
-# envelope does not tell the estimator from the open-loop prediction (an unstable instance: future work).
+# **Reading the verdict.** (i) $L=0$ meets C3's envelope at every eligible case, informative gain or not: on this
+# stable instance it cannot tell the estimator from the open-loop prediction (an unstable one: future work).
 # (ii) C1b and C8 fail through **two printed errors**: (21)'s factor $(\check\psi-1)$ on the
 # $L\Gamma\mathbb E\{xx^T\}\Gamma^TL^T$ term (correct: $\mathbb E(\psi-1)^2=1-\check\psi$) gives the printed $\kappa_x$, whose
 # sign makes $\Pi$ indefinite (C8); separately, the printed $c_0=1-(\alpha_3-\alpha_2)(1-\check\psi)$ does not follow
@@ -48,8 +47,8 @@
 #
 # * **Fails its premise.** Theorem 3 (C3, deciding): on our instance (Assumption 1 met, subsystem 1 with the
 #   empty-sum reading, as C3a) the eligible weights of a declared search keep $\mathbb E\|e\|^2$ below our
-#   re-derived envelope (largest ratio 0.086, X9, ours), but so does $L=0$ (0.086), also at the re-review's
-#   set with an informative gain ($1.0\cdot10^{-4}$). On the example its premise fails for every weight set (C3a: $E_iE_i^T$
+#   re-derived envelope (largest ratio 0.086, X9, ours), but so does $L=0$ (0.086; and at the re-review's
+#   set). On the example its premise fails for every weight set (C3a: $E_iE_i^T$
 #   has rank 1); even with $e_*=b_*=0$ admitted no weights meet its conditions (X7, ours); Fig. 8 (C3b) too.
 # * **Holds.** At our grid's weights (printed $c_0>0$, $\kappa_x\ge0$) (28) minimises the trace of (18) by
 #   construction (C8b, shown, not evidence); RRL-MAP is fair (C4, by construction). Ours: the corrected
@@ -1696,10 +1695,9 @@ print("UB_i(T) / max_k MSE_i(k):", np.array2string(UB_RATIO, precision=3))
 #   $L=0$, the open-loop prediction (same system, noise, attacks: `exact_design_moments(zero_gain=True)`),
 #   violates the envelope at some eligible case, searched or the re-review's set below. An envelope that $L=0$
 #   meets as well says nothing about the estimator; where the precondition fails C3 is **fails-premise** and
-#   the ratio is X9 (ours, not deciding). **Restated in session 14:** it read "an informative gain" (largest
-#   $\|L\Phi CH_\epsilon\|$ and error reduction against $L=0$ ≥ 0.01); the re-review's eligible set
-#   $(1.115,1.305,14.916,14.914,0.0072)$ meets that (C3 would hold there: [Re, partial]) while $L=0$ meets
-#   the envelope too. Reported: the same for subsystem 2 alone; Stage 1, $\phi_*I\le\mathfrak S_i(k|k)\le\phi^*I$;
+#   the ratio is X9 (ours, not deciding). **Restated in session 14** from "an informative gain", which the
+#   re-review's eligible set $(1.115,1.305,14.916,14.914,0.0072)$ meets (C3 would hold there: [Re, partial]).
+#   Reported: the same for subsystem 2 alone; Stage 1, $\phi_*I\le\mathfrak S_i(k|k)\le\phi^*I$;
 #   $\Lambda$ of (53) against the measured $\max_k\|L_i(k)\|_2^2$ ((52) claims $L^TL\le\Lambda I$); (56) as
 #   printed; the largest gain.
 
@@ -1829,10 +1827,9 @@ REVIEW["old_precondition_holds"] = bool(REVIEW_ROWS) and all(
     v is not None and v >= gain_negligible for v in REVIEW["gain_share"] + REVIEW["error_reduction"])
 INST_RATIO_0_ALL = max((r["ratio_zero_gain"] for r in INST_ROWS + REVIEW_ROWS), default=None)
 INST_DISCRIMINATES = INST_RATIO_0_ALL is not None and INST_RATIO_0_ALL > 1.0
-print(f"re-review's weight set {REVIEW['weights']}: eligible pairs {REVIEW['eligible_pairs']}, gain share "
-      f"{REVIEW['gain_share']}, reduction against L = 0 {REVIEW['error_reduction']} (old precondition "
-      f"holds: {REVIEW['old_precondition_holds']}), ratio {REVIEW['max_ratio']}, with L = 0 "
-      f"{REVIEW['max_ratio_zero_gain']}; L = 0 violates the envelope somewhere: {INST_DISCRIMINATES}")
+print(f"re-review's set: pairs {REVIEW['eligible_pairs']}, share {np.round(REVIEW['gain_share'], 3)}, reduction "
+      f"{np.round(REVIEW['error_reduction'], 3)}, ratio {[f'{v:.2g}' for v in REVIEW['max_ratio']]} (L = 0: "
+      f"{[f'{v:.2g}' for v in REVIEW['max_ratio_zero_gain']]}); L = 0 above the envelope anywhere: {INST_DISCRIMINATES}")
 print(f"C3 precondition: largest ||L Phi C H|| = {INST_SHARE} (level gain_negligible = {gain_negligible}), "
       f"largest relative reduction of E||e||^2 by (28) against L = 0 = {INST_REDUCTION}; with L = 0 the "
       f"largest ratio to the envelope is {INST_RATIO_0} (with (28): {INST_RATIO}); informative: "
@@ -2167,7 +2164,7 @@ _ = plotting.save_figure(fig, FIG_DIR, "extra_robustness_map", data=robustness_d
 # | C1b (D) | the bound with the printed coefficients, for any positive weights (Theorems 1–2, Remark 4); premise: (17)–(18) have positive-definite solutions at every $k$ (measured: min $\lambda_{\min}$ 7·10⁻⁷ > 0) | exact certificate $\max\lambda_{\max}(\mathfrak S^{-1/2}P\mathfrak S^{-1/2})\le1+10^{-9}$ at the Remark-4 weights: 2.9·10³ / 1.8·10⁴ / 3.4·10⁵ from $k=2$; printed $c_0$ alone 2.8·10³ / 1.8·10⁴ / 3.3·10⁵, printed $\kappa_x$ alone 0.77 / 0.56 / 0.38 (finite to $k=58$); at the $\alpha_2>\alpha_3$ weights 0.9997 / 0.91 / 0.59 | **fails** |
 # | C1c | Fig. 7: MSE always below the bound (Section IV), printed coefficients | Bonferroni $t$-intervals of mean(tr $\mathfrak S$ − $\|e\|^2$) per cell: 280 of 300 cells wholly below 0 | **fails** |
 # | C2 | ZOH does not improve on zero-input (Remark 2, Fig. 6) | MSE ratio ZOH / zero-input, paired bootstrap 95 % intervals, informative targets only; default: target 1, 1.07 [1.04, 1.11]; read per independent draw (printed with the sweep figure) | **holds** |
-# | C3 (D) | Theorem 3 under Assumption 1 and its conditions (a)–(c): exponential mean-square boundedness (introduction, Section V) | on our declared instance, every eligible weight set: max $\mathbb E\|e\|^2/UB$ (our re-derived envelope) ≤ 1; premise: eligible weights and a discriminating measurement ($L=0$ above the envelope somewhere; restated in session 14): $L=0$ meets it, 0.0861239 against 0.0861238, and $1.0\cdot10^{-4}$ at the re-review's set | **fails-premise** |
+# | C3 (D) | Theorem 3 under Assumption 1 and its conditions (a)–(c): exponential mean-square boundedness (introduction, Section V) | on our declared instance, every eligible weight set: max $\mathbb E\|e\|^2/UB$ (our re-derived envelope) ≤ 1; premise (restated in session 14): eligible weights, and $L=0$ above the envelope somewhere; $L=0$ meets it (0.0861239 against 0.0861238) | **fails-premise** |
 # | C3a | Theorem 3 (Assumption 1, conditions (a)–(c)) applies to the example (Fig. 8) | premise: ranks of $E_iE_i^T$ (1) and $\sum_jB\sum_jB^T$ (0 / 2 / 2) against 4; conditions at the weights in use also measured (not met) | **fails-premise** |
 # | C3b | Fig. 8: $\|e_i\|^2\le UB_i$ confirms Theorem 3 | data-driven envelope ($10^{13}$–$10^{17}$, vacuous); premise C3a | **fails-premise** |
 # | C4 (BC) | RRL-MAP fairness (Remark 1, (2)) | counts per $U$-window, exact: arithmetic of (2) | **holds** |
@@ -2850,8 +2847,7 @@ print(VERDICT["line"])
 # $(0.1, 1, 9.5, 10, 0.01)$, printed $\kappa_x<0$, $\Pi$ of (28) is indefinite at 145 of 300 pairs; at our grid's
 # weights it holds by construction, C8b); C1b fails (an exact counterexample from $k=2$ at the weights Remark
 # 4's minimisation picks; at the $\alpha_2>\alpha_3$ weights it bounds, 0.9997 / 0.91 / 0.59); C3 fails its
-# premise ($L=0$ meets the envelope at every eligible case: 0.0861239 against 0.0861238, $1.0\cdot10^{-4}$ at the
-# re-review's set); C7 is not checked. No deciding claim holds: [¬Re]. On our instance (52)'s $\Lambda$ is exceeded
+# premise ($L=0$ meets the envelope at every eligible case: 0.0861239 against 0.0861238); C7 is not checked. No deciding claim holds: [¬Re]. On our instance (52)'s $\Lambda$ is exceeded
 # and (56) as printed fails in most eligible cases. The paper's method with the bound re-derived from its own
 # proof gives a valid bound (X5) and (28) minimises it for every positive weight set — our correction, which
 # does not raise the verdict.
