@@ -221,15 +221,28 @@ def test_c3_theorem3_on_our_instance(claims) -> None:
     assert m["max_ratio_subsystem2"] <= m["max_ratio"]
     assert c["threshold"] == 1.0
     assert abs(m["max_ratio"] - 1.0) > _tolerance(c, m["max_ratio"])
-    # the precondition of the measurement: an informative gain (C2's level), and an error under (28)
-    # measurably below L = 0's on the same cases; where it fails C3 is not-checked, X9 records the ratio
+    # the old precondition (until session 14, kept as a record): an informative gain (C2's level)
     level = m["informative_level"]
     assert level == 0.01  # C2's gain_negligible
     informative = m["max_gain_share"] >= level and m["max_error_reduction"] >= level
     assert m["gain_informative"] is informative
-    # the precondition is part of C3's premise (CONVENTIONS point 6): where it fails, fails-premise
-    assert c["premise"]["holds"] is (m["eligible_weight_sets"] > 0 and informative)
-    assert "informative" in c["premise"]["statement"]
+    # the re-review's weight set: in the declared box, eligible, with an informative gain (measured)
+    rev = m["reviewer_set"]
+    assert rev["weights"] == [1.115, 1.305, 14.916, 14.914, 0.0072] and rev["in_declared_box"]
+    assert rev["eligible_pairs"] == [42, 42]
+    np.testing.assert_allclose(rev["gain_share"], [0.0589, 0.0403], rtol=2e-3)
+    np.testing.assert_allclose(rev["error_reduction"], [0.0708, 0.0450], rtol=2e-3)
+    np.testing.assert_allclose(rev["max_ratio"], [9.326e-5, 1.7374e-4], rtol=1e-3)
+    np.testing.assert_allclose(rev["max_ratio_zero_gain"], [1.0036e-4, 1.8006e-4], rtol=1e-3)
+    assert rev["old_precondition_holds"] is all(v >= level for v in rev["gain_share"] + rev["error_reduction"])
+    # the precondition (restated in session 14, part of C3's premise, CONVENTIONS point 6): the
+    # measurement discriminates, L = 0 violates the envelope at some eligible case, searched or the
+    # re-review's; where it fails, fails-premise
+    worst0 = max([m["max_ratio_zero_gain"], *rev["max_ratio_zero_gain"]])
+    assert m["max_ratio_zero_gain_with_reviewer_set"] == pytest.approx(worst0, rel=1e-9)
+    assert m["zero_gain_violates_envelope"] is (worst0 > 1.0)
+    assert c["premise"]["holds"] is (m["eligible_weight_sets"] > 0 and m["zero_gain_violates_envelope"])
+    assert "discriminates" in c["premise"]["statement"] and "RESTATED in session 14" in c["check"]
     if c["premise"]["holds"]:
         assert c["holds"] is (m["max_ratio"] <= 1.0)
     else:
@@ -467,6 +480,10 @@ def test_robustness_table_and_committed_verdicts() -> None:
         assert rob["draws"] == len(draws) <= 5, cid
         assert rob["independent"] == min(len(draws), len(records)), cid
         assert rob["interval"]["method"].startswith("wilson over the independent draws"), cid
+        assert "independent_holding counts the draws at which every decided cell holds" in rob["interval"]["method"]
+        for outcome, words in (("fails-premise", "premise fails at all"), ("not-checked", "not checked at any")):
+            if rob["outcomes"][outcome] == rob["points"]:
+                assert rob["region"].startswith(words), cid
         kept, package = rob["interval_records"], summary[cid]["interval"]
         assert kept["method"] == package["method"], cid
         assert [kept["low"], kept["high"]] == pytest.approx([package["low"], package["high"]], rel=1e-9), cid
