@@ -28,9 +28,15 @@
 # the paper's main claims C2 (the probability guarantee, Theorem 3), C3 (the NN-based estimator
 # beats the conventional one under the same falsified innovations) and C7 (the joint estimation of
 # the attacks, contribution iv). At the paper's example (our default point, the geometric centre
-# of the declared range of the missing Taylor scales) C2 holds over independent $\alpha_k$
-# realisations, very conservatively; C3 does not hold (the two estimators nearly coincide there),
-# and C7 does not hold: the NN's estimate of the attack is the zero estimate. **The NN
+# of the declared range of the missing Taylor scales) C2 holds as Theorem 3 states it, at every
+# node and step: over 94 independent $\alpha_k$ realisations (a run count fixed by a power
+# computation before the outcome was seen) every one of the 120 (node, step) pairs has its
+# Bonferroni lower end above $p$; very conservatively, since the quadratic forms stay far below 1.
+# Over the declared space, swept at 16 runs for cost, C2 cannot decide (its per-pair rule needs
+# at least 50 runs to hold): not checked there, so the space gives no evidence for it either way.
+# C3 does not hold at the example (the NN estimator is worse than the conventional one at nodes 1
+# and 3, by under 1 %), and C7 does not hold: the NN's estimate of the attack is the zero
+# estimate. **The NN
 # compensator, the paper's main contribution, is never active**, at the example or anywhere in
 # the declared space: with the paper's $Q_{ij,0}=20I$ and $e_1=3$ the tuning law's LMI (OP1) sets
 # $\hat W=0$ from the first step on (E4), and the robust gain design switches the neighbours' innovations
@@ -89,7 +95,7 @@ attack_margin = 0.001  # C7: an attack estimate counts when its RMS error is bel
 settle_k = 10  # C1: errors measured from this step on (ours: after the transient)
 track_tol = 0.2  # C1: |error| bound for "satisfactory precision" (ours: the paper states no number)
 extras = True  # OP3 run, DPP re-solve check X5, certificate at the range's upper end (ours)
-mc_runs = 16  # independent alpha_k realisations of C2 and C8b (Monte Carlo); fast mode uses 3 (ours)
+mc_runs = 94  # independent alpha_k realisations of C2 and C8b: the power rule of ma2021.toml; fast mode uses 3 (ours)
 op3_scale = 2.0  # fixed ellipsoid B is op3_scale times I for the OP3 run (MISSING)
 figures = True  # False: no figure or data file is made (robustness sweep points) (ours)
 fig_dir = "figures/ma2021"
@@ -189,7 +195,7 @@ print(f"design of the declared space: {len(spaces.design(SPACE))} points "
 # | $V_k$, $U_k$ | 1, 1 | PAPER | |
 # | $\phi(z)$ | $[\tanh z^{(1)};\ \tanh z^{(2)}]$ | PAPER | |
 # | $\chi(z)$ | $[0.15\sin z^{(1)};\ 0.30\cos z^{(2)}]$ | PAPER | "0.15sin(2}) / 0'30COS(Z£213)" |
-# | $P_k$ in Lemma 4 | $P_k=(1-p)\mathfrak B_k$ | CORRECTED (E1) | printed with a factor $\tfrac1{1-p}$ that belongs to the inverses; only this reading gives (11) by Markov's inequality |
+# | $P_k$ in Lemma 4 | $P_k=(1-p)\mathfrak B_k$ | RECONSTRUCTED (E1, OCR) | "Define a matrix $P_k$ by … P& —%, / 1-p": the OCR lost the $-1$ superscripts of $P_k^{-1}=\mathfrak B_k^{-1}/(1-p)$, so the factor $\tfrac1{1-p}$ seems to multiply $P_k$; read with the inverses it is the only reading under which Lemma 3 (Markov's inequality) gives (11). An OCR reconstruction, not an erratum of the paper (an earlier version called it CORRECTED) |
 # | OP3 (33) | min $\rho=1-p_{k+1}$ with $-\rho\mathfrak B$ in (30) | CORRECTED (E2) | printed "min $q_k=1/(1-p_k)$" is not convex and points the wrong way |
 # | (24)–(28) | row blocks of $\Xi_k$, $\tilde\Xi_k$ re-derived from (15)–(16) | RECONSTRUCTED | the OCR is damaged; where it is legible (e.g. $(\Phi_k-G_k\Psi_k-H_k\dots)S_k$ in (27), $(G_k+H_k)E(I_N\otimes I)$ in (28)) it agrees with the re-derived blocks; checked to machine precision on the run (X1) |
 # | conventional design | attack-unaware OP2 | MISSING | the paper only says "characterised by (3)"; we design (3) with the same LMI, without the attack terms, and run it on the falsified data. Other readings are plausible (e.g. an attack-aware OP2 without the NN terms; the NN design's own gains with $\hat W=0$ would coincide with the NN estimator, X3); none is swept, so C3's map is conditional on this one |
@@ -426,9 +432,11 @@ show_source(M.update_all, after="    th = np.asarray(theta, float)")
 # %% [markdown]
 # ## Theorems 2–3: the recursive LMI (22)/(30) and OP2 (32), OP3 (33)
 #
-# **Lemma 4, corrected (E1).** Markov's inequality (Lemma 3) needs
+# **Lemma 4, reconstructed from the OCR (E1).** Markov's inequality (Lemma 3) needs
 # $E\{\tilde x^\top\mathfrak B_k^{-1}\tilde x\}\le1-p$, so $P_k=(1-p)\mathfrak B_k$. The OCR's
-# "$1/(1-p)$" factor belongs to the inverses. Then $E\{\tilde x^\top P_k^{-1}\tilde x\}\le1$ gives
+# "P& —%, / 1-p" has lost the $-1$ superscripts of $P_k^{-1}=\mathfrak B_k^{-1}/(1-p)$: the
+# "$1/(1-p)$" factor belongs to the inverses. This is a reading of a garbled line, not an erratum
+# of the paper. Then $E\{\tilde x^\top P_k^{-1}\tilde x\}\le1$ gives
 # $P\{\tilde x^\top\mathfrak B_k^{-1}\tilde x\le1\}\ge p$. At $k=0$, $\mathfrak B_0=P_0/(1-p)$.
 #
 # **S-procedure multipliers** (23), (57), all $\ge0$: $\beta^{(1)}_l$ for $E s_l^\top s_l\le1$,
@@ -778,8 +786,10 @@ def rmse(res: dict) -> np.ndarray:
 #   number of points where C3 holds is set by this choice (5 of the 7 levels lie above the turn)
 #   and is reported per level, not as a sampled fraction. With 2 seeds and 5 OCR readings
 #   (one alternative at a time) that is 70 points. Each point is a papermill run of the two
-#   designs plus the 15 further NN runs of the Monte Carlo of C2 (issue #30's round 4), about
-#   1.5 min of CPU, so the sweep takes about 50 min on 2 idle cores; denser designs cost in
+#   designs plus the 15 further NN runs of the Monte Carlo of C2 (issue #30's round 4; the sweep
+#   keeps 16 runs per point, `mc_runs = 16` in the TOML's `[sweep] base`, while paper mode runs
+#   94, section "Monte Carlo"), about 1.5 min of CPU, so the sweep takes about 50 min on 2 idle
+#   cores (28 min were measured on a quieter machine); denser designs cost in
 #   proportion (13 levels × 4 seeds, or the 16 combinations of the readings, would take 3–4 times as long).
 #   Sweep points run without the SCS fallback (`fallback_solver = "none"` in the TOML's `[sweep]
 #   base`), a change made after the first sweep, for cost: there SCS was tried 68 times and
@@ -1240,59 +1250,102 @@ if extras and mode == "paper":
 #
 # $\alpha_k$ is the only random quantity (E8), so the probability of Theorem 3 and the expectation
 # of Theorem 2 are over its realisations. Within one run the (node, step) pairs are **not**
-# independent samples (they share the realisation and the recursion), so the Monte Carlo claims
-# take **one statistic per run** and their intervals over the `mc_runs` independent runs (16; the
-# first is the main run; each run has its own data-dependent $P_k$ and $\mathfrak B_k$):
+# independent samples (they share the realisation and the recursion); across runs each pair is
+# one Bernoulli trial per run. The `mc_runs` runs (94 in paper mode; the first is the main run;
+# each run has its own data-dependent $P_k$ and $\mathfrak B_k$) are therefore summarised **per
+# pair**:
 #
-# * **C2 (Theorem 3).** Run $r$'s statistic is $f_r$, the fraction of its pairs $(i,k)$, $k=1..T$,
-#   with $\tilde x_{i,k}^\top\mathfrak B_k^{-1}\tilde x_{i,k}\le1$. Theorem 3 gives
-#   $P\{\cdot\}\ge p$ at every pair, hence $E f_r\ge p$. $k=0$ is left out and is no evidence:
-#   $\mathfrak B_0=P_0/(1-p)$, so Assumption 3 (the premise) alone puts its forms below $1-p$.
-#   The interval of $E f_r$ over the runs is the Wilson score interval (95 %, the level is ours;
-#   valid for a statistic in $[0,1]$, whose variance is at most the binomial $\mu(1-\mu)$ the score
-#   interval assumes). Each pair is also tested alone: the fraction of runs inside at $(i,k)$ gets
-#   a Wilson interval at the Bonferroni level $1-0.05/m$ over the $m=NT$ pairs tested. **C2 fails**
-#   if the upper end for $E f_r$ is below $p$ or some pair's Bonferroni interval lies wholly below
-#   $p$; **holds** if the lower end for $E f_r$ is $\ge p$ and no pair fails; else it is **not
-#   checked** (too few runs to decide). The rule is on intervals, so it means the same at any run
-#   count: with every run inside at every pair, 16 runs are the fewest that decide (lower end
-#   0.806), and the 3 runs of fast mode leave C2 not checked (0.44).
+# * **C2 (Theorem 3, (11)).** Theorem 3 states $P\{\tilde x_{i,k}^\top\mathfrak B_k^{-1}
+#   \tilde x_{i,k}\le1\}\ge p$ **at every node $i$ and step $k$**. At each pair $(i,k)$,
+#   $k=1..T$, the fraction of runs inside $\mathfrak B_k$ gets a Wilson interval at the Bonferroni
+#   level $1-0.05/m$ over the $m=NT$ pairs tested (the multiplicity correction: all $m$ intervals
+#   hold together with probability $\ge0.95$). **C2 holds** if every pair's lower end is $\ge p$;
+#   **fails** if some pair's upper end is $<p$; else it is **not checked** (too few runs to
+#   decide). The rule is on intervals, so it means the same at any run count; what the run count
+#   changes is only whether it can decide. A pair inside in every run reaches $p$ from 50 runs on
+#   (lower end 0.8006; 16 of 16 give 0.5623), so the 16 runs of the sweep can only give "fails"
+#   or "not checked", and the 3 runs of fast mode likewise. The paper-mode run count, 94, was fixed
+#   in `notebooks/ma2021.toml` by a power computation written before any outcome at it was seen
+#   (recomputed below). $k=0$ is left out and is no evidence: $\mathfrak B_0=P_0/(1-p)$, so
+#   Assumption 3 (the premise) alone puts its forms below $1-p$.
+# * The previous statistic, the average over the pairs of one run, $f_r$, with the Wilson score
+#   interval of $E f_r$ over the runs, is weaker than (11) (an average can reach $p$ while some
+#   pair stays below it); it is kept in C2's record (`average_record`) and decides nothing.
 # * **C8b (Theorem 2, (29)).** Per pair, the Student-t interval of the mean of
 #   $\tilde x^\top P_k^{-1}\tilde x$ over the runs at the Bonferroni level $1-0.05/m$: holds if every
-#   upper end is $\le1$, fails if some lower end is $>1$, else not checked.
+#   upper end is $\le1$, fails if some lower end is $>1$, else not checked. Theorem 2 is stated
+#   "under the condition of Theorem 1", so C8b carries C2's premise.
 #
-# **This Monte Carlo is nearly degenerate.** The NN design barely uses its neighbours (X3), and the
-# neighbours' innovations are the only place where $\alpha_k$ enters, so the realisations give
-# almost the same errors and ellipsoids (the spread is printed below). The runs are independent, so
-# the intervals are valid; they are narrow because the runs barely differ.
+# **This Monte Carlo hardly exercises the probability** (issue #30, item 2). The NN design barely
+# uses its neighbours (X3), and the neighbours' innovations are the only place where $\alpha_k$
+# enters, so the realisations give almost the same errors and ellipsoids, and every quadratic
+# form lies far below 1 (the spread over the runs and the largest form are printed below and
+# recorded in C2's `measured`). C2 therefore tests whether a very conservative bound holds at
+# every pair, not whether the probability $p$ is attained: a "holds" here says that the
+# guarantee is met, with a large margin, not that it is tight. The runs are independent, so the
+# intervals are valid; the runs barely differ because the design ignores $\alpha_k$.
 
 # %%
 def score_interval(mean: float, n: int, level: float) -> tuple[float, float]:
     """Wilson score interval of the mean of n independent statistics in [0, 1] (their variance is
-    at most mean (1 - mean), the binomial variance the score interval assumes)."""
+    at most mean (1 - mean), the binomial variance the score interval assumes); the old average
+    statistic of C2, kept as a record."""
     zq = stats.norm.ppf(0.5 + level / 2.0)
     centre = (mean + zq**2 / (2 * n)) / (1 + zq**2 / n)
     half = zq * np.sqrt(mean * (1 - mean) / n + zq**2 / (4 * n * n)) / (1 + zq**2 / n)
     return float(max(centre - half, 0.0)), float(min(centre + half, 1.0))
 
 
+def pair_intervals(inside: np.ndarray, level: float) -> tuple[np.ndarray, np.ndarray]:
+    """Per pair (k, node): Wilson interval of the fraction of runs inside, inside[run, k, node]."""
+    n = inside.shape[0]
+    iv = np.array([[montecarlo.wilson_interval(int(c), n, level=level) for c in row]
+                   for row in inside.sum(axis=0)])
+    return iv[..., 0], iv[..., 1]
+
+
+def decisive_misses(n: int, level: float) -> int:
+    """The most misses out of n runs at a pair that still give a Wilson lower end >= p (-1: none)."""
+    j = -1
+    while j + 1 <= n and montecarlo.wilson_interval(n - j - 1, n, level=level)[0] >= p:
+        j += 1
+    return j
+
+
+def power_bound(n: int, m: int, rate: float, level: float) -> float:
+    """Union bound on P{every one of m pairs reaches p} when each pair's true rate is `rate`."""
+    j = decisive_misses(n, level)
+    return 0.0 if j < 0 else max(0.0, 1.0 - m * float(stats.binom.sf(j, n, 1.0 - rate)))
+
+
+n_pairs = T_run * N  # pairs (i, k), k = 1..T, tested per run
+bonf_level = 1.0 - 0.05 / n_pairs
+POWER_RATE, POWER_TARGET = 0.99, 0.8  # the power computation of ma2021.toml (ours)
+n_power = next(n for n in range(2, 1000) if power_bound(n, n_pairs, POWER_RATE, bonf_level)
+               >= POWER_TARGET)
+print(f"power rule (ma2021.toml): m = {n_pairs} pairs, level {bonf_level:.6f}; fewest runs with "
+      f"power >= {POWER_TARGET} at a true rate {POWER_RATE} per pair: {n_power} (misses allowed "
+      f"{decisive_misses(n_power, bonf_level)}); this run: {n_mc} runs, power bound "
+      f"{power_bound(n_mc, n_pairs, POWER_RATE, bonf_level):.3f}; a pair inside in every run "
+      f"has lower end {montecarlo.wilson_interval(n_mc, n_mc, level=bonf_level)[0]:.4f}")
+
 mc_alphas = [alpha_sequence(r, T_run, ALPHA_BAR) for r in montecarlo.spawn_rngs(seed, n_mc)]
 mc_runs_list = [nn_run] + [simulate(alpha=a, estimator="nn") for a in mc_alphas[1:]]
 assert np.array_equal(mc_alphas[0], alpha_main)  # the main run is run 0
-n_pairs = T_run * N  # pairs (i, k), k = 1..T, tested per run
-bonf_level = 1.0 - 0.05 / n_pairs
-inside_mc = np.stack([r["qf"][1:] <= 1.0 for r in mc_runs_list])  # (runs, k = 1..T, node)
-f_runs = inside_mc.reshape(n_mc, -1).mean(axis=1)  # one statistic per run (C2)
-c2_lo, c2_hi = score_interval(float(f_runs.mean()), n_mc, 0.95)
-pair_hi = np.array([[montecarlo.wilson_interval(int(inside_mc[:, k, i].sum()), n_mc,
-                                                level=bonf_level)[1] for i in range(N)]
-                    for k in range(T_run)])
+qf_mc = np.stack([r["qf"][1:] for r in mc_runs_list])  # (runs, k = 1..T, node), C2
+inside_mc = qf_mc <= 1.0
+pair_lo, pair_hi = pair_intervals(inside_mc, bonf_level)  # (k, node), C2's rule
+pair_rate = inside_mc.mean(axis=0)
+f_runs = inside_mc.reshape(n_mc, -1).mean(axis=1)  # the old average statistic (record only)
+c2_avg_lo, c2_avg_hi = score_interval(float(f_runs.mean()), n_mc, 0.95)
 qP_mc = np.stack([r["qP"][1:] for r in mc_runs_list])  # (runs, k = 1..T, node), C8b
 qP_iv = np.array([[montecarlo.mean_interval(qP_mc[:, k, i], level=bonf_level) for i in range(N)]
                   for k in range(T_run)])  # (k, node, 2)
-print(f"{n_mc} runs; per-run fraction inside B_k: min {f_runs.min():.4f}, mean {f_runs.mean():.4f}, "
-      f"Wilson 95 % [{c2_lo:.3f}, {c2_hi:.3f}]; smallest Bonferroni upper end over pairs "
-      f"{pair_hi.min():.3f} (level {bonf_level:.5f}, m = {n_pairs})")
+qf_spread = float(np.max(qf_mc.max(axis=0) - qf_mc.min(axis=0)))
+print(f"C2: {n_mc} runs; pairs with lower end >= p: {int((pair_lo >= p).sum())} of {n_pairs}, "
+      f"with upper end < p: {int((pair_hi < p).sum())}; worst pair's rate {pair_rate.min():.4f}, "
+      f"its interval [{pair_lo.min():.4f}, {pair_hi.min():.4f}]; largest form over k >= 1 "
+      f"{qf_mc.max():.4f}, spread over the runs (max - min, worst pair) {qf_spread:.1e}")
 print(f"C8b: largest mean of x~'P^-1 x~ {qP_mc.mean(axis=0).max():.4f}, largest Bonferroni upper "
       f"end {qP_iv[..., 1].max():.4f}; spread over the runs (max - min, worst pair) "
       f"{np.max(qP_mc.max(axis=0) - qP_mc.min(axis=0)):.1e}; uncertified solves over the runs: "
@@ -1304,13 +1357,13 @@ print(f"C8b: largest mean of x~'P^-1 x~ {qP_mc.mean(axis=0).max():.4f}, largest 
 # | id | paper | what we measure, and the rule | decides |
 # |---|---|---|---|
 # | C1 | each node tracks both states "with a satisfactory precision" with the NN estimator (Figs. 1–4); the conventional one "with certain precision" (Figs. 5–8) | $\max|\tilde x^{(l)}_{i,k}|$ of (8) for $k\ge$ `settle_k` against `track_tol` = 0.2, **ours** (the paper states no number; 0.2 is the brief's reading of the tick residue of Fig. 4, data within about ±0.2); the conventional value is reported. **Premise**: the example's assumptions (below) on the NN run | no: its level is ours |
-# | C2 | the errors stay in the required region with probability $\ge p$ (Theorem 3, (11)) | one statistic per independent run, the fraction $f_r$ of its pairs $(i,k)$, $k=1..T$, inside $\mathfrak B_k$; Wilson interval of $E f_r$ over the `mc_runs` runs, and per pair at the Bonferroni level (section "Monte Carlo"); holds / fails / not checked by that three-way rule. **Premise**: the example's assumptions on every run | **yes** |
+# | C2 | the errors stay in the required region with probability $\ge p$ **at every node and step** (Theorem 3, (11)) | per pair $(i,k)$, $k=1..T$: Wilson interval of the fraction of the `mc_runs` independent runs inside $\mathfrak B_k$ at the Bonferroni level $1-0.05/NT$; holds if every pair's lower end is $\ge p$, fails if some pair's upper end is $<p$, else not checked (section "Monte Carlo"); the former average over the pairs is recorded, not deciding. **Premise**: the example's assumptions and Theorem 1's (19) on every run | **yes** |
 # | C3 | the conventional estimator "shows worse estimation performance" than the NN-based one under the same falsified innovations (Figs. 5–8 vs 1–4) | per-node RMSE of $\|\tilde x\|$ over $k=1..T$: holds if $\mathrm{RMSE}_{NN}<(1-$`c3_margin`$)\,\mathrm{RMSE}_{conv}$ at **every** node (margin ours: a tie within solver noise is not "worse"); headline: the worst node's ratio. **Premise**: the example's assumptions on both runs | **yes** |
 # | C4 | $\mathrm{tr}[\tilde W^\top Q^{-1}\tilde W]\le1$ for all $k$ (Theorem 1) | max over links and steps, with $W=W^\star$. **By construction**: the maximum is at $k=0$, fixed by the data, and from $k=1$ on $Q=e_1^2I$ holds (19) for any $W$ that Assumption 2 allows | no: by construction |
 # | C5 | the recursive LMIs are solvable at every step (Algorithm 1, Theorems 1–3) | every solve certified by our strict certificate. **By construction**: OP2/OP3 and OP1 are feasible in exact arithmetic ($\mathfrak B_{k+1}$, $Q_{ij,k+1}$ free), so only our certificate is measured; where it rejects a solve, **not checked** (a limit of ours) | no: by construction |
 # | C7 | the attacks are estimated jointly with the states (abstract; Sec. I, contribution iv) | per link $i\leftarrow j$, $k=1..T-1$: RMS of $\chi(z_{j,k})-\hat W_{ij,k}\phi(z_{i,k})$ over the RMS of $\chi(z_{j,k})$ (the zero estimate's ratio is 1); holds if below $1-$`attack_margin` (ours: more than solver round-off) at every link where the premise's oracle fits. **Premise**: the NN class can fit the attack at all: an oracle of the same class, $W\phi(z_{i,k})$ with $W$ fitted by least squares to the true attack (two-fold cross-validated over the steps), beats the zero estimate by the same margin on at least one link; and the example's assumptions | **yes** |
 # | C8a | Theorem 2, (29), exactly along the run | $E_{\alpha_k}\{\tilde x_{i,k+1}^\top P_{k+1}^{-1}\tilde x_{i,k+1}\mid\text{past}\}\le1$ at every node and certified step (both branches of $\alpha_k$ computed). **Premise**: the constraints of (23) hold at every certified step | no: a step of Theorem 3, which C2 decides |
-# | C8b | Theorem 2, (29), over realisations | per pair, Student-t interval of the mean of $\tilde x^\top P_k^{-1}\tilde x$ over the runs at the Bonferroni level: holds if every upper end $\le1$, fails if some lower end $>1$, else not checked | no: as C8a |
+# | C8b | Theorem 2, (29), over realisations | per pair, Student-t interval of the mean of $\tilde x^\top P_k^{-1}\tilde x$ over the runs at the Bonferroni level: holds if every upper end $\le1$, fails if some lower end $>1$, else not checked. **Premise**: C2's (Theorem 2 holds "under the condition of Theorem 1") | no: as C8a |
 # | X1 | (ours) the error dynamics (54) | $\max|\tilde x_{i,k+1}-(\Xi_i+\tilde\alpha_k\tilde\Xi_i)\zeta_k|$ at the actual $\zeta_k$, certified steps, $\le10^{-10}$ (round-off) | no: ours |
 # | X2 | (ours) the premise (12)–(13) at this point's $L_i=\aleph_i$ | worst ratio $\|\text{remainder}\|/(s\|\tilde x\|)$ over the certified steps of both runs $\le1$ | no: ours |
 # | X3 | (ours, E4–E5) the NN mechanism is not reproduced: OP1 collapses the weights, OP2 drops the neighbours | $\max_k|\lambda^{(2)}|\le10^{-6}$, $\max_{k\ge1}\|\hat W_{ij,k}\|_F\le10^{-6}$, $\max\|H_{ij}\|\le10^{-2}$ (levels ours: orders of magnitude above round-off, below any active compensation) | no: ours |
@@ -1322,9 +1375,10 @@ print(f"C8b: largest mean of x~'P^-1 x~ {qP_mc.mean(axis=0).max():.4f}, largest 
 #
 # C6 (the cost per step, Remark 7) is a timing and belongs to the benchmark suite (`make bench`).
 #
-# **The example's assumptions** (the premise of C1, C2, C3 and C7): Assumption 3 at $k=0$, and
+# **The example's assumptions** (the premise of C1, C2, C3, C7 and C8b): Assumption 3 at $k=0$, and
 # (12)–(13) with $L_i=\aleph_i=sI$ and $\|\delta_j\|\le e_3$ at every **certified** step of the
-# runs the claim is measured on. Premises are evaluated on certified steps only: after the first
+# runs the claim is measured on; C2 and C8b add Theorem 1's (19) on every run (Theorems 2–3 are
+# stated under the condition of Theorem 1). Premises are evaluated on certified steps only: after the first
 # solve that our certificate rejects, our fallback keeps the previous gains and doubles $P$ (brief
 # §7), so the run is no longer Algorithm 1's, and what it does says nothing about the paper.
 #
@@ -1434,40 +1488,57 @@ claims["C1"] = results.claim(
     source="Sec. IV, Figs. 1-4 (and Figs. 5-8)", section=SEC_EXAMPLE, tolerance=TOL_LMI,
 )
 note_mc = fallback_note(*((f"NN run {r_}", res) for r_, res in enumerate(mc_runs_list)))
+text_mc, holds_mc = example_premise(mc_runs_list, f"the {n_mc} NN runs")
+wq_mc = max(float(r["Wq"].max()) for r in mc_runs_list)  # Theorem 1's (19) on every run
+premise_mc = (f"{text_mc}; Theorem 1's condition (19), tr[W~^T Q^-1 W~] <= 1 with W = W*, at "
+              f"every link and step of every run (max {wq_mc:.3f})", holds_mc and wq_mc <= 1.0)
+pairs_decide = int((pair_lo >= p).sum())
 pairs_below = int((pair_hi < p).sum())
+k_c2, i_c2 = np.unravel_index(int(np.argmin(pair_lo)), pair_lo.shape)  # the worst pair
 if note_mc:
     c2_holds, c2_note = None, note_mc
-elif c2_hi < p or pairs_below:
+elif pairs_below:
     c2_holds, c2_note = False, None
-elif c2_lo >= p:
+elif pairs_decide == n_pairs:
     c2_holds, c2_note = True, None
 else:
     c2_holds, c2_note = None, (
-        f"{n_mc} runs cannot decide: the Wilson interval [{c2_lo:.3f}, {c2_hi:.3f}] of E f_r "
-        "contains p and no pair's Bonferroni interval lies below p (with every run inside at every "
-        "pair, 16 runs decide)")
+        f"{n_mc} runs cannot decide: {n_pairs - pairs_decide} of the {n_pairs} pairs have a "
+        f"Bonferroni interval containing p (worst pair [{pair_lo.min():.4f}, "
+        f"{pair_hi[k_c2, i_c2]:.4f}]) and none lies below p; a pair inside in every run reaches p "
+        "from 50 runs on")
 claims["C2"] = results.claim(
-    paper="Theorem 3, (10)-(11): P{x~_(i,k)^T B_k^-1 x~_(i,k) <= 1} >= p = 0.8 at every node and "
-    "step ('both the estimation errors are confined within the required range')",
-    check=f"one statistic per independent alpha_k realisation (NN design, {n_mc} runs, each with "
-    "its own B_k): f_r, the fraction of its (node, step) pairs, k = 1..T, inside B_k; E f_r >= p "
-    "by Theorem 3. k = 0 is left out and is no evidence: B_0 = P_0 / (1 - p), so the premise "
-    "(Assumption 3) alone puts its forms below 1 - p (reported: max_quadratic_form_k0). Fails if "
-    "the upper end of the Wilson score interval of E f_r over the runs (95 %, level ours; valid "
-    "for a statistic in [0, 1]) is below p, or if at some pair the Wilson interval of the fraction "
-    f"of runs inside at the Bonferroni level 1 - 0.05/{n_pairs} (the {n_pairs} pairs tested) lies "
-    "wholly below p; holds if the lower end for E f_r is >= p and no pair fails; else not checked "
-    "(too few runs to decide)",
-    measured={"mean_fraction": float(f_runs.mean()), "min_run_fraction": float(f_runs.min()),
-              "runs": n_mc, "pairs_per_run": n_pairs, "pairs_below_p_bonferroni": pairs_below,
-              "min_pair_upper_bonferroni": float(pair_hi.min()),
-              "fraction_main_run": float(inside_mc[0].mean()),
-              "max_quadratic_form": float(np.max([r["qf"][1:].max() for r in mc_runs_list])),
+    paper="Theorem 3, (10)-(11): P{x~_(i,k)^T B_k^-1 x~_(i,k) <= 1} >= p = 0.8 at every node i "
+    "and step k ('both the estimation errors are confined within the required range')",
+    check=f"per pair (node i, step k = 1..T; {n_pairs} pairs), over {n_mc} independent alpha_k "
+    "realisations (NN design, each run with its own B_k): the Wilson interval of the pair's "
+    f"fraction of runs inside B_k at the Bonferroni level 1 - 0.05/{n_pairs} (multiplicity "
+    "correction over the pairs tested). Holds if every pair's lower end is >= p; fails if some "
+    "pair's upper end is < p; else not checked (too few runs to decide; a pair inside in every "
+    "run reaches p from 50 runs on). Headline: the worst pair's rate, with its interval. k = 0 is "
+    "left out and is no evidence: B_0 = P_0 / (1 - p), so the premise (Assumption 3) alone puts "
+    "its forms below 1 - p (max_quadratic_form_k0). The average over the pairs of one run with "
+    "its Wilson score interval over the runs (the statistic used before issue #30, session 13) is "
+    "weaker than (11) and is recorded in average_record, not deciding. The run count 94 (paper "
+    "mode) is fixed by the power computation of notebooks/ma2021.toml",
+    measured={"worst_pair_rate": float(pair_rate.min()), "runs": n_mc, "pairs": n_pairs,
+              "bonferroni_level": bonf_level, "pairs_lower_at_least_p": pairs_decide,
+              "pairs_upper_below_p": pairs_below, "min_pair_lower": float(pair_lo.min()),
+              "min_pair_upper": float(pair_hi.min()),
+              "worst_pair_step_node": [int(k_c2) + 1, int(i_c2) + 1],
+              "max_quadratic_form": float(qf_mc.max()),
               "max_quadratic_form_k0": float(nn_run["qf"][0].max()),
-              "fraction_conventional_design": float(np.mean(conv_run["qf"][1:] <= 1.0))},
-    key="mean_fraction", interval=results.interval(c2_lo, c2_hi, method="wilson score over runs"),
+              "max_spread_over_runs": qf_spread,
+              "fraction_conventional_design": float(np.mean(conv_run["qf"][1:] <= 1.0)),
+              "average_record": {"mean_fraction": float(f_runs.mean()),
+                                 "min_run_fraction": float(f_runs.min()),
+                                 "wilson95_over_runs": [c2_avg_lo, c2_avg_hi],
+                                 "deciding": False}},
+    key="worst_pair_rate",
+    interval=results.interval(float(pair_lo[k_c2, i_c2]), float(pair_hi[k_c2, i_c2]),
+                              level=bonf_level, method="wilson, the worst pair, Bonferroni"),
     threshold=p, holds=c2_holds, not_checked=c2_note, decides=True, runs=n_mc,
-    premise=example_premise(mc_runs_list, f"the {n_mc} NN runs"),
+    premise=premise_mc,
     source="Theorem 3, (10)-(11); Sec. IV, Figs. 3-4", section=SEC_MC, tolerance=TOL_LMI,
 )
 e_nn, e_conv = rmse(nn_run), rmse(conv_run)
@@ -1764,8 +1835,9 @@ claims["C8b"] = results.claim(
     check=f"Monte Carlo over {n_mc} independent realisations (NN design, each with its own P_k): "
     "per pair (node, k = 1..T) the Student-t interval of the mean of x~^T P_k^-1 x~ over the runs at "
     f"the Bonferroni level 1 - 0.05/{n_pairs}; holds if every upper end is <= 1, fails if some "
-    "lower end is > 1, else not checked. Nearly degenerate: the NN design ignores alpha (X3), so "
-    "the runs barely differ",
+    "lower end is > 1, else not checked. Premise: C2's (Theorem 2 is stated 'under the condition "
+    "of Theorem 1'; the example's assumptions and (19) on every run). Nearly degenerate: the NN "
+    "design ignores alpha (X3), so the runs barely differ",
     measured={"max_upper_bonferroni": float(qP_iv[..., 1].max()),
               "max_mean": float(qP_mc.mean(axis=0).max()),
               "worst_step_node": [int(k_w) + 1, int(i_w) + 1], "runs": n_mc,
@@ -1773,7 +1845,7 @@ claims["C8b"] = results.claim(
               "uncertified_steps": sum(len(r["failures"]) for r in mc_runs_list)},
     key="max_upper_bonferroni",
     interval=results.interval(*qP_iv[k_w, i_w], level=bonf_level, method="student-t"),
-    threshold=1.0, holds=c8b_holds, not_checked=c8b_note, runs=n_mc,
+    threshold=1.0, holds=c8b_holds, not_checked=c8b_note, runs=n_mc, premise=premise_mc,
     source="Theorem 2, (29)", section=SEC_MC, tolerance=TOL_LMI,
 )
 h_conv_med = float(np.median(conv_run["Hn"]))
@@ -1870,8 +1942,29 @@ if SWEEP_ROWS:
 #   X9), and the grid levels at which it holds were placed knowing where it turns (section "The
 #   missing Taylor scales"). The default scale is the geometric centre of the declared range, not
 #   its lower end, which is the scale most favourable to C3.
-# * **C2 (the probability guarantee)** is measured over independent runs and is very
-#   conservative where its premise holds (the largest quadratic form is printed with the claims).
+# * **C3's outcome rests on choices of ours** (issue #30, item 4). At the example it rests on
+#   three missing inputs: the Taylor scales $L_i=\aleph_i$ (the default is the centre of a
+#   declared range), the conventional design (ours: the attack-unaware OP2) and $x_0^{(2)}$ (2.0);
+#   only the first is swept. Its every-node rule is ours and stronger than the paper's
+#   figure-level statement ("the conventional algorithm shows worse estimation performance"). The
+#   weaker node-averaged reading is recorded in C3's `measured` (`mean_nn` against
+#   `mean_conventional`) and gives the same outcome at the example (the NN's mean RMSE is the
+#   larger); over the space only the worst node's ratio is tabulated, so the counts are the
+#   every-node rule's.
+# * **C2 (the probability guarantee)** is tested as Theorem 3 states it, at every (node, step)
+#   pair, with a per-pair interval and a Bonferroni correction (section "Monte Carlo"). At the
+#   example, with 94 runs, it holds. Over the declared space the sweep ran 16 runs per point (the
+#   run count of the committed sweep: at 94 runs the 70 points would take about 2 h of wall time
+#   on this 2-core machine), at which a pair inside in every run has lower end 0.5623 < $p$: the
+#   rule can only give "fails" (it does not, anywhere) or "not checked", and the sweep's C2 column
+#   was re-derived from the committed rows by that rule (ERRATA, session 13). The space verdict
+#   the tooling writes is "fails-premise" because the premise fails at 2 points and no point is
+#   decided; it is not evidence against C2. C2 is very conservative where its premise holds (the
+#   largest quadratic form and the spread over the runs are in its record).
+# * **The intervals in `robustness.json`** (the table above, "95 % Wilson") are the tooling's one
+#   format for all papers, labelled as if the decided points were a sample of the declared space.
+#   For C3 they are not (issue #30, item 5): the Taylor-scale levels were placed knowing where C3
+#   turns, so its interval is no estimate of anything; only the counts per level are quoted.
 
 # %% [markdown]
 # ## C3 over the declared space: the map
@@ -1884,8 +1977,11 @@ if SWEEP_ROWS:
 #
 # The lower panels show what C3 needs, not what decides it: C3 can hold only where the
 # attack-unaware conventional design leans on its neighbours (X9), so that the falsified
-# innovations reach it; that is necessary, not sufficient. Where the conventional design drops
-# its neighbours as well, the two estimators nearly coincide. So the direction of C3 is set by
+# innovations reach it; that is necessary, not sufficient. Where X9 fails (the conventional
+# design's median neighbour gain is below 0.5; it is not zero there, reaching 0.38), C3 fails at
+# every decided point: the worst node's ratio is above 1 by up to about 5 % (the cell below
+# prints the ranges from `robustness.csv`; an earlier version called the two estimators "nearly
+# coincident" there). So the direction of C3 is set by
 # the missing scales $L_i$, $\aleph_i$, the missing conventional design and the realisation, not by
 # the paper's method.
 #
@@ -1972,6 +2068,15 @@ for reading_ in dict.fromkeys(r["ocr_reading"] for r in sweep_rows):
         if vals:
             print(f"{reading_:>18}, C3 {label_}: {len(vals)} points, worst node's ratio "
                   f"{min(vals):.5f}-{max(vals):.5f}")
+decided_c3 = [r for r in sweep_rows if r["C3.outcome"] in ("holds", "fails")]
+for label_, sel in (("C3 holds", [r for r in decided_c3 if r["C3.outcome"] == "holds"]),
+                    ("X9 holds", [r for r in decided_c3 if r["X9.outcome"] == "holds"]),
+                    ("X9 fails", [r for r in decided_c3 if r["X9.outcome"] == "fails"])):
+    if sel:  # C3 decided; the worst node's ratio and X9's headline, from robustness.csv
+        c3v, x9v = ([float(r[c_]) for r in sel] for c_ in ("C3.value", "X9.value"))
+        print(f"C3 decided and {label_}: {len(sel)} points, C3 holds at "
+              f"{sum(r['C3.outcome'] == 'holds' for r in sel)}; worst node's ratio "
+              f"{min(c3v):.4f}-{max(c3v):.4f}; X9's median max ||H|| {min(x9v):.3g}-{max(x9v):.3g}")
 
 # %% [markdown]
 # ## Discussion
@@ -1994,8 +2099,9 @@ for reading_ in dict.fromkeys(r["ocr_reading"] for r in sweep_rows):
 #   lower end of the declared range, the scale most favourable to C3 (issue #30). The default is
 #   now the range's geometric centre, 0.1986, the middle level (section "The missing Taylor
 #   scales"). None of these is the paper's: it gives no $L_i$, $\aleph_i$; C3 is judged over the range.
-# * **Premises.** C1, C2, C3 and C7 carry the example's assumptions as their premise (Assumption
-#   3, (12)–(13) and $\|\delta\|\le e_3$ on the certified steps of the runs measured). Where the
+# * **Premises.** C1, C2, C3, C7 and C8b carry the example's assumptions as their premise (Assumption
+#   3, (12)–(13) and $\|\delta\|\le e_3$ on the certified steps of the runs measured; C2 and C8b
+#   also Theorem 1's (19) on every run). Where the
 #   premise fails they are "fails-premise", not "holds" or "fails" (the sweep's table gives
 #   where: the $g_1$ reading $\sin 2x^{(2)}$ has a $k=0$ remainder ratio above the lowest scale,
 #   X2). At $x_0=[2;1]$ (outside the declared space, run by the tests) Assumption 3 fails at
@@ -2040,7 +2146,7 @@ for reading_ in dict.fromkeys(r["ocr_reading"] for r in sweep_rows):
 #
 # | item (tag) | paper (as printed / OCR) | here | why |
 # |---|---|---|---|
-# | E1, Lemma 4 (CORRECTED) | $P_k$ defined with a factor $\tfrac1{1-p}$ | $P_k=(1-p)\mathfrak B_k$ | the only reading under which Markov's inequality yields (11) |
+# | E1, Lemma 4 (RECONSTRUCTED, OCR) | \"P& —%, / 1-p\": the $-1$ superscripts are lost | $P_k^{-1}=\mathfrak B_k^{-1}/(1-p)$, i.e. $P_k=(1-p)\mathfrak B_k$ | the only reading under which Markov's inequality yields (11); an OCR reconstruction, not a paper erratum (an earlier version listed it as CORRECTED) |
 # | E2, OP3 (33) (CORRECTED) | min $q_k=1/(1-p_k)$, "1 < q < +∞" | min $\rho=1-p_{k+1}$ with $-\rho\mathfrak B$ in (30) | as printed the problem is not convex and points the wrong way |
 # | E3, multipliers (DEVIATION, design choice) | one $\Gamma_k$ shared by all $N$ inequalities (22) | one $\Gamma_{i,k}$ per node (`shared_multipliers=False`) | the printed form is not wrong, only more conservative; per-node multipliers are a valid relaxation (a separate S-procedure per inequality). The printed LMI is run for 2 steps (X6a: certified by our solvers?; X6b: never less conservative; the values are printed in its section) |
 # | (24)–(28) (RECONSTRUCTED) | OCR damaged | row blocks re-derived from (15)–(16) (table above) | where legible the printed blocks agree; checked to machine precision on every certified step (X1) |
@@ -2055,7 +2161,7 @@ for reading_ in dict.fromkeys(r["ocr_reading"] for r in sweep_rows):
 # | C3 criterion (ours) | "worse estimation performance" | per-node RMSE over $k=1..T$, NN better at every node by more than `c3_margin` = 0.1 % | the paper names no measure; a tie within solver noise is not "worse" |
 # | $x_0^{(2)}$ (MISSING) | illegible ("R [ O I") | 2.0 | Assumption 3 holds for a 2nd entry in [1.08, 2.31]; not swept (budget), although the brief (§6) reports node 2 turning in favour of the conventional design at $x_0=[2;1]$, so C3's map is conditional on it; the tests run [2, 1], where Assumption 3 fails |
 # | $\bar\alpha$, $E_1$, "0d5", "sin(2z" (RECONSTRUCTED) | partly illegible | as read: 0.67, 0.01, 0.45, $\sin x^{(2)}$; each alternative (0.6, 0.1, 0.05, $\sin 2x^{(2)}$) is a level of `ocr_reading`, swept one at a time | OCR; combinations are not swept (budget) |
-# | $\alpha_k$ realisation (MISSING) | one realisation shown, no seed | seeds 0 and 1 swept (the main run's); C2 and C8b run 16 independent realisations from each seed | only 2 seeds (budget), yet C3 turns with the seed at $s=0.139$ in the earlier sweep: more seeds could move the counts |
+# | $\alpha_k$ realisation (MISSING) | one realisation shown, no seed | seeds 0 and 1 swept (the main run's); C2 and C8b run `mc_runs` independent realisations from each seed (94 in paper mode, by the power rule of `ma2021.toml`; 16 at the sweep's points, for cost, where C2's per-pair rule cannot decide \"holds\") | only 2 seeds (budget), yet C3 turns with the seed at $s=0.139$ in the earlier sweep: more seeds could move the counts |
 # | $\varpi$ in (17) (RECONSTRUCTED) | "a Z 9in5,;€‘1’2;€+12@1€+1 JEN;" | sum over $j\in\mathcal N_i$ (`varpi_form`) | immaterial: $\lambda^{(2)}=0$ at every point (E4, X3), so $\varpi$ drops out of (17) |
 # | $W_{ij}$ | not given | $W^\star$, least-squares fit of $\chi$ | needed to evaluate C4 and X1 |
 # | figures | curves of the paper | qualitative comparison only | the paper's figures survive only as tick residue; the reconstructed $f,g_i$ cannot be checked against them |

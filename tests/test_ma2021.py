@@ -83,30 +83,49 @@ def check_holds(entry: dict, rule: bool) -> None:
 
 
 def check_c2(c2: dict, p: float = 0.8) -> None:
-    """C2's three-way rule over independent runs: the Wilson score interval of E f_r and the
-    per-pair Bonferroni test (a pair below p fails it), recomputed from the recorded values."""
+    """C2's three-way per-pair rule (Theorem 3 at every node and step): a Wilson interval per pair
+    at the Bonferroni level over the pairs tested; holds iff every lower end >= p, fails iff some
+    upper end < p, else not checked; recomputed from the recorded values."""
     m = c2["measured"]
-    runs = m["runs"]
+    runs, pairs = m["runs"], m["pairs"]
     assert c2["runs"] == runs >= 2
-    assert 0.0 <= m["min_run_fraction"] <= m["mean_fraction"] <= 1.0
+    assert m["bonferroni_level"] == pytest.approx(1.0 - 0.05 / pairs, rel=1e-9)
+    assert 0 <= m["pairs_lower_at_least_p"] <= pairs and 0 <= m["pairs_upper_below_p"] <= pairs
+    assert 0.0 <= m["worst_pair_rate"] <= 1.0
     lo, hi = c2["interval"]["low"], c2["interval"]["high"]
-    if m["mean_fraction"] == 1.0:  # every run inside at every pair: the binomial Wilson interval
-        assert (lo, hi) == pytest.approx(wilson_interval(runs, runs), rel=1e-9)
-    assert lo <= m["mean_fraction"] <= hi
-    assert c2["threshold"] == p
-    assert (m["pairs_below_p_bonferroni"] > 0) is (m["min_pair_upper_bonferroni"] < p)
-    fails = hi < p or m["pairs_below_p_bonferroni"] > 0
+    assert c2["interval"]["level"] == pytest.approx(m["bonferroni_level"])
+    # the worst pair's interval, recomputed from its count (the rate is a count over the runs)
+    inside = round(m["worst_pair_rate"] * runs)
+    assert inside == pytest.approx(m["worst_pair_rate"] * runs, abs=1e-6)
+    level = 1.0 - 0.05 / pairs  # recorded to 11 digits: recompute it from the pair count
+    assert (lo, hi) == pytest.approx(wilson_interval(inside, runs, level=level), rel=1e-8)
+    assert lo == pytest.approx(m["min_pair_lower"]) and hi == pytest.approx(m["min_pair_upper"])
+    assert (m["pairs_upper_below_p"] > 0) is (m["min_pair_upper"] < p)
+    assert (m["pairs_lower_at_least_p"] == pairs) is (m["min_pair_lower"] >= p)
+    fails, holds = m["pairs_upper_below_p"] > 0, m["pairs_lower_at_least_p"] == pairs
     if c2["holds"] is None:
         assert c2["not_checked"] and point_verdict(c2) in ("not-checked", "fails-premise")
-        assert "fallback" in c2["not_checked"] or (not fails and lo < p)
+        assert "fallback" in c2["not_checked"] or (not fails and not holds)
     else:
-        assert c2["holds"] is (not fails and lo >= p)
-        assert not fails or c2["holds"] is False
+        assert c2["holds"] is holds and (c2["holds"] is False) is fails
+    # the rule's meaning does not change with the run count: a pair inside in every run reaches p
+    # only from 50 runs on at the Bonferroni level of 120 pairs (16 runs: 0.5623)
+    if pairs == 120:
+        assert wilson_interval(49, 49, level=level)[0] < p
+        assert wilson_interval(50, 50, level=level)[0] >= p
+        if runs < 50:
+            assert c2["holds"] is not True
+    avg = m["average_record"]  # the former statistic: recorded, never deciding
+    assert avg["deciding"] is False
+    assert 0.0 <= avg["min_run_fraction"] <= avg["mean_fraction"] <= 1.0
+    assert avg["wilson95_over_runs"][0] <= avg["mean_fraction"] <= avg["wilson95_over_runs"][1]
+    assert avg["mean_fraction"] >= m["worst_pair_rate"]  # an average over pairs >= its minimum
     assert c2["decides"] is True and c2["basis"] == "measured"
-    assert 0.0 <= m["max_quadratic_form"]
+    assert 0.0 <= m["max_quadratic_form"] and 0.0 <= m["max_spread_over_runs"]
     assert 0.0 <= m["max_quadratic_form_k0"]
-    assert "Assumption 3" in c2["premise"]["statement"]
-    assert "certified steps" in c2["premise"]["statement"]
+    statement = c2["premise"]["statement"]
+    assert "Assumption 3" in statement and "certified steps" in statement
+    assert "(19)" in statement  # Theorem 1's condition, under which Theorems 2-3 are stated
 
 
 def check_c7(c7: dict) -> None:
@@ -159,9 +178,9 @@ def test_assumption3_and_the_premise_at_the_default(claims) -> None:
     c2 = claims["C2"]
     assert c2["premise"]["holds"] is True  # x0 = [2, 2]: forms 0.443, 0.152, 0.422 (exact arithmetic)
     assert "[0.443, 0.152, 0.422]" in c2["premise"]["statement"]
-    # fast mode: 3 runs cannot make the Wilson lower end reach p = 0.8 (at most 3 / (3 + 1.96^2))
+    # fast mode: 3 runs cannot make a pair's Bonferroni lower end reach p = 0.8
     assert c2["runs"] == 3 and c2["interval"]["low"] < 0.8
-    assert point_verdict(c2) in ("not-checked", "fails")
+    assert c2["holds"] is not True and point_verdict(c2) in ("not-checked", "fails")
     for cid in ("C1", "C3", "C7"):
         assert "Assumption 3" in claims[cid]["premise"]["statement"], cid
     # k = 0 is left out of C2: B_0 = P0 / (1 - p), so its forms are (1 - p) times Assumption 3's
@@ -263,6 +282,7 @@ def test_c8b_monte_carlo_interval_is_consistent(claims) -> None:
     if c8b["holds"] is not None:
         assert c8b["holds"] is (m["max_upper_bonferroni"] <= 1.0)
     assert not c8b.get("decides")
+    assert c8b["premise"] == claims["C2"]["premise"]  # Theorem 2 is stated under Theorem 1's condition
 
 
 def test_figure_data_written(claims_x0_21) -> None:
@@ -298,7 +318,34 @@ def test_committed_claims_are_complete(committed) -> None:
     check_c2(committed["C2"])
     check_c3(committed["C3"])
     check_c7(committed["C7"])
-    assert committed["C8b"]["runs"] == committed["C2"]["runs"] == 16
+    space = spaces.load("ma2021")
+    runs = space.parameters["mc_runs"].default  # paper mode: the power rule's count
+    assert committed["C8b"]["runs"] == committed["C2"]["runs"] == runs
+    assert committed["C8b"]["premise"] == committed["C2"]["premise"]
+
+
+def test_c2_run_count_is_the_power_rule() -> None:
+    """mc_runs is the fewest runs at which, if every one of the 120 pairs has true rate 0.99, the
+    union bound gives probability >= 0.8 that every pair's Bonferroni lower end reaches p = 0.8
+    (the computation notebooks/ma2021.toml states)."""
+    from scipy import stats
+
+    level, m, p = 1.0 - 0.05 / 120, 120, 0.8
+
+    def misses(n: int) -> int:
+        j = -1
+        while j + 1 <= n and wilson_interval(n - j - 1, n, level=level)[0] >= p:
+            j += 1
+        return j
+
+    def power(n: int) -> float:
+        j = misses(n)
+        return 0.0 if j < 0 else 1.0 - m * stats.binom.sf(j, n, 0.01)
+
+    runs = spaces.load("ma2021").parameters["mc_runs"].default
+    assert power(runs) >= 0.8 > max(power(n) for n in range(2, runs))
+    assert (runs, misses(runs)) == (94, 5)
+    assert misses(50) == 0 > misses(49)  # 50 runs: the fewest with which a pair can reach p
 
 
 def test_robustness_table_shape(sweep_rows) -> None:
@@ -315,6 +362,7 @@ def test_robustness_table_shape(sweep_rows) -> None:
 
 def test_verdicts_agree_with_the_sweep(committed, sweep_rows) -> None:
     summary = json.loads((FIGS / "robustness.json").read_text())
+    space = spaces.load("ma2021")
     for cid, entry in summary.items():
         claim = committed[cid]
         assert claim["verdict"] == entry["verdict"], cid
@@ -329,6 +377,8 @@ def test_verdicts_agree_with_the_sweep(committed, sweep_rows) -> None:
             assert 0.0 < entry["fraction_holds"] < 1.0, cid
         elif entry["verdict"] == "holds":
             assert entry["fraction_holds"] == 1.0, cid
+        if claim.get("runs") not in (None, space.base["mc_runs"]):
+            continue  # a Monte Carlo claim: paper mode runs more realisations than the sweep
         if entry["verdict"] in ("holds", "fails", "fails-premise"):
             assert point_verdict(claim) == entry["verdict"], cid
 
@@ -339,9 +389,18 @@ def test_default_point_row_agrees_with_the_committed_claims(committed, sweep_row
     space = spaces.load("ma2021")
     for name, axis in space.axes.items():
         assert default[name] == axis.label(space.parameters[name].default), name
+    sweep_runs = space.base["mc_runs"]  # the sweep's run count (16), paper mode's is larger
     for cid, claim in committed.items():
         if f"{cid}.holds" not in default:
             continue  # the extra X5 is not swept
+        if claim.get("runs") not in (None, sweep_runs):
+            # a Monte Carlo claim measured with more runs than the sweep's: the same rule, so the
+            # premise agrees, and a decided outcome of the sweep may not contradict paper mode's
+            assert (default[f"{cid}.outcome"] == "fails-premise") is (
+                point_verdict(claim) == "fails-premise"), cid
+            if default[f"{cid}.outcome"] in ("holds", "fails"):
+                assert default[f"{cid}.outcome"] == point_verdict(claim), cid
+            continue
         assert default[f"{cid}.outcome"] == point_verdict(claim), cid
         if claim["holds"] is not None:
             assert default[f"{cid}.holds"] == str(claim["holds"]), cid

@@ -134,7 +134,7 @@ def test_the_record_has_the_documented_shapes_and_identities(example) -> None:
     assert nn.z.shape == nn.z_recv.shape == (n, 3, 2) and nn.lam.shape == (n, 4, 2)
     assert len(nn.W_hat) == len(nn.Q) == n + 1 and len(nn.H) == len(nn.rows) == n
     assert nn.links == my.links(THETA) == [(0, 1), (1, 0), (1, 2), (2, 1)]
-    assert np.array_equal(nn.Bell[0], np.asarray(kw["P0"]) / (1 - kw["p"]))  # Lemma 4, corrected
+    assert np.array_equal(nn.Bell[0], np.asarray(kw["P0"]) / (1 - kw["p"]))  # Lemma 4 (E1, P_k = (1 - p) B_k, read from the OCR)
     assert np.allclose(nn.Bell[1:], nn.P[1:] / (1 - kw["p"]), rtol=1e-15, atol=0)
     assert np.allclose(np.einsum("kab,kcb->kac", nn.S, nn.S), nn.P[:-1], rtol=1e-12, atol=1e-14)
     assert np.all(np.isnan(nn.rho))  # OP2: no rho

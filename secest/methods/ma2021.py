@@ -13,7 +13,7 @@ these functions): :func:`run_algorithm1` is the recursion over ``k`` on a :class
 from :func:`build_op2`, :func:`set_op2_parameters`, :func:`build_op1`, :func:`set_op1_parameters`,
 :func:`mbar`, :func:`solve`, :func:`estimator_update` (:func:`update_all`), :func:`varpi` and
 :func:`weight_update` (the re-derived row blocks of (24)-(28), per-node multipliers E3,
-corrections E1-E2), with the per-step problems built once per configuration
+E1 an OCR reconstruction, E2 a correction), with the per-step problems built once per configuration
 (:func:`step_problems`); it returns an :class:`Algorithm1Run`.
 
 **The arena's reading** (:class:`Ma2021`; rules fixed before any arena run):
@@ -259,8 +259,8 @@ def build_op2(
     r_bound : {"lumped", "per_link"}
         ``r^T r <= N^2`` as printed (23), or ``r_ij^T r_ij <= 1`` with one multiplier per link.
     design : {"op2", "op3"}
-        ``"op2"``: minimise ``tr P_{k+1}`` (``P = (1 - p) B``, E1); ``"op3"``: ``P = rho B`` with
-        ``B`` a parameter, minimise ``rho = 1 - p_{k+1}`` (E2).
+        ``"op2"``: minimise ``tr P_{k+1}`` (``P = (1 - p) B``, E1, read from the OCR);
+        ``"op3"``: ``P = rho B`` with ``B`` a parameter, minimise ``rho = 1 - p_{k+1}`` (E2).
 
     Returns
     -------
@@ -809,7 +809,7 @@ class Algorithm1Run:
         ``P_k = (1 - p) B_k`` of OP2 (``rho_k B`` of OP3); at a step not certified ``2 P_k``.
     Bell : (n + 1, n_x, n_x) ndarray
         The ellipsoid ``B_k`` of (11): ``P_k / (1 - p)`` (OP2) or the fixed ``B`` (OP3);
-        ``B_0 = P_0 / (1 - p)`` (Lemma 4, corrected E1).
+        ``B_0 = P_0 / (1 - p)`` (Lemma 4, E1: P_k^-1 = B_k^-1 / (1 - p), read from the OCR).
     rho : (n + 1,) ndarray
         OP3's ``rho_k = 1 - p_k`` (NaN for OP2 and at ``k = 0``).
     S : (n, n_x, n_x) ndarray
