@@ -205,6 +205,18 @@ def test_op3_keeps_the_fixed_ellipsoid_and_scales_it_by_rho() -> None:
     assert np.array_equal(run.Bell[1:], np.broadcast_to(2 * np.eye(2), (3, 2, 2)))
 
 
+def test_op3_with_a_sequence_fixes_each_steps_ellipsoid() -> None:
+    """Corollary 3 with B_(k+1) given per step (e.g. the OP2 run's): step k uses B_(k+1)."""
+    model, x, y, received, kw, alpha = _example()
+    B_seq = np.array([(2.0 + 0.5 * k) * np.eye(2) for k in range(4)])
+    run = my.run_algorithm1(model, y[:4], received, nn=True, design="op3", B_fixed=B_seq, **kw)
+    assert not run.failures and np.all(run.rho[1:] > 0)
+    assert np.allclose(run.P[1:], run.rho[1:, None, None] * B_seq[1:], rtol=1e-12, atol=1e-14)
+    assert np.array_equal(run.Bell[1:], B_seq[1:])
+    with pytest.raises(ValidationError, match="Incompatible dimensions of B_fixed"):
+        my.run_algorithm1(model, y[:4], received, design="op3", B_fixed=B_seq[:3], **kw)
+
+
 def test_a_step_no_solver_certifies_keeps_the_gains_and_doubles_p(monkeypatch) -> None:
     from secest.core.lmi import InfeasibleLMIError
 
