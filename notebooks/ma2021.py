@@ -1998,8 +1998,14 @@ claims["X9"] = results.claim(
     key="median_H_conventional", threshold=0.5, holds=h_conv_med >= 0.5,
     source="ours; brief E5", section=SEC_EXAMPLE, tolerance=TOL_LMI,
 )
+def finite_or_none(values: np.ndarray, fn) -> float | None:
+    """fn of the finite values, or None where no step was solved (X10)."""
+    return float(fn(values)) if values.size else None
+
+
 if op3_run is not None:  # an extra (paper mode and the tests' default point), not swept
-    p_k = p_op3[1:]
+    p_k = p_op3[1:][np.isfinite(p_op3[1:])]  # steps OP3 solved (rho is NaN where our fallback drove)
+    p_kf = p_fixed[1:][np.isfinite(p_fixed[1:])]
     note_x10 = fallback_note(("OP3 run", op3_run))
     first_void_fixed = (int(np.argmax(void_fixed[1:])) + 1) if void_fixed[1:].any() else None
     claims["X10"] = results.claim(
@@ -2019,8 +2025,9 @@ if op3_run is not None:  # an extra (paper mode and the tests' default point), n
         "fallback drove the run. "
         f"Recorded: the same OP3 with the constant B = {op3_scale:g} I used before (its reason, "
         "'close to the OP2 result', was wrong)",
-        measured={"min_guaranteed_p": float(np.min(p_k)), "mean_guaranteed_p": float(np.mean(p_k)),
-                  "max_guaranteed_p": float(np.max(p_k)), "void_steps": int(void[1:].sum()),
+        measured={"min_guaranteed_p": finite_or_none(p_k, np.min),
+                  "mean_guaranteed_p": finite_or_none(p_k, np.mean),
+                  "max_guaranteed_p": finite_or_none(p_k, np.max), "void_steps": int(void[1:].sum()),
                   "steps": T_run, "fraction_inside": float(np.mean(inside_op3)),
                   "max_quadratic_form": float(op3_run["qf"][1:].max()),
                   "trB_op2_first_last": [float(np.trace(nn_run["Bell"][1])),
@@ -2028,11 +2035,12 @@ if op3_run is not None:  # an extra (paper mode and the tests' default point), n
                   "constant_B_record": {
                       "scale": float(op3_scale), "void_steps": int(void_fixed[1:].sum()),
                       "first_void_step": first_void_fixed,
-                      "min_guaranteed_p": float(np.min(p_fixed[1:])),
-                      "guaranteed_p_last_step": float(p_fixed[-1]),
+                      "min_guaranteed_p": finite_or_none(p_kf, np.min),
+                      "guaranteed_p_last_step": finite_or_none(p_fixed[-1:][np.isfinite(p_fixed[-1:])],
+                                                               np.min),
                       "uncertified_steps": len(op3_fixed["failures"])}},
         key="min_guaranteed_p", threshold=0.0,
-        holds=None if note_x10 else bool((p_k > 0.0).all()
+        holds=None if note_x10 else bool(p_k.size and (p_k > 0.0).all()
                                          and np.mean(inside_op3) >= np.mean(p_k)),
         not_checked=note_x10,
         source="ours; Corollary 3, OP3 (33) (corrected, E2)", section=SEC_DIAG, tolerance=TOL_LMI,
