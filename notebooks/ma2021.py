@@ -28,9 +28,21 @@
 # the paper's main claims C2 (the probability guarantee, Theorem 3), C3 (the NN-based estimator
 # beats the conventional one under the same falsified innovations) and C7 (the joint estimation of
 # the attacks, contribution iv). At the paper's example (our default point, the geometric centre
-# of the declared range of the missing Taylor scales) C2 holds over independent $\alpha_k$
-# realisations, very conservatively; C3 does not hold (the two estimators nearly coincide there),
-# and C7 does not hold: the NN's estimate of the attack is the zero estimate. **The NN
+# of the declared range of the missing Taylor scales) C2 holds as Theorem 3 states it, at every
+# node and step: over 94 independent $\alpha_k$ realisations (a run count fixed by a power
+# computation before the outcome was seen) every one of the 120 (node, step) pairs has its
+# Bonferroni lower end above $p$; very conservatively, since the quadratic forms stay far below 1.
+# Over the declared space, swept at 16 runs for cost, C2 cannot decide (its per-pair rule needs
+# at least 50 runs to hold): not checked there, so the space gives no evidence for it either way.
+# C3 does not hold at the example: over the same 94 realisations the NN estimator is worse than
+# the conventional one at nodes 1 and 3 (ratios of the mean RMSEs 1.0016 and 1.0094). That
+# failure says little about the falsified innovations: against an attack-free control the attack
+# raises the conventional RMSE by 0.146 % at node 3 (the precondition, more than 0.1 % at some
+# node, holds only narrowly: interval lower end 0.101 %), and without any attack the NN design is
+# already 1.08 % worse there (ratio 1.0108). Over the space C3's counts are still those of its
+# previous one-realisation rule (not re-swept). C7 does not hold: the NN's estimate of the attack
+# is the zero estimate, by construction of OP1 (E4), so its failures over the space are one
+# evaluation repeated, not independent evidence. **The NN
 # compensator, the paper's main contribution, is never active**, at the example or anywhere in
 # the declared space: with the paper's $Q_{ij,0}=20I$ and $e_1=3$ the tuning law's LMI (OP1) sets
 # $\hat W=0$ from the first step on (E4), and the robust gain design switches the neighbours' innovations
@@ -89,7 +101,7 @@ attack_margin = 0.001  # C7: an attack estimate counts when its RMS error is bel
 settle_k = 10  # C1: errors measured from this step on (ours: after the transient)
 track_tol = 0.2  # C1: |error| bound for "satisfactory precision" (ours: the paper states no number)
 extras = True  # OP3 run, DPP re-solve check X5, certificate at the range's upper end (ours)
-mc_runs = 16  # independent alpha_k realisations of C2 and C8b (Monte Carlo); fast mode uses 3 (ours)
+mc_runs = 94  # independent alpha_k realisations of C2 and C8b: the power rule of ma2021.toml; fast mode uses 3 (ours)
 op3_scale = 2.0  # fixed ellipsoid B is op3_scale times I for the OP3 run (MISSING)
 figures = True  # False: no figure or data file is made (robustness sweep points) (ours)
 fig_dir = "figures/ma2021"
@@ -189,7 +201,7 @@ print(f"design of the declared space: {len(spaces.design(SPACE))} points "
 # | $V_k$, $U_k$ | 1, 1 | PAPER | |
 # | $\phi(z)$ | $[\tanh z^{(1)};\ \tanh z^{(2)}]$ | PAPER | |
 # | $\chi(z)$ | $[0.15\sin z^{(1)};\ 0.30\cos z^{(2)}]$ | PAPER | "0.15sin(2}) / 0'30COS(Z£213)" |
-# | $P_k$ in Lemma 4 | $P_k=(1-p)\mathfrak B_k$ | CORRECTED (E1) | printed with a factor $\tfrac1{1-p}$ that belongs to the inverses; only this reading gives (11) by Markov's inequality |
+# | $P_k$ in Lemma 4 | $P_k=(1-p)\mathfrak B_k$ | RECONSTRUCTED (E1, OCR) | "Define a matrix $P_k$ by … P& —%, / 1-p": the OCR lost the $-1$ superscripts of $P_k^{-1}=\mathfrak B_k^{-1}/(1-p)$, so the factor $\tfrac1{1-p}$ seems to multiply $P_k$; read with the inverses it is the only reading under which Lemma 3 (Markov's inequality) gives (11). An OCR reconstruction, not an erratum of the paper (an earlier version called it CORRECTED) |
 # | OP3 (33) | min $\rho=1-p_{k+1}$ with $-\rho\mathfrak B$ in (30) | CORRECTED (E2) | printed "min $q_k=1/(1-p_k)$" is not convex and points the wrong way |
 # | (24)–(28) | row blocks of $\Xi_k$, $\tilde\Xi_k$ re-derived from (15)–(16) | RECONSTRUCTED | the OCR is damaged; where it is legible (e.g. $(\Phi_k-G_k\Psi_k-H_k\dots)S_k$ in (27), $(G_k+H_k)E(I_N\otimes I)$ in (28)) it agrees with the re-derived blocks; checked to machine precision on the run (X1) |
 # | conventional design | attack-unaware OP2 | MISSING | the paper only says "characterised by (3)"; we design (3) with the same LMI, without the attack terms, and run it on the falsified data. Other readings are plausible (e.g. an attack-aware OP2 without the NN terms; the NN design's own gains with $\hat W=0$ would coincide with the NN estimator, X3); none is swept, so C3's map is conditional on this one |
@@ -426,9 +438,11 @@ show_source(M.update_all, after="    th = np.asarray(theta, float)")
 # %% [markdown]
 # ## Theorems 2–3: the recursive LMI (22)/(30) and OP2 (32), OP3 (33)
 #
-# **Lemma 4, corrected (E1).** Markov's inequality (Lemma 3) needs
+# **Lemma 4, reconstructed from the OCR (E1).** Markov's inequality (Lemma 3) needs
 # $E\{\tilde x^\top\mathfrak B_k^{-1}\tilde x\}\le1-p$, so $P_k=(1-p)\mathfrak B_k$. The OCR's
-# "$1/(1-p)$" factor belongs to the inverses. Then $E\{\tilde x^\top P_k^{-1}\tilde x\}\le1$ gives
+# "P& —%, / 1-p" has lost the $-1$ superscripts of $P_k^{-1}=\mathfrak B_k^{-1}/(1-p)$: the
+# "$1/(1-p)$" factor belongs to the inverses. This is a reading of a garbled line, not an erratum
+# of the paper. Then $E\{\tilde x^\top P_k^{-1}\tilde x\}\le1$ gives
 # $P\{\tilde x^\top\mathfrak B_k^{-1}\tilde x\le1\}\ge p$. At $k=0$, $\mathfrak B_0=P_0/(1-p)$.
 #
 # **S-procedure multipliers** (23), (57), all $\ge0$: $\beta^{(1)}_l$ for $E s_l^\top s_l\le1$,
@@ -778,8 +792,10 @@ def rmse(res: dict) -> np.ndarray:
 #   number of points where C3 holds is set by this choice (5 of the 7 levels lie above the turn)
 #   and is reported per level, not as a sampled fraction. With 2 seeds and 5 OCR readings
 #   (one alternative at a time) that is 70 points. Each point is a papermill run of the two
-#   designs plus the 15 further NN runs of the Monte Carlo of C2 (issue #30's round 4), about
-#   1.5 min of CPU, so the sweep takes about 50 min on 2 idle cores; denser designs cost in
+#   designs plus the 15 further NN runs of the Monte Carlo of C2 (issue #30's round 4; the sweep
+#   keeps 16 runs per point, `mc_runs = 16` in the TOML's `[sweep] base`, while paper mode runs
+#   94, section "Monte Carlo"), about 1.5 min of CPU, so the sweep takes about 50 min on 2 idle
+#   cores (28 min were measured on a quieter machine); denser designs cost in
 #   proportion (13 levels × 4 seeds, or the 16 combinations of the readings, would take 3–4 times as long).
 #   Sweep points run without the SCS fallback (`fallback_solver = "none"` in the TOML's `[sweep]
 #   base`), a change made after the first sweep, for cost: there SCS was tried 68 times and
@@ -1074,21 +1090,33 @@ if plotting.figures_enabled():
 # $\mathrm{tr}\,\mathfrak B_k$ of both designs. (c) The largest neighbour gain $\max_{ij}\|H_{ij,k}\|$.
 # (d) The NN weights $\|\hat W_{ij,k}\|_F$. (e) The Theorem 1 quantity
 # $\mathrm{tr}[\tilde W^\top Q^{-1}\tilde W]$ with $W=W^\star$. (f) The probability $p_k=1-\rho_k$
-# guaranteed by the corrected OP3 for the fixed ellipsoid $\mathfrak B=$ `op3_scale`$\cdot I$, run
-# on the same data (an extra). A step with $\rho_k\ge1$ guarantees nothing: it is marked "void" on
-# the axis, not drawn as a negative probability.
+# guaranteed by the corrected OP3 (Corollary 3: $\mathfrak B_{k+1}$ given, $p_k$ maximised) for
+# the ellipsoids $\mathfrak B_{k+1}$ that this run's OP2 designed, run on the same data (an extra;
+# claim X10), and, as a record, for the constant $\mathfrak B=$ `op3_scale`$\cdot I$ used before
+# (its stated reason, "close to the OP2 result", was wrong: OP2's $\mathrm{tr}\,\mathfrak B_k$ grows
+# far beyond $\mathrm{tr}\,2I=4$, panel b). A step with $\rho_k\ge1$ guarantees nothing: it is
+# marked "void" on the axis, not drawn as a negative probability.
 
 # %%
-op3_run = None
+op3_run = op3_fixed = None
 if extras:
-    op3_run = simulate(alpha=alpha_main, estimator="nn", design="op3",
-                       B_fixed=op3_scale * np.eye(NX))
+    # Corollary 3 / OP3 with B_(k+1) taken from this run's OP2 (the NN run at p): the probability
+    # p_k = 1 - rho_k that OP3 then guarantees for the ellipsoid OP2 designed
+    op3_run = simulate(alpha=alpha_main, estimator="nn", design="op3", B_fixed=nn_run["Bell"])
     p_op3 = 1.0 - op3_run["rho"]
     void = op3_run["rho"] >= 1.0
-    print(f"OP3 (B = {op3_scale:g} I): p_k from {np.nanmax(p_op3):.3f} down to "
-          f"{np.nanmin(p_op3):.3f}; steps with rho_k >= 1 (bound void): {int(void.sum())} of "
-          f"{T_run}; fraction of (i, k >= 1) inside B: {np.mean(op3_run['qf'][1:] <= 1.0):.3f}; "
-          f"uncertified steps: {len(op3_run['failures'])}")
+    inside_op3 = op3_run["qf"][1:] <= 1.0  # (k = 1..T, node), against B_k of OP2
+    # the earlier default, a constant B = op3_scale I, kept as a record
+    op3_fixed = simulate(alpha=alpha_main, estimator="nn", design="op3",
+                         B_fixed=op3_scale * np.eye(NX))
+    p_fixed = 1.0 - op3_fixed["rho"]
+    void_fixed = op3_fixed["rho"] >= 1.0
+    for name_, p_, v_, r_ in (("B_(k+1) of OP2", p_op3, void, op3_run),
+                              (f"B = {op3_scale:g} I", p_fixed, void_fixed, op3_fixed)):
+        print(f"OP3 ({name_}): p_k from {np.nanmax(p_):.3f} down to {np.nanmin(p_):.3f}; steps "
+              f"with rho_k >= 1 (bound void): {int(v_[1:].sum())} of {T_run}; fraction of "
+              f"(i, k >= 1) inside B_k: {np.mean(r_['qf'][1:] <= 1.0):.3f}; uncertified steps: "
+              f"{len(r_['failures'])}")
 
 
 def log_limits(values: np.ndarray, include: float | None = None) -> tuple[float, float]:
@@ -1152,20 +1180,26 @@ def panel_weights(ax_d, ax_e) -> None:
 
 
 def panel_op3(ax) -> None:
-    """(f) the probability p_k = 1 - rho_k guaranteed by the corrected OP3; void steps marked."""
+    """(f) the probability p_k = 1 - rho_k guaranteed by the corrected OP3 (Corollary 3), with
+    B_(k+1) from this run's OP2 and with the earlier constant B; void steps marked."""
     if op3_run is not None:
-        ok = ~void[1:]
-        ax.plot(k_axis[1:][ok], p_op3[1:][ok], "o-", ms=2.5, color="tab:blue",
-                label=f"OP3, $\\mathfrak{{B}}={op3_scale:g}I$")
-        ax.plot(k_axis[1:][~ok], np.zeros(int((~ok).sum())), "x", color="k", ms=4,
-                label=r"void: $\rho_k\geq1$")
+        for p_, v_, style, colour, lab in (
+                (p_op3, void, "o-", "tab:blue", r"OP3, $\mathfrak{B}_{k+1}$ of OP2"),
+                (p_fixed, void_fixed, "s:", "tab:gray",
+                 f"OP3, $\\mathfrak{{B}}={op3_scale:g}I$ (earlier default)")):
+            ok = ~v_[1:]
+            ax.plot(k_axis[1:][ok], p_[1:][ok], style, ms=2.5, color=colour, label=lab)
+            if (~ok).any():
+                ax.plot(k_axis[1:][~ok], np.zeros(int((~ok).sum())), "x", color=colour, ms=4,
+                        label=r"void: $\rho_k\geq1$" + (" (earlier default)" if colour ==
+                                                           "tab:gray" else ""))
         ax.axhline(p, color="k", ls="--", lw=0.8, label=f"p = {p} of OP2")
         ax.set_ylim(-0.04, 1.0)
-        ax.legend(ncol=2, **BELOW)
+        ax.legend(ncol=1, **BELOW)
     else:
         ax.text(0.5, 0.5, "OP3 not run (extras off)", ha="center", va="center",
                 transform=ax.transAxes)
-    ax.set_title(r"(f) guaranteed $p_k = 1-\rho_k$ (OP3)")
+    ax.set_title(r"(f) OP3: guaranteed $p_k = 1-\rho_k$")
 
 
 def diagnostics_data() -> dict:
@@ -1180,6 +1214,7 @@ def diagnostics_data() -> dict:
         **{f"What_F_link{i + 1}{j + 1}": nn_run["Wn"][:, a] for a, (i, j) in enumerate(LINKS)},
         **{f"thm1_link{i + 1}{j + 1}": nn_run["Wq"][:, a] for a, (i, j) in enumerate(LINKS)},
         "p_op3": p_op3 if op3_run is not None else np.full(T_run + 1, np.nan),
+        "p_op3_fixed": p_fixed if op3_run is not None else np.full(T_run + 1, np.nan),
     }
 
 
@@ -1196,7 +1231,7 @@ DIAGNOSTICS_TOLERANCE = {
         rtol=0.0, atol=1e-8,
         reason="NN weights collapsed to rounding level after k = 0 (<= 3e-9): their values are "
         "noise, 38 % apart under other BLAS kernels"),
-    **dict.fromkeys(["trB_*", "thm1_*", "p_op3"], results.LMI_ITERATES),
+    **dict.fromkeys(["trB_*", "thm1_*", "p_op3", "p_op3_fixed"], results.LMI_ITERATES),
 }
 
 
@@ -1240,63 +1275,156 @@ if extras and mode == "paper":
 #
 # $\alpha_k$ is the only random quantity (E8), so the probability of Theorem 3 and the expectation
 # of Theorem 2 are over its realisations. Within one run the (node, step) pairs are **not**
-# independent samples (they share the realisation and the recursion), so the Monte Carlo claims
-# take **one statistic per run** and their intervals over the `mc_runs` independent runs (16; the
-# first is the main run; each run has its own data-dependent $P_k$ and $\mathfrak B_k$):
+# independent samples (they share the realisation and the recursion); across runs each pair is
+# one Bernoulli trial per run. The `mc_runs` runs (94 in paper mode; the first is the main run;
+# each run has its own data-dependent $P_k$ and $\mathfrak B_k$) are therefore summarised **per
+# pair**:
 #
-# * **C2 (Theorem 3).** Run $r$'s statistic is $f_r$, the fraction of its pairs $(i,k)$, $k=1..T$,
-#   with $\tilde x_{i,k}^\top\mathfrak B_k^{-1}\tilde x_{i,k}\le1$. Theorem 3 gives
-#   $P\{\cdot\}\ge p$ at every pair, hence $E f_r\ge p$. $k=0$ is left out and is no evidence:
-#   $\mathfrak B_0=P_0/(1-p)$, so Assumption 3 (the premise) alone puts its forms below $1-p$.
-#   The interval of $E f_r$ over the runs is the Wilson score interval (95 %, the level is ours;
-#   valid for a statistic in $[0,1]$, whose variance is at most the binomial $\mu(1-\mu)$ the score
-#   interval assumes). Each pair is also tested alone: the fraction of runs inside at $(i,k)$ gets
-#   a Wilson interval at the Bonferroni level $1-0.05/m$ over the $m=NT$ pairs tested. **C2 fails**
-#   if the upper end for $E f_r$ is below $p$ or some pair's Bonferroni interval lies wholly below
-#   $p$; **holds** if the lower end for $E f_r$ is $\ge p$ and no pair fails; else it is **not
-#   checked** (too few runs to decide). The rule is on intervals, so it means the same at any run
-#   count: with every run inside at every pair, 16 runs are the fewest that decide (lower end
-#   0.806), and the 3 runs of fast mode leave C2 not checked (0.44).
+# * **C2 (Theorem 3, (11)).** Theorem 3 states $P\{\tilde x_{i,k}^\top\mathfrak B_k^{-1}
+#   \tilde x_{i,k}\le1\}\ge p$ **at every node $i$ and step $k$**. At each pair $(i,k)$,
+#   $k=1..T$, the fraction of runs inside $\mathfrak B_k$ gets a Wilson interval at the Bonferroni
+#   level $1-0.05/m$ over the $m=NT$ pairs tested (the multiplicity correction: all $m$ intervals
+#   hold together with probability $\ge0.95$). **C2 holds** if every pair's lower end is $\ge p$;
+#   **fails** if some pair's upper end is $<p$; else it is **not checked** (too few runs to
+#   decide). The rule is on intervals, so it means the same at any run count; what the run count
+#   changes is only whether it can decide. A pair inside in every run reaches $p$ from 50 runs on
+#   (lower end 0.8006; 16 of 16 give 0.5623), so the 16 runs of the sweep can only give "fails"
+#   or "not checked", and the 3 runs of fast mode likewise. The paper-mode run count, 94, was fixed
+#   in `notebooks/ma2021.toml` by a power computation written before any outcome at it was seen
+#   (recomputed below). $k=0$ is left out and is no evidence: $\mathfrak B_0=P_0/(1-p)$, so
+#   Assumption 3 (the premise) alone puts its forms below $1-p$.
+# * The previous statistic, the average over the pairs of one run, $f_r$, with the Wilson score
+#   interval of $E f_r$ over the runs, is weaker than (11) (an average can reach $p$ while some
+#   pair stays below it); it is kept in C2's record (`average_record`) and decides nothing.
 # * **C8b (Theorem 2, (29)).** Per pair, the Student-t interval of the mean of
 #   $\tilde x^\top P_k^{-1}\tilde x$ over the runs at the Bonferroni level $1-0.05/m$: holds if every
-#   upper end is $\le1$, fails if some lower end is $>1$, else not checked.
+#   upper end is $\le1$, fails if some lower end is $>1$, else not checked. Theorem 2 is stated
+#   "under the condition of Theorem 1", so C8b carries C2's premise.
 #
-# **This Monte Carlo is nearly degenerate.** The NN design barely uses its neighbours (X3), and the
-# neighbours' innovations are the only place where $\alpha_k$ enters, so the realisations give
-# almost the same errors and ellipsoids (the spread is printed below). The runs are independent, so
-# the intervals are valid; they are narrow because the runs barely differ.
+# **This Monte Carlo hardly exercises the probability** (issue #30, item 2). The NN design barely
+# uses its neighbours (X3), and the neighbours' innovations are the only place where $\alpha_k$
+# enters, so the realisations give almost the same errors and ellipsoids, and every quadratic
+# form lies far below 1 (the spread over the runs and the largest form are printed below and
+# recorded in C2's `measured`). C2 therefore tests whether a very conservative bound holds at
+# every pair, not whether the probability $p$ is attained: a "holds" here says that the
+# guarantee is met, with a large margin, not that it is tight. The runs are independent, so the
+# intervals are valid; the runs barely differ because the design ignores $\alpha_k$.
 
 # %%
 def score_interval(mean: float, n: int, level: float) -> tuple[float, float]:
     """Wilson score interval of the mean of n independent statistics in [0, 1] (their variance is
-    at most mean (1 - mean), the binomial variance the score interval assumes)."""
+    at most mean (1 - mean), the binomial variance the score interval assumes); the old average
+    statistic of C2, kept as a record."""
     zq = stats.norm.ppf(0.5 + level / 2.0)
     centre = (mean + zq**2 / (2 * n)) / (1 + zq**2 / n)
     half = zq * np.sqrt(mean * (1 - mean) / n + zq**2 / (4 * n * n)) / (1 + zq**2 / n)
     return float(max(centre - half, 0.0)), float(min(centre + half, 1.0))
 
 
+def pair_intervals(inside: np.ndarray, level: float) -> tuple[np.ndarray, np.ndarray]:
+    """Per pair (k, node): Wilson interval of the fraction of runs inside, inside[run, k, node]."""
+    n = inside.shape[0]
+    iv = np.array([[montecarlo.wilson_interval(int(c), n, level=level) for c in row]
+                   for row in inside.sum(axis=0)])
+    return iv[..., 0], iv[..., 1]
+
+
+def decisive_misses(n: int, level: float) -> int:
+    """The most misses out of n runs at a pair that still give a Wilson lower end >= p (-1: none)."""
+    j = -1
+    while j + 1 <= n and montecarlo.wilson_interval(n - j - 1, n, level=level)[0] >= p:
+        j += 1
+    return j
+
+
+def power_bound(n: int, m: int, rate: float, level: float) -> float:
+    """Union bound on P{every one of m pairs reaches p} when each pair's true rate is `rate`."""
+    j = decisive_misses(n, level)
+    return 0.0 if j < 0 else max(0.0, 1.0 - m * float(stats.binom.sf(j, n, 1.0 - rate)))
+
+
+n_pairs = T_run * N  # pairs (i, k), k = 1..T, tested per run
+bonf_level = 1.0 - 0.05 / n_pairs
+POWER_RATE, POWER_TARGET = 0.99, 0.8  # the power computation of ma2021.toml (ours)
+n_power = next(n for n in range(2, 1000) if power_bound(n, n_pairs, POWER_RATE, bonf_level)
+               >= POWER_TARGET)
+print(f"power rule (ma2021.toml): m = {n_pairs} pairs, level {bonf_level:.6f}; fewest runs with "
+      f"power >= {POWER_TARGET} at a true rate {POWER_RATE} per pair: {n_power} (misses allowed "
+      f"{decisive_misses(n_power, bonf_level)}); this run: {n_mc} runs, power bound "
+      f"{power_bound(n_mc, n_pairs, POWER_RATE, bonf_level):.3f}; a pair inside in every run "
+      f"has lower end {montecarlo.wilson_interval(n_mc, n_mc, level=bonf_level)[0]:.4f}")
+
 mc_alphas = [alpha_sequence(r, T_run, ALPHA_BAR) for r in montecarlo.spawn_rngs(seed, n_mc)]
 mc_runs_list = [nn_run] + [simulate(alpha=a, estimator="nn") for a in mc_alphas[1:]]
 assert np.array_equal(mc_alphas[0], alpha_main)  # the main run is run 0
-n_pairs = T_run * N  # pairs (i, k), k = 1..T, tested per run
-bonf_level = 1.0 - 0.05 / n_pairs
-inside_mc = np.stack([r["qf"][1:] <= 1.0 for r in mc_runs_list])  # (runs, k = 1..T, node)
-f_runs = inside_mc.reshape(n_mc, -1).mean(axis=1)  # one statistic per run (C2)
-c2_lo, c2_hi = score_interval(float(f_runs.mean()), n_mc, 0.95)
-pair_hi = np.array([[montecarlo.wilson_interval(int(inside_mc[:, k, i].sum()), n_mc,
-                                                level=bonf_level)[1] for i in range(N)]
-                    for k in range(T_run)])
+qf_mc = np.stack([r["qf"][1:] for r in mc_runs_list])  # (runs, k = 1..T, node), C2
+inside_mc = qf_mc <= 1.0
+pair_lo, pair_hi = pair_intervals(inside_mc, bonf_level)  # (k, node), C2's rule
+pair_rate = inside_mc.mean(axis=0)
+f_runs = inside_mc.reshape(n_mc, -1).mean(axis=1)  # the old average statistic (record only)
+c2_avg_lo, c2_avg_hi = score_interval(float(f_runs.mean()), n_mc, 0.95)
 qP_mc = np.stack([r["qP"][1:] for r in mc_runs_list])  # (runs, k = 1..T, node), C8b
 qP_iv = np.array([[montecarlo.mean_interval(qP_mc[:, k, i], level=bonf_level) for i in range(N)]
                   for k in range(T_run)])  # (k, node, 2)
-print(f"{n_mc} runs; per-run fraction inside B_k: min {f_runs.min():.4f}, mean {f_runs.mean():.4f}, "
-      f"Wilson 95 % [{c2_lo:.3f}, {c2_hi:.3f}]; smallest Bonferroni upper end over pairs "
-      f"{pair_hi.min():.3f} (level {bonf_level:.5f}, m = {n_pairs})")
+qf_spread = float(np.max(qf_mc.max(axis=0) - qf_mc.min(axis=0)))
+print(f"C2: {n_mc} runs; pairs with lower end >= p: {int((pair_lo >= p).sum())} of {n_pairs}, "
+      f"with upper end < p: {int((pair_hi < p).sum())}; worst pair's rate {pair_rate.min():.4f}, "
+      f"its interval [{pair_lo.min():.4f}, {pair_hi.min():.4f}]; largest form over k >= 1 "
+      f"{qf_mc.max():.4f}, spread over the runs (max - min, worst pair) {qf_spread:.1e}")
 print(f"C8b: largest mean of x~'P^-1 x~ {qP_mc.mean(axis=0).max():.4f}, largest Bonferroni upper "
       f"end {qP_iv[..., 1].max():.4f}; spread over the runs (max - min, worst pair) "
       f"{np.max(qP_mc.max(axis=0) - qP_mc.min(axis=0)):.1e}; uncertified solves over the runs: "
       f"{sum(len(r['failures']) for r in mc_runs_list)}")
+
+# %% [markdown]
+# ## C3 over the $\alpha_k$ realisations, with an attack-free control
+#
+# C3 compares the two designs "in the existence of falsified innovations". Two things are needed
+# to read that comparison (a hostile re-read of the committed version, items 1 and 5):
+#
+# * **An attack-free control.** Both designs are also run with $\alpha_k\equiv0$ (no falsified
+#   innovation reaches any node), on the same plant and measurements. C3's **precondition** (ours)
+#   is that the attack raises the conventional design's RMSE by more than `c3_margin` at some
+#   node: otherwise the falsified innovations do not make the conventional estimator worse, and
+#   its comparison with the NN estimator says nothing about them (fails-premise). The margin is
+#   C3's own (a change within solver noise is not an effect); no new level was introduced.
+# * **Independent realisations.** One realisation of $\alpha_k$ can flip the comparison (in the
+#   earlier sweep, at $s=0.139$, the worst node's ratio was 0.9839 on seed 0 and 1.0091 on seed 1).
+#   C3 is therefore evaluated on the same `mc_runs` realisations as C2 (run 0 is the main run),
+#   each with both designs, by a rule on intervals: per node, the Student-t interval (Bonferroni
+#   level $1-0.05/N$ over the nodes) of the mean of $\mathrm{RMSE}_{NN}-(1-c)\,\mathrm{RMSE}_{conv}$
+#   over the runs, $c$ = `c3_margin`; **holds** if every node's upper end is below 0, **fails** if
+#   some node's lower end is above 0, else **not checked** (too few runs to decide). The
+#   precondition is judged the same way on the relative rise
+#   $\mathrm{RMSE}^{attack}_{conv}/\mathrm{RMSE}^{\alpha\equiv0}_{conv}-1$: it holds if some node's
+#   lower end exceeds $c$, fails if every node's upper end is at most $c$, else C3 is not checked.
+#   Intervals keep their meaning at any run count; the run count only changes whether they decide.
+
+# %%
+conv_mc = [conv_run] + [simulate(alpha=a, estimator="conv") for a in mc_alphas[1:]]
+alpha_free = np.zeros(T_run)  # no falsified innovation at any step
+nn_free = simulate(alpha=alpha_free, estimator="nn")
+conv_free = simulate(alpha=alpha_free, estimator="conv")
+rmse_nn_mc = np.stack([rmse(r) for r in mc_runs_list])  # (runs, node)
+rmse_conv_mc = np.stack([rmse(r) for r in conv_mc])
+c3_level = 1.0 - 0.05 / N  # Bonferroni over the nodes
+c3_diff_iv = np.array([montecarlo.mean_interval(rmse_nn_mc[:, i] - (1.0 - c3_margin)
+                                                * rmse_conv_mc[:, i], level=c3_level)
+                       for i in range(N)])  # (node, 2); < 0: the NN is better by the margin
+c3_rise_mc = rmse_conv_mc / rmse(conv_free) - 1.0  # the attack's effect on the conventional design
+c3_rise_iv = np.array([montecarlo.mean_interval(c3_rise_mc[:, i], level=c3_level)
+                       for i in range(N)])
+ratio_mean_c3 = rmse_nn_mc.mean(axis=0) / rmse_conv_mc.mean(axis=0)
+print(f"without attack: RMSE NN {np.round(rmse(nn_free), 5).tolist()}, conventional "
+      f"{np.round(rmse(conv_free), 5).tolist()}, ratio "
+      f"{np.round(rmse(nn_free) / rmse(conv_free), 5).tolist()}")
+print(f"with attack, mean over {n_mc} runs: RMSE NN {np.round(rmse_nn_mc.mean(axis=0), 5).tolist()}, "
+      f"conventional {np.round(rmse_conv_mc.mean(axis=0), 5).tolist()}, ratio of the means "
+      f"{np.round(ratio_mean_c3, 5).tolist()}")
+print("attack's relative rise of the conventional RMSE per node, interval at level "
+      f"{c3_level:.4f}: {np.round(c3_rise_iv, 5).tolist()} (precondition: some lower end > "
+      f"{c3_margin:g})")
+print(f"RMSE_NN - (1 - c3_margin) RMSE_conv per node, interval: {np.round(c3_diff_iv, 5).tolist()}")
 
 # %% [markdown]
 # ## Claims
@@ -1304,27 +1432,29 @@ print(f"C8b: largest mean of x~'P^-1 x~ {qP_mc.mean(axis=0).max():.4f}, largest 
 # | id | paper | what we measure, and the rule | decides |
 # |---|---|---|---|
 # | C1 | each node tracks both states "with a satisfactory precision" with the NN estimator (Figs. 1–4); the conventional one "with certain precision" (Figs. 5–8) | $\max|\tilde x^{(l)}_{i,k}|$ of (8) for $k\ge$ `settle_k` against `track_tol` = 0.2, **ours** (the paper states no number; 0.2 is the brief's reading of the tick residue of Fig. 4, data within about ±0.2); the conventional value is reported. **Premise**: the example's assumptions (below) on the NN run | no: its level is ours |
-# | C2 | the errors stay in the required region with probability $\ge p$ (Theorem 3, (11)) | one statistic per independent run, the fraction $f_r$ of its pairs $(i,k)$, $k=1..T$, inside $\mathfrak B_k$; Wilson interval of $E f_r$ over the `mc_runs` runs, and per pair at the Bonferroni level (section "Monte Carlo"); holds / fails / not checked by that three-way rule. **Premise**: the example's assumptions on every run | **yes** |
-# | C3 | the conventional estimator "shows worse estimation performance" than the NN-based one under the same falsified innovations (Figs. 5–8 vs 1–4) | per-node RMSE of $\|\tilde x\|$ over $k=1..T$: holds if $\mathrm{RMSE}_{NN}<(1-$`c3_margin`$)\,\mathrm{RMSE}_{conv}$ at **every** node (margin ours: a tie within solver noise is not "worse"); headline: the worst node's ratio. **Premise**: the example's assumptions on both runs | **yes** |
+# | C2 | the errors stay in the required region with probability $\ge p$ **at every node and step** (Theorem 3, (11)) | per pair $(i,k)$, $k=1..T$: Wilson interval of the fraction of the `mc_runs` independent runs inside $\mathfrak B_k$ at the Bonferroni level $1-0.05/NT$; holds if every pair's lower end is $\ge p$, fails if some pair's upper end is $<p$, else not checked (section "Monte Carlo"); the former average over the pairs is recorded, not deciding. **Premise**: the example's assumptions and Theorem 1's (19) on every run | **yes** |
+# | C3 | the conventional estimator "shows worse estimation performance in the existence of falsified innovations" than the NN-based one (Figs. 5–8 vs 1–4) | per-node RMSE of $\|\tilde x\|$ over $k=1..T$, both designs on each of C2's `mc_runs` realisations: per node the Student-t interval (Bonferroni over the nodes) of the mean of $\mathrm{RMSE}_{NN}-(1-$`c3_margin`$)\,\mathrm{RMSE}_{conv}$; holds if every node's upper end is $<0$, fails if some lower end is $>0$, else not checked (margin ours: a tie within solver noise is not "worse"); headline: the worst node's ratio of the mean RMSEs. **Precondition** (ours): against the attack-free control ($\alpha\equiv0$, both designs), the attack raises the conventional RMSE by more than `c3_margin` at some node (same interval rule), else fails-premise; and the example's assumptions on every run (section "C3 over the realisations") | **yes** |
 # | C4 | $\mathrm{tr}[\tilde W^\top Q^{-1}\tilde W]\le1$ for all $k$ (Theorem 1) | max over links and steps, with $W=W^\star$. **By construction**: the maximum is at $k=0$, fixed by the data, and from $k=1$ on $Q=e_1^2I$ holds (19) for any $W$ that Assumption 2 allows | no: by construction |
 # | C5 | the recursive LMIs are solvable at every step (Algorithm 1, Theorems 1–3) | every solve certified by our strict certificate. **By construction**: OP2/OP3 and OP1 are feasible in exact arithmetic ($\mathfrak B_{k+1}$, $Q_{ij,k+1}$ free), so only our certificate is measured; where it rejects a solve, **not checked** (a limit of ours) | no: by construction |
-# | C7 | the attacks are estimated jointly with the states (abstract; Sec. I, contribution iv) | per link $i\leftarrow j$, $k=1..T-1$: RMS of $\chi(z_{j,k})-\hat W_{ij,k}\phi(z_{i,k})$ over the RMS of $\chi(z_{j,k})$ (the zero estimate's ratio is 1); holds if below $1-$`attack_margin` (ours: more than solver round-off) at every link where the premise's oracle fits. **Premise**: the NN class can fit the attack at all: an oracle of the same class, $W\phi(z_{i,k})$ with $W$ fitted by least squares to the true attack (two-fold cross-validated over the steps), beats the zero estimate by the same margin on at least one link; and the example's assumptions | **yes** |
+# | C7 | the attacks are estimated jointly with the states (abstract; Sec. I, contribution iv) | per link $i\leftarrow j$, $k=1..T-1$: RMS of $\chi(z_{j,k})-\hat W_{ij,k}\phi(z_{i,k})$ over the RMS of $\chi(z_{j,k})$ (the zero estimate's ratio is 1); holds if below $1-$`attack_margin` (ours: more than solver round-off) at every link where the premise's oracle fits. **Premise**: the NN class can fit the attack at all: an oracle of the same class, $W\phi(z_{i,k})$ with $W$ fitted by least squares to the true attack (two-fold cross-validated over **contiguous halves** of the steps, the out-of-sample split for a time series; the all-steps fit is recorded), beats the zero estimate by the same margin on at least one link — a level that admits an oracle removing only 0.1 % of the attack's RMS as "fits"; and the example's assumptions. **Fails by construction of OP1 (E4)** wherever the premise holds: one evaluation, not independent failures | **yes** (a failure that follows from the paper's own OP1) |
 # | C8a | Theorem 2, (29), exactly along the run | $E_{\alpha_k}\{\tilde x_{i,k+1}^\top P_{k+1}^{-1}\tilde x_{i,k+1}\mid\text{past}\}\le1$ at every node and certified step (both branches of $\alpha_k$ computed). **Premise**: the constraints of (23) hold at every certified step | no: a step of Theorem 3, which C2 decides |
-# | C8b | Theorem 2, (29), over realisations | per pair, Student-t interval of the mean of $\tilde x^\top P_k^{-1}\tilde x$ over the runs at the Bonferroni level: holds if every upper end $\le1$, fails if some lower end $>1$, else not checked | no: as C8a |
+# | C8b | Theorem 2, (29), over realisations | per pair, Student-t interval of the mean of $\tilde x^\top P_k^{-1}\tilde x$ over the runs at the Bonferroni level: holds if every upper end $\le1$, fails if some lower end $>1$, else not checked. **Premise**: C2's (Theorem 2 holds "under the condition of Theorem 1") | no: as C8a |
 # | X1 | (ours) the error dynamics (54) | $\max|\tilde x_{i,k+1}-(\Xi_i+\tilde\alpha_k\tilde\Xi_i)\zeta_k|$ at the actual $\zeta_k$, certified steps, $\le10^{-10}$ (round-off) | no: ours |
 # | X2 | (ours) the premise (12)–(13) at this point's $L_i=\aleph_i$ | worst ratio $\|\text{remainder}\|/(s\|\tilde x\|)$ over the certified steps of both runs $\le1$ | no: ours |
 # | X3 | (ours, E4–E5) the NN mechanism is not reproduced: OP1 collapses the weights, OP2 drops the neighbours | $\max_k|\lambda^{(2)}|\le10^{-6}$, $\max_{k\ge1}\|\hat W_{ij,k}\|_F\le10^{-6}$, $\max\|H_{ij}\|\le10^{-2}$ (levels ours: orders of magnitude above round-off, below any active compensation) | no: ours |
 # | X4 | (ours) Theorem 2's Schur step: the solved (30) bounds the quadratic form by 1 for admissible $\zeta$ | 256 random admissible $\zeta$ per certified step (boundary of every constraint) | no: ours |
 # | X5 | (ours) DPP re-solve equals a fresh build | $\max|P_{k+1}|$ difference at the last step $\le10^{-6}$ (premise: that step is certified) | no: ours |
-# | X6a | (ours) our solvers certify the printed shared-multiplier LMI (22) at the first `shared_diag_steps` steps | uncertified shared solves $=0$ (a statement about our numerics, not the paper's) | no: ours |
+# | X6a | (ours) our solvers certify the printed shared-multiplier LMI (22) at the first `shared_diag_steps` steps | holds if no shared solve is uncertified; an uncertified solve is a limit of ours (the LMI is feasible in exact arithmetic): **not checked**, never "fails" (a statement about our numerics, not the paper's) | no: ours |
 # | X6b | (ours) the printed (22) is never less conservative than per-node multipliers | $\mathrm{tr}\,\mathfrak B_k$ shared $\ge$ per-node $-10^{-6}$ at $k=1..$`shared_diag_steps`; $k=1$ holds by construction (same data, a special case), $k\ge2$ is measured (the data differ); not checked unless every compared solve is certified | no: ours |
+# | X10 | (ours) Corollary 3 / OP3 (33), corrected (E2): for given $\mathfrak B_{k+1}$ (here this run's OP2 ellipsoids) the error lies in $\mathcal X(0,\mathfrak B_{k+1})$ with probability $\ge p_k=1-\rho_k$ | on the main realisation: no step's guarantee void ($p_k>0$) and the fraction of (node, step) pairs inside $\mathfrak B_k$ $\ge$ the mean $p_k$; one realisation, so a record that the guarantee is non-void and not contradicted, not a test of the per-pair probability (C2 tests Theorem 3's); the earlier constant $\mathfrak B=2I$ is recorded (extra, paper mode, not swept) | no: ours |
 # | X9 | (ours, brief E5) the attack-unaware conventional design uses its neighbours | median over $k$ of $\max_{ij}\|H_{ij,k}\|$ of the conventional design $\ge0.5$ (ours: a third of the 1.5 the brief reports, 500 times the NN design's $\sim10^{-3}$) | no: ours |
 #
 # C6 (the cost per step, Remark 7) is a timing and belongs to the benchmark suite (`make bench`).
 #
-# **The example's assumptions** (the premise of C1, C2, C3 and C7): Assumption 3 at $k=0$, and
+# **The example's assumptions** (the premise of C1, C2, C3, C7 and C8b): Assumption 3 at $k=0$, and
 # (12)–(13) with $L_i=\aleph_i=sI$ and $\|\delta_j\|\le e_3$ at every **certified** step of the
-# runs the claim is measured on. Premises are evaluated on certified steps only: after the first
+# runs the claim is measured on; C2 and C8b add Theorem 1's (19) on every run (Theorems 2–3 are
+# stated under the condition of Theorem 1). Premises are evaluated on certified steps only: after the first
 # solve that our certificate rejects, our fallback keeps the previous gains and doubles $P$ (brief
 # §7), so the run is no longer Algorithm 1's, and what it does says nothing about the paper.
 #
@@ -1356,6 +1486,8 @@ print(f"C8b: largest mean of x~'P^-1 x~ {qP_mc.mean(axis=0).max():.4f}, largest 
 # %%
 SEC_EXAMPLE = "The example (Section IV): both estimators under the same falsified innovations"
 SEC_MC = r"Monte Carlo over independent $\alpha_k$ realisations (C2, C8b)"
+SEC_DIAG = "Extra — diagnostics: what the designs actually do"
+SEC_C3 = r"C3 over the $\alpha_k$ realisations, with an attack-free control"
 SEC_TAYLOR = r"The missing Taylor scales $L_i$, $\aleph_i$: a declared range"
 TOL_LMI = results.LMI_ITERATES  # every value below driven by interior-point LMI solves
 
@@ -1434,63 +1566,116 @@ claims["C1"] = results.claim(
     source="Sec. IV, Figs. 1-4 (and Figs. 5-8)", section=SEC_EXAMPLE, tolerance=TOL_LMI,
 )
 note_mc = fallback_note(*((f"NN run {r_}", res) for r_, res in enumerate(mc_runs_list)))
+text_mc, holds_mc = example_premise(mc_runs_list, f"the {n_mc} NN runs")
+wq_mc = max(float(r["Wq"].max()) for r in mc_runs_list)  # Theorem 1's (19) on every run
+premise_mc = (f"{text_mc}; Theorem 1's condition (19), tr[W~^T Q^-1 W~] <= 1 with W = W*, at "
+              f"every link and step of every run (max {wq_mc:.3f})", holds_mc and wq_mc <= 1.0)
+pairs_decide = int((pair_lo >= p).sum())
 pairs_below = int((pair_hi < p).sum())
+k_c2, i_c2 = np.unravel_index(int(np.argmin(pair_lo)), pair_lo.shape)  # the worst pair
 if note_mc:
     c2_holds, c2_note = None, note_mc
-elif c2_hi < p or pairs_below:
+elif pairs_below:
     c2_holds, c2_note = False, None
-elif c2_lo >= p:
+elif pairs_decide == n_pairs:
     c2_holds, c2_note = True, None
 else:
     c2_holds, c2_note = None, (
-        f"{n_mc} runs cannot decide: the Wilson interval [{c2_lo:.3f}, {c2_hi:.3f}] of E f_r "
-        "contains p and no pair's Bonferroni interval lies below p (with every run inside at every "
-        "pair, 16 runs decide)")
+        f"{n_mc} runs cannot decide: {n_pairs - pairs_decide} of the {n_pairs} pairs have a "
+        f"Bonferroni interval containing p (worst pair [{pair_lo.min():.4f}, "
+        f"{pair_hi[k_c2, i_c2]:.4f}]) and none lies below p; a pair inside in every run reaches p "
+        "from 50 runs on")
 claims["C2"] = results.claim(
-    paper="Theorem 3, (10)-(11): P{x~_(i,k)^T B_k^-1 x~_(i,k) <= 1} >= p = 0.8 at every node and "
-    "step ('both the estimation errors are confined within the required range')",
-    check=f"one statistic per independent alpha_k realisation (NN design, {n_mc} runs, each with "
-    "its own B_k): f_r, the fraction of its (node, step) pairs, k = 1..T, inside B_k; E f_r >= p "
-    "by Theorem 3. k = 0 is left out and is no evidence: B_0 = P_0 / (1 - p), so the premise "
-    "(Assumption 3) alone puts its forms below 1 - p (reported: max_quadratic_form_k0). Fails if "
-    "the upper end of the Wilson score interval of E f_r over the runs (95 %, level ours; valid "
-    "for a statistic in [0, 1]) is below p, or if at some pair the Wilson interval of the fraction "
-    f"of runs inside at the Bonferroni level 1 - 0.05/{n_pairs} (the {n_pairs} pairs tested) lies "
-    "wholly below p; holds if the lower end for E f_r is >= p and no pair fails; else not checked "
-    "(too few runs to decide)",
-    measured={"mean_fraction": float(f_runs.mean()), "min_run_fraction": float(f_runs.min()),
-              "runs": n_mc, "pairs_per_run": n_pairs, "pairs_below_p_bonferroni": pairs_below,
-              "min_pair_upper_bonferroni": float(pair_hi.min()),
-              "fraction_main_run": float(inside_mc[0].mean()),
-              "max_quadratic_form": float(np.max([r["qf"][1:].max() for r in mc_runs_list])),
+    paper="Theorem 3, (10)-(11): P{x~_(i,k)^T B_k^-1 x~_(i,k) <= 1} >= p = 0.8 at every node i "
+    "and step k ('both the estimation errors are confined within the required range')",
+    check=f"per pair (node i, step k = 1..T; {n_pairs} pairs), over {n_mc} independent alpha_k "
+    "realisations (NN design, each run with its own B_k): the Wilson interval of the pair's "
+    f"fraction of runs inside B_k at the Bonferroni level 1 - 0.05/{n_pairs} (multiplicity "
+    "correction over the pairs tested). Holds if every pair's lower end is >= p; fails if some "
+    "pair's upper end is < p; else not checked (too few runs to decide; a pair inside in every "
+    "run reaches p from 50 runs on). Headline: the worst pair's rate, with its interval. k = 0 is "
+    "left out and is no evidence: B_0 = P_0 / (1 - p), so the premise (Assumption 3) alone puts "
+    "its forms below 1 - p (max_quadratic_form_k0). The average over the pairs of one run with "
+    "its Wilson score interval over the runs (the statistic used before issue #30, session 13) is "
+    "weaker than (11) and is recorded in average_record, not deciding. The run count 94 (paper "
+    "mode) is fixed by the power computation of notebooks/ma2021.toml",
+    measured={"worst_pair_rate": float(pair_rate.min()), "runs": n_mc, "pairs": n_pairs,
+              "bonferroni_level": bonf_level, "pairs_lower_at_least_p": pairs_decide,
+              "pairs_upper_below_p": pairs_below, "min_pair_lower": float(pair_lo.min()),
+              "min_pair_upper": float(pair_hi.min()),
+              "worst_pair_step_node": [int(k_c2) + 1, int(i_c2) + 1],
+              "max_quadratic_form": float(qf_mc.max()),
               "max_quadratic_form_k0": float(nn_run["qf"][0].max()),
-              "fraction_conventional_design": float(np.mean(conv_run["qf"][1:] <= 1.0))},
-    key="mean_fraction", interval=results.interval(c2_lo, c2_hi, method="wilson score over runs"),
+              "max_spread_over_runs": qf_spread,
+              "fraction_conventional_design": float(np.mean(conv_run["qf"][1:] <= 1.0)),
+              "average_record": {"mean_fraction": float(f_runs.mean()),
+                                 "min_run_fraction": float(f_runs.min()),
+                                 "wilson95_over_runs": [c2_avg_lo, c2_avg_hi],
+                                 "deciding": False}},
+    key="worst_pair_rate",
+    interval=results.interval(float(pair_lo[k_c2, i_c2]), float(pair_hi[k_c2, i_c2]),
+                              level=bonf_level, method="wilson, the worst pair, Bonferroni"),
     threshold=p, holds=c2_holds, not_checked=c2_note, decides=True, runs=n_mc,
-    premise=example_premise(mc_runs_list, f"the {n_mc} NN runs"),
+    premise=premise_mc,
     source="Theorem 3, (10)-(11); Sec. IV, Figs. 3-4", section=SEC_MC, tolerance=TOL_LMI,
 )
 e_nn, e_conv = rmse(nn_run), rmse(conv_run)
-ratio_c3 = e_nn / e_conv
-nodes_better = [i + 1 for i in range(N) if ratio_c3[i] < 1.0 - c3_margin]
-note_c3 = fallback_note(("NN", nn_run), ("conventional", conv_run))
+ratio_c3 = e_nn / e_conv  # run 0 (the main realisation): the quantity of the earlier sweep's map
+nodes_better = [i + 1 for i in range(N) if c3_diff_iv[i, 1] < 0.0]
+c3_pre_holds = bool((c3_rise_iv[:, 0] > c3_margin).any())  # the attack raises conv. RMSE somewhere
+c3_pre_fails = bool((c3_rise_iv[:, 1] <= c3_margin).all())  # nowhere, with confidence
+note_c3 = fallback_note(*((f"NN run {r_}", res) for r_, res in enumerate(mc_runs_list)),
+                        *((f"conventional run {r_}", res) for r_, res in enumerate(conv_mc)),
+                        ("NN without attack", nn_free), ("conventional without attack", conv_free))
+if note_c3 is None and not (c3_pre_holds or c3_pre_fails):
+    note_c3 = (f"{n_mc} runs cannot decide the precondition: no node's interval of the attack's "
+               f"relative rise of the conventional RMSE lies above c3_margin = {c3_margin:g}, and "
+               "some contains it")
+elif note_c3 is None and not ((c3_diff_iv[:, 1] < 0.0).all() or (c3_diff_iv[:, 0] > 0.0).any()):
+    note_c3 = (f"{n_mc} runs cannot decide: some node's interval of RMSE_NN - (1 - c3_margin) "
+               "RMSE_conv contains 0 and none lies above it")
+text_c3, prem_c3 = example_premise(mc_runs_list + conv_mc + [nn_free, conv_free],
+                                   f"the {2 * n_mc + 2} runs (both designs, {n_mc} realisations and "
+                                   "alpha = 0)")
 claims["C3"] = results.claim(
     paper="Sec. IV: 'in comparison to our developed approach, the conventional algorithm shows "
     "worse estimation performance in the existence of falsified innovations' (Figs. 5-8 against "
     "Figs. 1-4)",
-    check="per-node RMSE of ||x~_(i,k)|| over k = 1..T, both estimators on the same realisation "
-    "(the paper names no measure; the brief's check); holds if RMSE_NN < (1 - c3_margin) RMSE_conv "
-    f"at every node, c3_margin = {c3_margin:g} (ours: a tie within solver noise is not 'worse'). "
-    "Headline: the worst node's ratio RMSE_NN / RMSE_conv. The conventional design is MISSING in "
-    "the paper (ours: the attack-unaware OP2)",
-    measured={"worst_node_ratio": float(ratio_c3.max()), "ratio": ratio_c3, "rmse_nn": e_nn,
-              "rmse_conventional": e_conv, "nodes_nn_better": nodes_better,
-              "mean_nn": float(e_nn.mean()), "mean_conventional": float(e_conv.mean()),
+    check=f"per-node RMSE of ||x~_(i,k)|| over k = 1..T (the paper names no measure), both "
+    f"estimators on each of the {n_mc} independent alpha_k realisations of C2 (run 0 is the main "
+    "run). Per node, the Student-t interval at the Bonferroni level 1 - 0.05/N of the mean over the "
+    "runs of RMSE_NN - (1 - c3_margin) RMSE_conv, c3_margin = "
+    f"{c3_margin:g} (ours: a tie within solver noise is not 'worse'): holds if every node's upper "
+    "end is < 0; fails if some node's lower end is > 0; else not checked (too few runs). "
+    "Precondition (ours, issue #30 re-read item 1): the attack raises the conventional design's "
+    "RMSE: per node, the same interval of RMSE_conv / RMSE_conv(alpha = 0) - 1, where alpha = 0 "
+    "is the attack-free control (both designs run without any falsified innovation); it holds if "
+    "some node's lower end is > c3_margin (fails-premise if every node's upper end is <= "
+    "c3_margin; else not checked). Headline: the worst node's ratio of the mean RMSEs NN / "
+    "conventional. The conventional design is MISSING in the paper (ours: the attack-unaware "
+    "OP2). Before this rule C3 was judged on run 0 alone, without the control",
+    measured={"worst_node_ratio": float(ratio_mean_c3.max()), "ratio_of_means": ratio_mean_c3,
+              "runs": n_mc, "rmse_nn_mean": rmse_nn_mc.mean(axis=0),
+              "rmse_conventional_mean": rmse_conv_mc.mean(axis=0),
+              "diff_interval_low": c3_diff_iv[:, 0], "diff_interval_high": c3_diff_iv[:, 1],
+              "bonferroni_level": c3_level, "nodes_nn_better": nodes_better,
+              "attack_free": {"rmse_nn": rmse(nn_free), "rmse_conventional": rmse(conv_free),
+                              "ratio": rmse(nn_free) / rmse(conv_free)},
+              "attack_rise_conventional_mean": c3_rise_mc.mean(axis=0),
+              "attack_rise_interval_low": c3_rise_iv[:, 0],
+              "attack_rise_interval_high": c3_rise_iv[:, 1],
+              "precondition_attack_raises_conventional": c3_pre_holds,
+              "run0": {"ratio": ratio_c3, "rmse_nn": e_nn, "rmse_conventional": e_conv,
+                       "worst_node_ratio": float(ratio_c3.max())},
+              "mean_nn": float(rmse_nn_mc.mean()), "mean_conventional": float(rmse_conv_mc.mean()),
               "taylor_scale": float(L_scale)},
     key="worst_node_ratio", threshold=1.0 - c3_margin,
-    holds=None if note_c3 else len(nodes_better) == N, not_checked=note_c3, decides=True,
-    premise=example_premise([nn_run, conv_run], "both runs"),
-    source="Sec. IV, last paragraph; Figs. 1-8", section=SEC_EXAMPLE, tolerance=TOL_LMI,
+    holds=None if note_c3 else bool((c3_diff_iv[:, 1] < 0.0).all()), not_checked=note_c3,
+    decides=True, runs=n_mc,
+    premise=(f"the attack raises the conventional design's RMSE by more than c3_margin at some "
+             f"node (relative rise, interval lower ends {np.round(c3_rise_iv[:, 0], 5).tolist()}); "
+             "and " + text_c3, bool(prem_c3 and not c3_pre_fails)),
+    source="Sec. IV, last paragraph; Figs. 1-8", section=SEC_C3, tolerance=TOL_LMI,
 )
 thm1_max = float(nn_run["Wq"].max())
 claims["C4"] = results.claim(
@@ -1547,12 +1732,16 @@ def rms_ratio(a: np.ndarray, est: np.ndarray) -> float:
     return float(np.sqrt(np.sum((a - est) ** 2) / np.sum(a**2)))
 
 
-def oracle_ratio(X: np.ndarray, a: np.ndarray) -> float:
-    """rms_ratio of the least-squares fit a ~ W x (rows of X), two-fold cross-validated over the
-    steps (the even steps' fit predicts the odd ones and back), so that it is not in-sample."""
-    test_even = np.arange(len(a)) % 2 == 0
+def oracle_ratio(X: np.ndarray, a: np.ndarray, in_sample: bool = False) -> float:
+    """rms_ratio of the least-squares fit a ~ W x (rows of X), two-fold cross-validated over
+    contiguous halves of the steps (the first half's fit predicts the second half and back: the
+    out-of-sample split for a time series; alternating steps would leave neighbouring, correlated
+    steps on both sides), or fitted and scored on all steps (`in_sample`, recorded only)."""
+    if in_sample:
+        return rms_ratio(a, X @ np.linalg.lstsq(X, a, rcond=None)[0])
+    first = np.arange(len(a)) < len(a) // 2
     pred = np.zeros_like(a)
-    for test in (test_even, ~test_even):
+    for test in (first, ~first):
         W = np.linalg.lstsq(X[~test], a[~test], rcond=None)[0]
         pred[test] = X[test] @ W
     return rms_ratio(a, pred)
@@ -1563,12 +1752,13 @@ def attack_estimates(res: dict) -> dict:
     of the injected signal chi(z_(j,k)), and of the oracle fits with inputs phi(z_i) (8) and
     phi(z_j) (the model (6))."""
     run_, ks = res["run"], np.arange(1, res["run"].z.shape[0])
-    out = {"nn": [], "oracle": [], "oracle_model6": []}
+    out = {"nn": [], "oracle": [], "oracle_in_sample": [], "oracle_model6": []}
     for i, j in LINKS:
         a = np.array([chi(run_.z[k, j]) for k in ks])
         out["nn"].append(rms_ratio(a, np.array([run_.W_hat[k][(i, j)] @ run_.phi[k, i]
                                                 for k in ks])))
         out["oracle"].append(oracle_ratio(run_.phi[ks, i], a))
+        out["oracle_in_sample"].append(oracle_ratio(run_.phi[ks, i], a, in_sample=True))
         out["oracle_model6"].append(oracle_ratio(run_.phi[ks, j], a))
     return {key: np.array(val) for key, val in out.items()}
 
@@ -1592,20 +1782,33 @@ claims["C7"] = results.claim(
     f"below 1 - attack_margin = {1 - attack_margin:g} (ours: beats the zero estimate by more than "
     "solver round-off) at every link where the premise's oracle fits. Premise: the NN class can "
     "fit the attack at all: an oracle of the same class, W phi(z_(i,k)), with W fitted by least "
-    "squares to the true attack (two-fold cross-validated over the steps, so not in-sample), "
-    "beats the zero estimate by the same margin on at least one link; the oracle with the model "
-    "(6)'s input phi(z_j) is reported. Headline: the worst NN ratio over the links where the "
-    "oracle fits (over every link if none does)",
+    "squares to the true attack, two-fold cross-validated over contiguous halves of the steps "
+    "(the first half's fit predicts the second and back: out of sample for a time series; before "
+    "issue #30's re-read the folds alternated even and odd steps, which left correlated "
+    "neighbouring steps on both sides and made the fit nearly in-sample), beats the zero "
+    "estimate by the same margin on at least one link. What that level admits: an oracle that "
+    "removes only 0.1 % of the attack's RMS counts as 'fits'. The all-steps (in-sample) fit and "
+    "the oracle with the model (6)'s input phi(z_j) are reported. Headline: the worst NN ratio "
+    "over the links where the oracle fits (over every link if none does). By construction of "
+    "OP1 (E4): (18) is symmetric in lambda2, so OP1 returns lambda2 = 0 and (with Q_0 = 20 I, "
+    "e1 = 3) lambda1 = 0 for any data, W^ = 0 from k = 1 on, and the ratio is 1 - O(1e-11) at "
+    "every link; wherever the premise holds C7 fails for that one reason. It still decides (a "
+    "failure that follows from the paper's own OP1 is a failure of the claim, not a limit of "
+    "ours), but over the declared space it is one evaluation repeated, not independent failures",
     measured={} if att is None else {
         "worst_nn_ratio": float(max(att["nn"][fit_links] if fit_links else att["nn"])),
         "nn_ratio": att["nn"], "oracle_ratio": att["oracle"],
+        "oracle_ratio_in_sample": att["oracle_in_sample"],
         "oracle_ratio_model6": att["oracle_model6"], "links": link_names,
         "links_oracle_fits": [link_names[a] for a in fit_links],
+        "oracle_split": "contiguous halves",
+        "fails_by_construction_of_OP1": bool(all(abs(v - 1.0) <= 1e-6 for v in att["nn"])),
         "nn_minus_one": att["nn"] - 1.0},
     key=None if att is None else "worst_nn_ratio", threshold=1.0 - attack_margin,
     holds=None if c7_note else bool(all(att["nn"][a] < 1.0 - attack_margin for a in fit_links)),
     not_checked=c7_note, decides=True,
-    premise=(("the NN class fits the attack on at least one link (oracle, cross-validated ratio < "
+    premise=(("the NN class fits the attack on at least one link (oracle, cross-validated over "
+              f"contiguous halves, ratio < "
               f"{1 - attack_margin:g}): " + ("not evaluated (too few steps)" if att is None else
               ", ".join(f"{n_} {v_:.4f}" for n_, v_ in zip(link_names, att["oracle"], strict=True)))
               + "; and " + prem_ex[0]), bool(prem_ex[1] and (att is None or fit_links))),
@@ -1695,9 +1898,16 @@ claims["X6a"] = results.claim(
     paper="(ours) our solvers certify the printed LMI (22), with one multiplier set Gamma_k shared "
     "by all nodes, at the first shared_diag_steps steps (a statement about our numerics; OP2 with "
     "shared multipliers is feasible in exact arithmetic, B_(k+1) being free)",
-    check=f"uncertified solves of the shared-multiplier design over k = 0..{n_sh - 1} == 0",
+    check=f"uncertified solves of the shared-multiplier design over k = 0..{n_sh - 1} == 0: holds "
+    "if every solve is certified; where one is not, that is a limit of our solvers (the problem "
+    "is feasible in exact arithmetic), so not checked, never fails (before issue #30's re-read "
+    "an uncertified solve was recorded as 'fails')",
     measured={"uncertified_steps_shared": len(shared_run["failures"]), "steps": n_sh},
-    key="uncertified_steps_shared", threshold=0, holds=len(shared_run["failures"]) == 0,
+    key="uncertified_steps_shared", threshold=0,
+    holds=True if not shared_run["failures"] else None,
+    not_checked=None if not shared_run["failures"] else (
+        f"our solvers did not certify {len(shared_run['failures'])} of the {n_sh} shared solves "
+        f"(first at {failure_place(shared_run['failures'][0])}): a limit of ours"),
     source="ours; (22) as printed", section=SEC_SHARED, tolerance=TOL_LMI,
 )
 x6_uncert = [msg for msg in shared_run["failures"] + nn_run["failures"]
@@ -1764,8 +1974,9 @@ claims["C8b"] = results.claim(
     check=f"Monte Carlo over {n_mc} independent realisations (NN design, each with its own P_k): "
     "per pair (node, k = 1..T) the Student-t interval of the mean of x~^T P_k^-1 x~ over the runs at "
     f"the Bonferroni level 1 - 0.05/{n_pairs}; holds if every upper end is <= 1, fails if some "
-    "lower end is > 1, else not checked. Nearly degenerate: the NN design ignores alpha (X3), so "
-    "the runs barely differ",
+    "lower end is > 1, else not checked. Premise: C2's (Theorem 2 is stated 'under the condition "
+    "of Theorem 1'; the example's assumptions and (19) on every run). Nearly degenerate: the NN "
+    "design ignores alpha (X3), so the runs barely differ",
     measured={"max_upper_bonferroni": float(qP_iv[..., 1].max()),
               "max_mean": float(qP_mc.mean(axis=0).max()),
               "worst_step_node": [int(k_w) + 1, int(i_w) + 1], "runs": n_mc,
@@ -1773,7 +1984,7 @@ claims["C8b"] = results.claim(
               "uncertified_steps": sum(len(r["failures"]) for r in mc_runs_list)},
     key="max_upper_bonferroni",
     interval=results.interval(*qP_iv[k_w, i_w], level=bonf_level, method="student-t"),
-    threshold=1.0, holds=c8b_holds, not_checked=c8b_note, runs=n_mc,
+    threshold=1.0, holds=c8b_holds, not_checked=c8b_note, runs=n_mc, premise=premise_mc,
     source="Theorem 2, (29)", section=SEC_MC, tolerance=TOL_LMI,
 )
 h_conv_med = float(np.median(conv_run["Hn"]))
@@ -1787,13 +1998,62 @@ claims["X9"] = results.claim(
     key="median_H_conventional", threshold=0.5, holds=h_conv_med >= 0.5,
     source="ours; brief E5", section=SEC_EXAMPLE, tolerance=TOL_LMI,
 )
+def finite_or_none(values: np.ndarray, fn) -> float | None:
+    """fn of the finite values, or None where no step was solved (X10)."""
+    return float(fn(values)) if values.size else None
+
+
+if op3_run is not None:  # an extra (paper mode and the tests' default point), not swept
+    p_k = p_op3[1:][np.isfinite(p_op3[1:])]  # steps OP3 solved (rho is NaN where our fallback drove)
+    p_kf = p_fixed[1:][np.isfinite(p_fixed[1:])]
+    note_x10 = fallback_note(("OP3 run", op3_run))
+    first_void_fixed = (int(np.argmax(void_fixed[1:])) + 1) if void_fixed[1:].any() else None
+    claims["X10"] = results.claim(
+        paper="(ours) Corollary 3 / OP3 (33), corrected as E2: for given ellipsoids B_(k+1) (here "
+        "the ones this run's OP2 designed at p), the estimation error lies in X(0, B_(k+1)) with "
+        "probability at least p_k = 1 - rho_k, the largest level the RLMI (30) certifies",
+        check="OP3 run on the main realisation with B_(k+1) of the OP2 (NN) run; the guaranteed p_k, "
+        "k = 1..T, against the empirical rate of this one realisation, the fraction of its (node, "
+        "step) pairs inside B_k. Holds if no step's guarantee is void (p_k > 0 at every step) and "
+        "the fraction inside is >= the mean guaranteed p_k (the expected fraction is at least that "
+        "mean if Corollary 3 holds). One realisation: its pairs are not independent samples, so "
+        "this is a record that the guarantee is non-void and not contradicted, not a test of the "
+        "per-pair probability (C2 tests Theorem 3's). With B from OP2, p_k close to p is expected: "
+        "OP2's own solution is feasible for OP3 at rho = 1 - p on the same data (exactly at k = 0; "
+        "later the trajectories differ slightly), so the level is nearly fixed by construction and "
+        "what is measured is that it stays non-void along OP3's own run. Not checked where our "
+        "fallback drove the run. "
+        f"Recorded: the same OP3 with the constant B = {op3_scale:g} I used before (its reason, "
+        "'close to the OP2 result', was wrong)",
+        measured={"min_guaranteed_p": finite_or_none(p_k, np.min),
+                  "mean_guaranteed_p": finite_or_none(p_k, np.mean),
+                  "max_guaranteed_p": finite_or_none(p_k, np.max), "void_steps": int(void[1:].sum()),
+                  "steps": T_run, "fraction_inside": float(np.mean(inside_op3)),
+                  "max_quadratic_form": float(op3_run["qf"][1:].max()),
+                  "trB_op2_first_last": [float(np.trace(nn_run["Bell"][1])),
+                                         float(np.trace(nn_run["Bell"][-1]))],
+                  "constant_B_record": {
+                      "scale": float(op3_scale), "void_steps": int(void_fixed[1:].sum()),
+                      "first_void_step": first_void_fixed,
+                      "min_guaranteed_p": finite_or_none(p_kf, np.min),
+                      "guaranteed_p_last_step": finite_or_none(p_fixed[-1:][np.isfinite(p_fixed[-1:])],
+                                                               np.min),
+                      "uncertified_steps": len(op3_fixed["failures"])}},
+        key="min_guaranteed_p", threshold=0.0,
+        holds=None if note_x10 else bool(p_k.size and (p_k > 0.0).all()
+                                         and np.mean(inside_op3) >= np.mean(p_k)),
+        not_checked=note_x10,
+        source="ours; Corollary 3, OP3 (33) (corrected, E2)", section=SEC_DIAG, tolerance=TOL_LMI,
+    )
 results.write_claims(results_path, claims, robustness=ROBUSTNESS)
 written = json.loads(results.resolve(results_path).read_text())
 for cid, c in written.items():
     extra_info = ""
     if "robustness" in c:
         rb = c["robustness"]
-        extra_info = f"; over the declared space: {c['verdict']} ({results.counts_text(rb['outcomes'])})"
+        extra_info = (f"; over the declared space: {c['verdict']} ({results.counts_text(rb['outcomes'])})"
+                      + ("; counted under the previous rule, not re-swept"
+                         if "rule_changed_after_sweep" in rb else ""))
     print(f"{cid}: at this point {results.point_verdict(c)}{extra_info}")
 
 # %% [markdown]
@@ -1815,7 +2075,8 @@ print(verdict_now["line"])
 SUMMARY = (json.loads(results.resolve(ROBUSTNESS).read_text())
            if results.resolve(ROBUSTNESS).exists() else {})
 for cid, s_ in SUMMARY.items():
-    print(f"{cid} {results.counts_text(s_['outcomes'])} -> {s_['verdict']}")
+    print(f"{cid} {results.counts_text(s_['outcomes'])} -> {s_['verdict']}"
+          + (f"\n    NOTE: {s_['rule_changed_after_sweep']}" if "rule_changed_after_sweep" in s_ else ""))
 if results.robustness_markdown("ma2021"):
     display(Markdown(results.robustness_markdown("ma2021")))
 
@@ -1863,18 +2124,74 @@ if SWEEP_ROWS:
 #   nearly constant function that a bias-free $\tanh$ layer fits only through a non-zero mean of
 #   the innovations (E6); the cross-validated oracle of the premise says where that is possible.
 #   Where it is, the NN's estimate is the zero estimate (ratio $1-O(10^{-11})$) and C7 fails; where
-#   no link can be fitted, C7 fails its premise.
+#   no link can be fitted, C7 fails its premise. **C7 fails by construction of OP1 (E4)**: the
+#   feasible set of (18) is symmetric in $\lambda^{(2)}$, so OP1 returns $\lambda^{(2)}=0$ for any
+#   data and $\hat W=0$ from $k=1$ on; wherever its premise holds the outcome is fixed before any
+#   data is seen. It still decides, because that is a failure of the paper's own method, not a
+#   limit of ours; but the failures counted over the space are **one evaluation repeated**, not
+#   independent evidence. The premise's oracle is cross-validated over contiguous halves of the
+#   steps (at the example it fits all four links, ratios 0.9949, 0.9905, 0.9905, 0.8965; the
+#   all-steps fit 0.9948, 0.9895, 0.9895, 0.7796). Before, the folds alternated even and odd
+#   steps, nearly in-sample for a time series; the level $1-$`attack_margin` admits an oracle that
+#   removes only 0.1 % of the attack's RMS as "fits". The space counts were made with the
+#   alternating split (not re-swept).
 # * **C3 (the comparison)** holds only at part of the declared space and says nothing about the
 #   NN mechanism: where it holds it holds through the attack-aware gains (the robust design drops
 #   the falsified neighbour innovations that the attack-unaware conventional design still uses,
 #   X9), and the grid levels at which it holds were placed knowing where it turns (section "The
 #   missing Taylor scales"). The default scale is the geometric centre of the declared range, not
 #   its lower end, which is the scale most favourable to C3.
-# * **C2 (the probability guarantee)** is measured over independent runs and is very
-#   conservative where its premise holds (the largest quadratic form is printed with the claims).
+# * **C3 now has an attack-free control and is judged over the realisations** (the hostile
+#   re-read, items 1 and 5). Without any attack (section "C3 over the realisations") the NN
+#   design is already worse at node 3 (ratio 1.0108) and the attack moves the conventional RMSE
+#   by under 0.15 % at every node: $-0.013$ %, $-0.028$ % and $+0.146$ % (means over the 94 runs).
+#   The precondition (the attack raises the conventional RMSE by more than `c3_margin` = 0.1 % at
+#   some node) holds only at node 3 and only narrowly: its interval is [0.101 %, 0.1915 %], so a
+#   margin above 0.1011 % would have left C3 not checked, and one of 0.1915 % or more would have
+#   made it fails-premise. The margin is C3's own, kept
+#   rather than moved; it was chosen knowing the re-read's one-realisation numbers (node 3:
+#   +0.10 %), so it was known to be close. So C3 "fails" at the example, but what it records is
+#   mostly the robust design's conservatism, not an effect of the falsified innovations. The
+#   committed sweep judged C3 on one realisation per point without the control (the counts in
+#   the table above are that rule's); the current rule was not re-swept.
+# * **C3's outcome rests on choices of ours** (issue #30, item 4). At the example it rests on
+#   three missing inputs: the Taylor scales $L_i=\aleph_i$ (the default is the centre of a
+#   declared range), the conventional design (ours: the attack-unaware OP2) and $x_0^{(2)}$ (2.0);
+#   only the first is swept. Its every-node rule is ours and stronger than the paper's
+#   figure-level statement ("the conventional algorithm shows worse estimation performance"). The
+#   weaker node-averaged reading is recorded in C3's `measured` (`mean_nn` against
+#   `mean_conventional`) and gives the same outcome at the example (the NN's mean RMSE is the
+#   larger); over the space only the worst node's ratio is tabulated, so the counts are the
+#   every-node rule's (previous, one-realisation form).
+# * **C2 (the probability guarantee)** is tested as Theorem 3 states it, at every (node, step)
+#   pair, with a per-pair interval and a Bonferroni correction (section "Monte Carlo"). At the
+#   example, with 94 runs, it holds. Over the declared space the sweep ran 16 runs per point (the
+#   run count of the committed sweep: at 94 runs the 70 points would take about 2 h of wall time
+#   on this 2-core machine), at which a pair inside in every run has lower end 0.5623 < $p$: the
+#   rule can only give "fails" (it does not, anywhere) or "not checked", and the sweep's C2 column
+#   was re-derived from the committed rows by that rule (ERRATA, session 13). The space verdict
+#   the tooling writes is "fails-premise" because the premise fails at 2 points and no point is
+#   decided; it is not evidence against C2. C2 is very conservative where its premise holds (the
+#   largest quadratic form and the spread over the runs are in its record).
+# * **The intervals in `robustness.json`** (the table above, "95 % Wilson") are the tooling's one
+#   format for all papers, labelled as if the decided points were a sample of the declared space.
+#   For C3 they are not (issue #30, item 5): the Taylor-scale levels were placed knowing where C3
+#   turns, so its interval is no estimate of anything; only the counts per level are quoted.
 
 # %% [markdown]
 # ## C3 over the declared space: the map
+#
+# **Under C3's previous rule, not re-swept.** The committed sweep (`robustness.csv`) measured C3
+# on one $\alpha_k$ realisation per point (the point's seed), by the worst node's ratio of the two
+# RMSEs, without the attack-free control. The current rule (both designs over the point's Monte
+# Carlo realisations, intervals per node, the precondition that the attack raises the
+# conventional RMSE; section "C3 over the realisations") was not run over the space: the sweep
+# would need two more designs' runs per realisation at each of the 70 points, more than this
+# session's budget. So the counts and the map below are the previous rule's (`robustness.json`
+# says so in C3's entry, `rule_changed_after_sweep`); where the attack moves the conventional
+# design by no more than `c3_margin` the current rule gives fails-premise instead (at the example
+# the precondition holds only narrowly, section "Verdict"), and where one realisation's outcome
+# differs from the mean over the realisations (as at $s=0.139$) the outcome can change.
 #
 # Over the 70 points of the declared space (7 Taylor scales × 2 realisations × 5 OCR readings) the
 # outcomes of C3 per scale level are in the table of the section "Verdict"; they are counts on a
@@ -1884,8 +2201,11 @@ if SWEEP_ROWS:
 #
 # The lower panels show what C3 needs, not what decides it: C3 can hold only where the
 # attack-unaware conventional design leans on its neighbours (X9), so that the falsified
-# innovations reach it; that is necessary, not sufficient. Where the conventional design drops
-# its neighbours as well, the two estimators nearly coincide. So the direction of C3 is set by
+# innovations reach it; that is necessary, not sufficient. Where X9 fails (the conventional
+# design's median neighbour gain is below 0.5; it is not zero there, reaching 0.38), C3 fails at
+# every decided point: the worst node's ratio is above 1 by up to about 5 % (the cell below
+# prints the ranges from `robustness.csv`; an earlier version called the two estimators "nearly
+# coincident" there). So the direction of C3 is set by
 # the missing scales $L_i$, $\aleph_i$, the missing conventional design and the realisation, not by
 # the paper's method.
 #
@@ -1972,6 +2292,15 @@ for reading_ in dict.fromkeys(r["ocr_reading"] for r in sweep_rows):
         if vals:
             print(f"{reading_:>18}, C3 {label_}: {len(vals)} points, worst node's ratio "
                   f"{min(vals):.5f}-{max(vals):.5f}")
+decided_c3 = [r for r in sweep_rows if r["C3.outcome"] in ("holds", "fails")]
+for label_, sel in (("C3 holds", [r for r in decided_c3 if r["C3.outcome"] == "holds"]),
+                    ("X9 holds", [r for r in decided_c3 if r["X9.outcome"] == "holds"]),
+                    ("X9 fails", [r for r in decided_c3 if r["X9.outcome"] == "fails"])):
+    if sel:  # C3 decided; the worst node's ratio and X9's headline, from robustness.csv
+        c3v, x9v = ([float(r[c_]) for r in sel] for c_ in ("C3.value", "X9.value"))
+        print(f"C3 decided and {label_}: {len(sel)} points, C3 holds at "
+              f"{sum(r['C3.outcome'] == 'holds' for r in sel)}; worst node's ratio "
+              f"{min(c3v):.4f}-{max(c3v):.4f}; X9's median max ||H|| {min(x9v):.3g}-{max(x9v):.3g}")
 
 # %% [markdown]
 # ## Discussion
@@ -1994,8 +2323,9 @@ for reading_ in dict.fromkeys(r["ocr_reading"] for r in sweep_rows):
 #   lower end of the declared range, the scale most favourable to C3 (issue #30). The default is
 #   now the range's geometric centre, 0.1986, the middle level (section "The missing Taylor
 #   scales"). None of these is the paper's: it gives no $L_i$, $\aleph_i$; C3 is judged over the range.
-# * **Premises.** C1, C2, C3 and C7 carry the example's assumptions as their premise (Assumption
-#   3, (12)–(13) and $\|\delta\|\le e_3$ on the certified steps of the runs measured). Where the
+# * **Premises.** C1, C2, C3, C7 and C8b carry the example's assumptions as their premise (Assumption
+#   3, (12)–(13) and $\|\delta\|\le e_3$ on the certified steps of the runs measured; C2 and C8b
+#   also Theorem 1's (19) on every run). Where the
 #   premise fails they are "fails-premise", not "holds" or "fails" (the sweep's table gives
 #   where: the $g_1$ reading $\sin 2x^{(2)}$ has a $k=0$ remainder ratio above the lowest scale,
 #   X2). At $x_0=[2;1]$ (outside the declared space, run by the tests) Assumption 3 fails at
@@ -2021,7 +2351,11 @@ for reading_ in dict.fromkeys(r["ocr_reading"] for r in sweep_rows):
 #   above). Whether our solvers certify the printed LMI (X6a, ours, a numerical statement) and
 #   whether it is never less conservative (X6b) are two claims: X6b is not checked wherever a
 #   compared solve is not certified (an earlier version counted those points as fails), and its
-#   first step holds by construction. What happens later is not claimed.
+#   first step holds by construction. X6a is not checked where our solvers could not certify a
+#   shared solve (a limit of ours: the LMI is feasible in exact arithmetic); before the hostile
+#   re-read it recorded those 12 points of the sweep as "fails". Its sweep column was re-derived
+#   from the committed rows (the uncertified count is the column's headline value), so its counts
+#   are the current rule's. What happens later is not claimed.
 # * **C1's bound is ours.** The paper says the NN estimator tracks "with a satisfactory precision"
 #   and the conventional one "with certain precision", with no number; `track_tol` = 0.2 is our
 #   reading of the tick residue of Fig. 4. The conventional estimator's value is reported, not
@@ -2031,33 +2365,41 @@ for reading_ in dict.fromkeys(r["ocr_reading"] for r in sweep_rows):
 #   $W$ that Assumption 2 allows. C5's LMIs are feasible in exact arithmetic. Both are recorded
 #   with `basis="by-construction"` (shown, not counted as evidence, never deciding), and the
 #   README does not count them as reproduced results.
-# * **OP3 (extra, paper mode).** With the fixed ellipsoid $\mathfrak B=2I$ the guaranteed
-#   probability $p_k$ of the corrected OP3 is printed above and drawn in panel (f); steps with
-#   $\rho_k\ge1$ are void.
+# * **OP3 / Corollary 3 (extra, paper mode; X10).** Corollary 3 fixes $\mathfrak B_{k+1}$ and
+#   maximises the guaranteed $p_k$. With the ellipsoids this run's OP2 designed
+#   ($\mathrm{tr}\,\mathfrak B_k$ from 7.26 at $k=1$ to 14.30 at $k=40$) the corrected OP3
+#   guarantees $p_k$ between 0.79996 and 0.800001 at every step, none void, and every (node,
+#   step) pair of the run lies inside $\mathfrak B_k$: the guarantee is met and, as expected, sits
+#   at $p$ (OP2's own solution is feasible for OP3 at $\rho=1-p$). The earlier default, the
+#   constant $\mathfrak B=2I$ with the reason "close to the OP2 result", was not close
+#   ($\mathrm{tr}\,2I=4$): with it the guarantee was void ($\rho_k\ge1$) at 37 of the 40 steps,
+#   from $k=4$ on, reaching $p_{40}=-8.55$ (X10's `constant_B_record`, panel f), so Corollary 3
+#   was not exercised.
 
 # %% [markdown]
 # ## Deviations from the paper
 #
 # | item (tag) | paper (as printed / OCR) | here | why |
 # |---|---|---|---|
-# | E1, Lemma 4 (CORRECTED) | $P_k$ defined with a factor $\tfrac1{1-p}$ | $P_k=(1-p)\mathfrak B_k$ | the only reading under which Markov's inequality yields (11) |
+# | E1, Lemma 4 (RECONSTRUCTED, OCR) | \"P& —%, / 1-p\": the $-1$ superscripts are lost | $P_k^{-1}=\mathfrak B_k^{-1}/(1-p)$, i.e. $P_k=(1-p)\mathfrak B_k$ | the only reading under which Markov's inequality yields (11); an OCR reconstruction, not a paper erratum (an earlier version listed it as CORRECTED) |
 # | E2, OP3 (33) (CORRECTED) | min $q_k=1/(1-p_k)$, "1 < q < +∞" | min $\rho=1-p_{k+1}$ with $-\rho\mathfrak B$ in (30) | as printed the problem is not convex and points the wrong way |
 # | E3, multipliers (DEVIATION, design choice) | one $\Gamma_k$ shared by all $N$ inequalities (22) | one $\Gamma_{i,k}$ per node (`shared_multipliers=False`) | the printed form is not wrong, only more conservative; per-node multipliers are a valid relaxation (a separate S-procedure per inequality). The printed LMI is run for 2 steps (X6a: certified by our solvers?; X6b: never less conservative; the values are printed in its section) |
 # | (24)–(28) (RECONSTRUCTED) | OCR damaged | row blocks re-derived from (15)–(16) (table above) | where legible the printed blocks agree; checked to machine precision on every certified step (X1) |
 # | $\varrho$, $\bar M$ | $\varrho$ stacks rows; $Q_{ij}\otimes I$ | `A.flatten()`; $\bar M=\mathrm{chol}(Q)\otimes I_{n_\phi}$ | consistent with $\mathrm{tr}[W^\top Q^{-1}W]=\varrho^\top(Q^{-1}\otimes I)\varrho$ |
 # | $r$-vector | all $N^2$ ordered pairs ($d=63$) | links only ($d=43$), bound $r^\top r\le N^2$ kept | the dropped columns are identically zero |
 # | (18) strict, (22) non-strict | | every LMI imposed as $\le-10^{-6}I$ and certified strict with numpy (largest eigenvalue $\le-10^{-8}$) | the margin keeps the solver's iterate inside the strict LMIs |
-# | OP1 | $\lambda^{(1)},\lambda^{(2)}$ "positive" | free, with $|\lambda^{(2)}|\le10^3$ | the box removes an unbounded optimal face when $\varpi\approx0$ and is never active; $\lambda^{(2)}=0$ is optimal anyway (E4) |
-# | OP1 | one problem per link | one separable problem (sum of traces) | same minimisers, one solve per step |
+# | OP1 (DEVIATION) | $\lambda^{(1)},\lambda^{(2)}$ "positive" | free, with $|\lambda^{(2)}|\le10^3$ | the box removes an unbounded optimal face when $\varpi\approx0$ and is never active; $\lambda^{(2)}=0$ is optimal anyway (E4); with $\lambda^{(2)}>0$ imposed the symmetric optimum $0$ would be cut off (also in ERRATA) |
+# | OP1 (DEVIATION) | one problem per link | one separable problem (sum of traces over the links) | the links share no variable, so the minimisers are the same; one solve per step (also in ERRATA) |
 # | conventional design (MISSING) | "characterised by (3)" | attack-unaware analogue of OP2 | MISSING in the paper; other designs are plausible (e.g. attack-aware OP2 without the NN terms) and are not swept; C3 needs this one to use its neighbours (X9), so C3's map is conditional on it |
 # | $L_i$, $\aleph_i$ (MISSING) | not given | $sI_2$ with $s$ in a declared range [0.116, 0.34] (7 geometric levels), tied; default the geometric centre $\sqrt{0.116\cdot0.34}=0.1986$ (the middle level) | from the premise's $k=0$ limit to the last certified scale; claims are judged over the range. Earlier versions used 0.1 (premise fails at $k=0$), then 0.15, picked by a 0.05-grid rule written after the reversal of C3 at 0.15 was known, then 0.116, the lower end, the scale most favourable to C3 |
-# | C7 criterion (ours) | "jointly estimate … the unknown deception attacks" | per-link RMS error of $\hat W_{ij,k}\phi(z_{i,k})$ against $\chi(z_{j,k})$ over the attack's RMS, below $1-$`attack_margin`, on the links where a cross-validated oracle of the same class fits | the paper names no measure; the zero estimate's ratio 1 is the natural level, the margin keeps round-off from deciding |
-# | C3 criterion (ours) | "worse estimation performance" | per-node RMSE over $k=1..T$, NN better at every node by more than `c3_margin` = 0.1 % | the paper names no measure; a tie within solver noise is not "worse" |
+# | C7 criterion (ours) | "jointly estimate … the unknown deception attacks" | per-link RMS error of $\hat W_{ij,k}\phi(z_{i,k})$ against $\chi(z_{j,k})$ over the attack's RMS, below $1-$`attack_margin`, on the links where an oracle of the same class fits, cross-validated over contiguous halves (before: alternating steps, nearly in-sample) | the paper names no measure; the zero estimate's ratio 1 is the natural level, the margin keeps round-off from deciding (and admits a 0.1 % oracle improvement as "fits"); C7 fails by construction of OP1 (E4) wherever its premise holds |
+# | C3 criterion (ours) | "worse estimation performance in the existence of falsified innovations" | per-node RMSE over $k=1..T$ on C2's `mc_runs` realisations, NN better at every node by more than `c3_margin` = 0.1 % (intervals per node); precondition: against the attack-free control the attack raises the conventional RMSE by more than `c3_margin` at some node | the paper names no measure; a tie within solver noise is not "worse"; without the control the comparison says nothing about the falsified innovations; one realisation can flip the comparison |
 # | $x_0^{(2)}$ (MISSING) | illegible ("R [ O I") | 2.0 | Assumption 3 holds for a 2nd entry in [1.08, 2.31]; not swept (budget), although the brief (§6) reports node 2 turning in favour of the conventional design at $x_0=[2;1]$, so C3's map is conditional on it; the tests run [2, 1], where Assumption 3 fails |
 # | $\bar\alpha$, $E_1$, "0d5", "sin(2z" (RECONSTRUCTED) | partly illegible | as read: 0.67, 0.01, 0.45, $\sin x^{(2)}$; each alternative (0.6, 0.1, 0.05, $\sin 2x^{(2)}$) is a level of `ocr_reading`, swept one at a time | OCR; combinations are not swept (budget) |
-# | $\alpha_k$ realisation (MISSING) | one realisation shown, no seed | seeds 0 and 1 swept (the main run's); C2 and C8b run 16 independent realisations from each seed | only 2 seeds (budget), yet C3 turns with the seed at $s=0.139$ in the earlier sweep: more seeds could move the counts |
+# | $\alpha_k$ realisation (MISSING) | one realisation shown, no seed | seeds 0 and 1 swept (the main run's); C2 and C8b run `mc_runs` independent realisations from each seed (94 in paper mode, by the power rule of `ma2021.toml`; 16 at the sweep's points, for cost, where C2's per-pair rule cannot decide \"holds\") | only 2 seeds (budget); C3 turned with the seed at $s=0.139$ in the committed sweep (worst node's ratio 0.9839 on seed 0, 1.0091 on seed 1), so C3 is now judged on C2's realisations (94 at the example); the sweep's C3 counts are still the one-realisation rule's (not re-swept) |
 # | $\varpi$ in (17) (RECONSTRUCTED) | "a Z 9in5,;€‘1’2;€+12@1€+1 JEN;" | sum over $j\in\mathcal N_i$ (`varpi_form`) | immaterial: $\lambda^{(2)}=0$ at every point (E4, X3), so $\varpi$ drops out of (17) |
 # | $W_{ij}$ | not given | $W^\star$, least-squares fit of $\chi$ | needed to evaluate C4 and X1 |
+# | $\mathfrak B_{k+1}$ of OP3 (MISSING) | given, not printed for the example | this run's OP2 ellipsoids (X10, panel f); before: the constant `op3_scale`$\cdot I=2I$, "close to the OP2 result", which it is not (OP2's trace grows well beyond 4; with $2I$ most steps' guarantees are void, X10's record) | Corollary 3 is then exercised on the ellipsoids the paper's own design produces |
 # | figures | curves of the paper | qualitative comparison only | the paper's figures survive only as tick residue; the reconstructed $f,g_i$ cannot be checked against them |
 # | C6, cost per step | Remark 7 | not measured here | timings belong to the benchmark suite (`make bench`) |
 

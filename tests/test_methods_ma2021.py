@@ -134,7 +134,7 @@ def test_the_record_has_the_documented_shapes_and_identities(example) -> None:
     assert nn.z.shape == nn.z_recv.shape == (n, 3, 2) and nn.lam.shape == (n, 4, 2)
     assert len(nn.W_hat) == len(nn.Q) == n + 1 and len(nn.H) == len(nn.rows) == n
     assert nn.links == my.links(THETA) == [(0, 1), (1, 0), (1, 2), (2, 1)]
-    assert np.array_equal(nn.Bell[0], np.asarray(kw["P0"]) / (1 - kw["p"]))  # Lemma 4, corrected
+    assert np.array_equal(nn.Bell[0], np.asarray(kw["P0"]) / (1 - kw["p"]))  # Lemma 4 (E1, P_k = (1 - p) B_k, read from the OCR)
     assert np.allclose(nn.Bell[1:], nn.P[1:] / (1 - kw["p"]), rtol=1e-15, atol=0)
     assert np.allclose(np.einsum("kab,kcb->kac", nn.S, nn.S), nn.P[:-1], rtol=1e-12, atol=1e-14)
     assert np.all(np.isnan(nn.rho))  # OP2: no rho
@@ -203,6 +203,18 @@ def test_op3_keeps_the_fixed_ellipsoid_and_scales_it_by_rho() -> None:
     assert not run.failures and np.isnan(run.rho[0]) and np.all(run.rho[1:] > 0)
     assert np.allclose(run.P[1:], run.rho[1:, None, None] * 2 * np.eye(2), rtol=1e-12, atol=1e-14)
     assert np.array_equal(run.Bell[1:], np.broadcast_to(2 * np.eye(2), (3, 2, 2)))
+
+
+def test_op3_with_a_sequence_fixes_each_steps_ellipsoid() -> None:
+    """Corollary 3 with B_(k+1) given per step (e.g. the OP2 run's): step k uses B_(k+1)."""
+    model, x, y, received, kw, alpha = _example()
+    B_seq = np.array([(2.0 + 0.5 * k) * np.eye(2) for k in range(4)])
+    run = my.run_algorithm1(model, y[:4], received, nn=True, design="op3", B_fixed=B_seq, **kw)
+    assert not run.failures and np.all(run.rho[1:] > 0)
+    assert np.allclose(run.P[1:], run.rho[1:, None, None] * B_seq[1:], rtol=1e-12, atol=1e-14)
+    assert np.array_equal(run.Bell[1:], B_seq[1:])
+    with pytest.raises(ValidationError, match="Incompatible dimensions of B_fixed"):
+        my.run_algorithm1(model, y[:4], received, design="op3", B_fixed=B_seq[:3], **kw)
 
 
 def test_a_step_no_solver_certifies_keeps_the_gains_and_doubles_p(monkeypatch) -> None:

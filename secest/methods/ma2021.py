@@ -13,7 +13,7 @@ these functions): :func:`run_algorithm1` is the recursion over ``k`` on a :class
 from :func:`build_op2`, :func:`set_op2_parameters`, :func:`build_op1`, :func:`set_op1_parameters`,
 :func:`mbar`, :func:`solve`, :func:`estimator_update` (:func:`update_all`), :func:`varpi` and
 :func:`weight_update` (the re-derived row blocks of (24)-(28), per-node multipliers E3,
-corrections E1-E2), with the per-step problems built once per configuration
+E1 an OCR reconstruction, E2 a correction), with the per-step problems built once per configuration
 (:func:`step_problems`); it returns an :class:`Algorithm1Run`.
 
 **The arena's reading** (:class:`Ma2021`; rules fixed before any arena run):
@@ -259,8 +259,8 @@ def build_op2(
     r_bound : {"lumped", "per_link"}
         ``r^T r <= N^2`` as printed (23), or ``r_ij^T r_ij <= 1`` with one multiplier per link.
     design : {"op2", "op3"}
-        ``"op2"``: minimise ``tr P_{k+1}`` (``P = (1 - p) B``, E1); ``"op3"``: ``P = rho B`` with
-        ``B`` a parameter, minimise ``rho = 1 - p_{k+1}`` (E2).
+        ``"op2"``: minimise ``tr P_{k+1}`` (``P = (1 - p) B``, E1, read from the OCR);
+        ``"op3"``: ``P = rho B`` with ``B`` a parameter, minimise ``rho = 1 - p_{k+1}`` (E2).
 
     Returns
     -------
@@ -809,7 +809,7 @@ class Algorithm1Run:
         ``P_k = (1 - p) B_k`` of OP2 (``rho_k B`` of OP3); at a step not certified ``2 P_k``.
     Bell : (n + 1, n_x, n_x) ndarray
         The ellipsoid ``B_k`` of (11): ``P_k / (1 - p)`` (OP2) or the fixed ``B`` (OP3);
-        ``B_0 = P_0 / (1 - p)`` (Lemma 4, corrected E1).
+        ``B_0 = P_0 / (1 - p)`` (Lemma 4, E1: P_k^-1 = B_k^-1 / (1 - p), read from the OCR).
     rho : (n + 1,) ndarray
         OP3's ``rho_k = 1 - p_k`` (NaN for OP2 and at ``k = 0``).
     S : (n, n_x, n_x) ndarray
@@ -989,8 +989,9 @@ def run_algorithm1(
         Probability level of (10)-(11).
     design : {"op2", "op3"}
         OP2 (32), or the corrected OP3 (33) with the fixed ellipsoid ``B_fixed``.
-    B_fixed : (n_x, n_x) array_like, optional
-        The ellipsoid of OP3 (required with ``design="op3"``).
+    B_fixed : (n_x, n_x) or (n + 1, n_x, n_x) array_like, optional
+        The ellipsoid of OP3 (required with ``design="op3"``): one matrix for every step, or
+        the sequence B_0..B_n, of which step k uses B_(k+1) (Corollary 3 fixes B_(k+1)).
     shared, r_bound, eps
         As in :func:`build_op2`.
     varpi_form : {"sum", "per_link"}
@@ -1038,8 +1039,16 @@ def run_algorithm1(
         sp.params["L"][i].value, sp.params["aleph"][i].value = Ls, As
     sp.params["Vinv"].value = as_matrix("V_inv", V_inv, (dims.nv, dims.nv))
     sp.params["Uinv"].value = as_matrix("U_inv", U_inv, (dims.nu, dims.nu))
+    B_seq = None
     if design == "op3":
-        sp.params["Bell"].value = as_matrix("B_fixed", B_fixed, (nx, nx))
+        B_arr = np.asarray(B_fixed, float)
+        if B_arr.ndim == 3:
+            B_seq = _shaped("B_fixed", B_arr, (n + 1, nx, nx))
+            for b_k in B_seq:
+                as_matrix("B_fixed", 0.5 * (b_k + b_k.T), (nx, nx))
+            B_seq = 0.5 * (B_seq + B_seq.transpose(0, 2, 1))
+        else:
+            sp.params["Bell"].value = as_matrix("B_fixed", B_fixed, (nx, nx))
     lk_all = links(th)
     run = Algorithm1Run(
         lk_all, np.zeros((n + 1, n_nodes, nx)), np.zeros((n + 1, nx, nx)), np.zeros(0),
@@ -1054,6 +1063,8 @@ def run_algorithm1(
              {lk: np.zeros((nx, ny)) for lk in lk_all})
     label = f"joint SDP over nodes 1-{n_nodes} ({design.upper()}, {'nn' if nn else 'conv'})"
     for k in range(n):
+        if B_seq is not None:
+            sp.params["Bell"].value = B_seq[k + 1]  # OP3 at step k fixes B_(k+1)
         gains = _design_step(run, k, model, Y, received, sp, gains, th, dims, nn, alpha_bar,
                              label, solver, fallback, tol, eps, keep_rows, slmi)
         if nn:
@@ -1062,7 +1073,7 @@ def run_algorithm1(
         else:
             run.W_hat.append(run.W_hat[-1])
             run.Q.append(run.Q[-1])
-    run.Bell = (run.P / (1.0 - p) if design == "op2"
+    run.Bell = (run.P / (1.0 - p) if design == "op2" else B_seq.copy() if B_seq is not None
                 else np.broadcast_to(np.asarray(B_fixed, float), run.P.shape).copy())
     run.Bell[0] = run.P[0] / (1.0 - p)  # B_0 = P_0 / (1 - p) (Lemma 4, corrected)
     return run
