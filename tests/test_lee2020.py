@@ -245,9 +245,9 @@ def _a_bar_rigid_torsion() -> np.ndarray:
 
 
 def test_error_shrinks_with_gamma(claims, alt) -> None:
-    """C4 (Theorem 2, "arbitrary precision"): the log-log slope of the error against gamma."""
+    """C4a (Theorem 2, "arbitrary precision", at the example): the log-log slope of the error against gamma."""
     for data, gammas in ((claims, [2.0, 5.0, 20.0]), (alt, [2.0, 3.0, 5.0, 20.0])):
-        c4 = data["C4"]
+        c4 = data["C4a"]
         m, t = c4["measured"], c4["threshold"]
         assert m["gammas"] == gammas and t["largest_step_slope"] == -0.5
         # the slopes are taken over the gains whose error exceeds the chattering floor only
@@ -260,7 +260,14 @@ def test_error_shrinks_with_gamma(claims, alt) -> None:
         if measurable:
             assert m["largest_step_slope"] == pytest.approx(slopes.max())
         assert c4["holds"] is (bool(slopes.max() <= -0.5) if measurable else None)
-        assert c4["decides"] is True
+        # at the example it is recorded, not deciding (session-13 re-review): C4 decides as not-checked
+        assert not c4.get("decides")
+        c4d = data["C4"]
+        assert c4d["decides"] is True and c4d["holds"] is None and c4d["not_checked"]
+        assert c4d.get("premise") is None and c4d["basis"] == "measured" and c4d["key"] == "kappa_star_lower_bound"
+        assert c4d["measured"]["kappa_star_lower_bound"] == pytest.approx(m["kappa_star_lower_bound"])
+        # the reason it is not checked: one sign step of (6) at kappa* is far larger than the errors
+        assert c4d["measured"]["sign_step_at_kappa_star"] > 1.0 and c4d["measured"]["dt"] == pytest.approx(1e-3)
         # Theorem 2's gain premise: kappa > kappa* >= N n sqrt(n) ||A_bar|| V(0) (its proof's constant)
         assert m["A_bar_norm"] == pytest.approx(np.linalg.norm(_a_bar_rigid_torsion(), 2), rel=1e-6)
         assert m["kappa_star_lower_bound"] == pytest.approx(5 * 6 * np.sqrt(6) * m["A_bar_norm"] * m["V0"])
@@ -278,13 +285,13 @@ def test_error_shrinks_with_gamma(claims, alt) -> None:
         # the old rule (a decrease at every step) is recorded for both
         assert m["old_rule_smallest_decrease"] == pytest.approx(float(-np.diff(m["max_error"]).max()))
     # at the default point the error is the offset law's, 3/(4 gamma) |v_1|_inf: slope -1
-    np.testing.assert_allclose(claims["C4"]["measured"]["step_slopes"], -1.0, atol=0.05)
+    np.testing.assert_allclose(claims["C4a"]["measured"]["step_slopes"], -1.0, atol=0.05)
     # the averaging baseline decreases too (the old rule passes it) but flattens toward its limit
-    m = claims["C4"]["measured"]
+    m = claims["C4a"]["measured"]
     assert np.all(np.diff(m["baseline_max_error"]) < 0) and m["old_rule_baseline_holds"] is True
     assert m["baseline_largest_step_slope"] > -0.25
     # at the default point the error is the offset law's max error, 3/(4 gamma) |v_1|_inf
-    np.testing.assert_allclose(claims["C4"]["measured"]["max_error"],
+    np.testing.assert_allclose(claims["C4a"]["measured"]["max_error"],
                                SQRT3 / 3 * 0.75 / np.array([2.0, 5.0, 20.0]), atol=0.01)
 
 
@@ -399,8 +406,9 @@ def test_identification_at_effective_attacks(claims) -> None:
                                             for f, r in zip(factors, resid, strict=True)}
 
 
-@pytest.mark.parametrize("cid", ["C12", "C13"])
+@pytest.mark.parametrize("cid", ["C12", "C13", "X10", "X11"])
 def test_plug_and_play(claims, cid: str) -> None:
+    """C12, C13 (decided with (11), Sec. III-C) and X10, X11 (the same events with (6), recorded)."""
     c = claims[cid]
     m, t = c["measured"], c["threshold"]
     assert m["offset_difference"] == pytest.approx(
@@ -418,34 +426,53 @@ def test_plug_and_play(claims, cid: str) -> None:
     assert c["holds"] is bool(ratio <= 1.0)
     # the recovery window is the declared parameter (twice the known 22.5 s transient), not T_ex's leftover
     assert t["recovery_window_s"] == pytest.approx(45.0)
-    assert "compact set" in c["premise"]["statement"] and "kappa*" in c["premise"]["statement"]
-    assert c["decides"] is True
-    # Theorem 2's gain condition is part of the premise (session-13 review of issue #30)
-    assert m["kappa_star_lower_bound"] >= claims["C4"]["measured"]["kappa_star_lower_bound"]
-    if c["premise"]["holds"]:
-        assert claims["C4"]["measured"]["kappa"] > m["kappa_star_lower_bound"]
-    # the uninterrupted reference continued over the later window has the steady error of C4's run
-    assert m["max_error_uninterrupted"] == pytest.approx(claims["C4"]["measured"]["max_error"][0],
-                                                         abs=0.01)
+    if cid.startswith("C"):
+        # (11), Theorem 3's premise (global: no compact set), deciding (session-13 re-review)
+        assert c["decides"] is True and "(11)" in c["check"]
+        assert "Theorem 3" in c["premise"]["statement"] and "Lyapunov stable" in c["premise"]["statement"]
+        assert "kappa*" not in c["premise"]["statement"]
+        if not claims["C8"]["premise"]["holds"]:
+            assert c["premise"]["holds"] is False
+        x = claims["X10" if cid == "C12" else "X11"]
+        assert m["with_(6)"]["worst_ratio"] == pytest.approx(x["measured"]["worst_ratio"])
+        g = m["sec3c_gains"]
+        assert g["kappa"] == pytest.approx(1 / g["gamma"]) and g["worst_ratio"] >= 0
+    else:
+        # (6) at kappa = 0.5: outside Theorem 2's premise, recorded, not deciding
+        assert not c.get("decides") and c["source"].startswith("ours")
+        assert "compact set" in c["premise"]["statement"] and "kappa*" in c["premise"]["statement"]
+        assert m["kappa_star_lower_bound"] >= claims["C4"]["measured"]["kappa_star_lower_bound"]
+        if c["premise"]["holds"]:
+            assert claims["C4a"]["measured"]["kappa"] > m["kappa_star_lower_bound"]
+        # the uninterrupted reference continued over the later window has the steady error of C4a's run
+        assert m["max_error_uninterrupted"] == pytest.approx(claims["C4a"]["measured"]["max_error"][0],
+                                                             abs=0.01)
 
 
 def test_plug_and_play_details(claims) -> None:
-    m12, m13 = claims["C12"]["measured"], claims["C13"]["measured"]
+    m12, m13 = claims["X10"]["measured"], claims["X11"]["measured"]
     assert m12["error_at_restart"] > 1.0  # the arbitrary states are far from x
+    assert claims["C12"]["measured"]["error_at_restart"] > 1.0
     # the old 15 s window (recorded, not the rule) and the x_hat-only re-initialisation are reported
     assert m12["old_window_s"] == pytest.approx(15.0)
     assert m12["old_window_worst_ratio"] >= 0 and m12["xhat_only_worst_ratio"] >= 0
     # while agent 4 is away every coordinate keeps 2q + 1 = 3 observing banks
     assert m13["banks_per_coordinate_while_away"] == [3, 3, 3, 3, 4, 4]
+    assert claims["C13"]["measured"]["banks_per_coordinate_while_away"] == [3, 3, 3, 3, 4, 4]
     assert "leaving" in claims["C13"]["paper"] and "re-initialised" in claims["C12"]["paper"]
 
 
-def test_seamlessly(claims) -> None:
-    """C14 (Introduction, "seamlessly"): the untouched agents' error after each event."""
-    c14 = claims["C14"]
+@pytest.mark.parametrize("cid", ["C14", "X12"])
+def test_seamlessly(claims, cid: str) -> None:
+    """C14 (Introduction, "seamlessly"; (11)) and X12 (the same rule on the (6) runs, recorded)."""
+    c14 = claims[cid]
     m, t = c14["measured"], c14["threshold"]
     allow = t["allowance_over_uninterrupted"]
-    assert allow == pytest.approx(2 * 10 * 0.5 * DT * 2 / np.sqrt(6))  # twice the chattering tolerance
+    if cid == "X12":
+        assert allow == pytest.approx(2 * 10 * 0.5 * DT * 2 / np.sqrt(6))  # twice (6)'s chattering tolerance
+    # after the leaving the window is cut at the return (session-13 re-review, stated in the rule)
+    assert t["leaving_window_s"] == pytest.approx(min(t["window_s"], 5.0))
+    assert "min(final_window, pnp_leave_duration)" in c14["check"]
     ratios = []
     for ev in ("C12: re-initialisation", "C13: leaving", "C13: rejoining"):
         e = m[ev]
@@ -458,15 +485,20 @@ def test_seamlessly(claims) -> None:
     assert m["C13: leaving"]["agents"] == m["C13: rejoining"]["agents"] == [1, 2, 3, 5]
     assert m["worst_ratio"] == pytest.approx(max(ratios))
     assert c14["holds"] is bool(max(ratios) <= 1.0)
-    assert c14["decides"] is True and c14["source"].startswith("Sec. I")
     assert "seamlessly" in c14["paper"] and "AFTER" in c14["check"]
-    assert c14["premise"]["holds"] is claims["C13"]["premise"]["holds"]
-    # the same measurements are recorded in C12 and C13
-    m12, m13 = claims["C12"]["measured"], claims["C13"]["measured"]
+    # the same measurements are recorded in C12 and C13 (X10 and X11 for the (6) runs)
+    m12, m13 = (claims["C12"]["measured"], claims["C13"]["measured"]) if cid == "C14" else \
+        (claims["X10"]["measured"], claims["X11"]["measured"])
+    assert c14["premise"]["holds"] is claims["C13" if cid == "C14" else "X11"]["premise"]["holds"]
     assert m12["disruption"] == m["C12: re-initialisation"]
     assert m13["disruption_leaving"] == m["C13: leaving"]
     assert m13["disruption_rejoining"] == m["C13: rejoining"]
     assert m13["away_max_error_remaining"] == pytest.approx(max(m["C13: leaving"]["max_error"]))
+    if cid == "C14":
+        assert c14["decides"] is True and c14["source"].startswith("Sec. I")
+        assert m["with_(6)"]["worst_ratio"] == pytest.approx(claims["X12"]["measured"]["worst_ratio"])
+    else:
+        assert not c14.get("decides")
     # C12/C13 quote the Introduction without its 'seamlessly' (that is C14)
     assert "seamlessly" not in claims["C12"]["paper"].split("(its word")[0]
 
@@ -474,6 +506,8 @@ def test_seamlessly(claims) -> None:
 def test_verdict_is_computed_from_the_deciding_claims(claims) -> None:
     verdict = rescience_verdict({k: v for k, v in claims.items() if not k.startswith("_")})
     assert set(verdict["deciding"]) == {"C1", "C3", "C4", "C8", "C12", "C13", "C14"}
+    # C4a (C4 at the example) and X10-X12 (the (6) plug-and-play runs) are recorded, not deciding
+    assert not any(claims[c].get("decides") for c in ("C4a", "X10", "X11", "X12"))
     # C7: premise fails everywhere; C7b rests on C8's bound (session-13 review): neither decides
     assert not claims["C7"].get("decides") and not claims["C7b"].get("decides")
     for cid in ("C6", "C7c", "C9", "C10", "C11"):
@@ -646,9 +680,10 @@ def test_committed_claims_agree_with_the_sweep() -> None:
     for cid, c in committed.items():
         assert c["source"], cid
         assert c["verdict"] == summary[cid]["verdict"], cid
-        assert default[f"{cid}.holds"] == str(c["holds"]), cid
+        # a not-checked claim (holds None: C4 since the session-13 re-review) has an empty holds cell
+        assert default[f"{cid}.holds"] == ("" if c["holds"] is None else str(c["holds"])), cid
         outcome = "fails-premise" if "premise" in c and not c["premise"]["holds"] else (
-            "holds" if c["holds"] else "fails")
+            "not-checked" if c["holds"] is None else "holds" if c["holds"] else "fails")
         assert default[f"{cid}.outcome"] == outcome, cid
         fraction = summary[cid]["fraction_holds"]
         if c["verdict"] == "holds":
