@@ -19,7 +19,8 @@ from __future__ import annotations
 import math
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -39,6 +40,7 @@ __all__ = [
     "attack_activity",
     "cell_text",
     "check_dask_arguments",
+    "dask_client",
     "error_curve",
     "fmt_interval",
     "run_matrix",
@@ -316,16 +318,39 @@ def _cost(sc: Scenario) -> float:
     return float(sc.runs * sc.horizon * sc.network.N)
 
 
-def _on_dask(scenarios: list[Scenario], methods: list[estimators.Method], curves: bool, short: bool,
-             scheduler: str | None, workers: int | None) -> list[Any]:
-    """:func:`scenario_task` of every scenario on Dask, largest first (a greedy balance)."""
+@contextmanager
+def dask_client(methods: Sequence[estimators.Method], scheduler: str | None,
+                workers: int | None) -> Iterator[Any]:
+    """A Dask client for arena tasks: a LocalCluster of ``workers`` processes, or ``scheduler``'s.
+
+    A method loaded from a file (``--method path.py:Class``) cannot be imported by name on a
+    worker, so its module is pickled by value. The cluster started here is closed on exit.
+
+    Parameters
+    ----------
+    methods : sequence of Method
+        The methods the tasks will carry.
+    scheduler : str or None
+        Address of a running scheduler; ``None`` starts a LocalCluster.
+    workers : int or None
+        Worker processes of the LocalCluster (one thread each).
+
+    Yields
+    ------
+    dask.distributed.Client
+
+    Raises
+    ------
+    ValidationError
+        If Dask is not installed (the ``sweep`` extra).
+    """
     try:
         from dask.distributed import Client, LocalCluster
     except ModuleNotFoundError:
         raise ValidationError("scheduler/workers need Dask: pip install 'secest[sweep]'") from None
     import cloudpickle
 
-    for m in methods:  # a method loaded from a file (--method path.py:Class) travels by value
+    for m in methods:
         module = sys.modules.get(type(m).__module__)
         if module is not None and module.__name__.startswith(USER_MODULE_PREFIX):
             cloudpickle.register_pickle_by_value(module)
@@ -335,15 +360,22 @@ def _on_dask(scenarios: list[Scenario], methods: list[estimators.Method], curves
                                dashboard_address=None)
     client = Client(cluster if cluster is not None else scheduler)
     try:
+        yield client
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+def _on_dask(scenarios: list[Scenario], methods: list[estimators.Method], curves: bool, short: bool,
+             scheduler: str | None, workers: int | None) -> list[Any]:
+    """:func:`scenario_task` of every scenario on Dask, largest first (a greedy balance)."""
+    with dask_client(methods, scheduler, workers) as client:
         order = sorted(range(len(scenarios)), key=lambda i: -_cost(scenarios[i]))
         shipped = client.scatter(methods, broadcast=True)
         futures = {i: client.submit(scenario_task, scenarios[i], shipped, curves, short, pure=False)
                    for i in order}
         return [futures[i].result() for i in range(len(scenarios))]
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
 
 
 # ---------------------------------------------------------------------------------- words

@@ -363,23 +363,8 @@ def _run_here(jobs: list[tuple[Scenario, Method]], short: bool) -> list[dict[str
 
 def _run_on_dask(jobs: list[tuple[Scenario, Method]], short: bool, scheduler: str | None,
                  workers: int | None) -> list[dict[str, Any]]:
-    """:func:`point_task` of every job on Dask (the LocalCluster of :func:`matrix.run_matrix`)."""
-    try:
-        from dask.distributed import Client, LocalCluster
-    except ModuleNotFoundError:
-        raise ValidationError("scheduler/workers need Dask: pip install 'secest[sweep]'") from None
-    import cloudpickle
-
-    for _, m in jobs:  # a method loaded from a file travels by value, as in the matrix
-        module = sys.modules.get(type(m).__module__)
-        if module is not None and module.__name__.startswith(matrix.USER_MODULE_PREFIX):
-            cloudpickle.register_pickle_by_value(module)
-    cluster = None
-    if scheduler is None:
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               dashboard_address=None)
-    client = Client(cluster if cluster is not None else scheduler)
-    try:
+    """:func:`point_task` of every job on Dask (the client of :func:`matrix.dask_client`)."""
+    with matrix.dask_client([m for _, m in jobs], scheduler, workers) as client:
         futures = [client.submit(point_task, sc, m, short, pure=False) for sc, m in jobs]
         out = []
         for (sc, _), future in zip(jobs, futures, strict=True):
@@ -388,10 +373,6 @@ def _run_on_dask(jobs: list[tuple[Scenario, Method]], short: bool, scheduler: st
             except Exception as exc:  # one failing point is one record, never an abort
                 out.append(_failed(sc.seed, exc))
         return out
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
 
 
 # ---------------------------------------------------------------------------------- validation
