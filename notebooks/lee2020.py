@@ -2424,6 +2424,9 @@ C4_PAPER = ("Sec. III-B, the sentence before Theorem 2: \"for sufficiently large
     "the error under attack tends to 0 as gamma grows (ours: the paper gives no rate; tested on the "
     "example of Sec. IV, which the paper runs at gamma = 2 only)")
 kappa_star_step = kappa_star_lower * float(np.abs(V).max()) * dt_ex  # one sign step of (6) at kappa*
+SLOPE_TOL = results.Tolerance(rtol=0.05, atol=0.05, reason="log-log slope of chattering-limited "
+                              "errors: a chattering-size change of the smallest error moves it by a few "
+                              "hundredths")
 claims["C4"] = results.claim(
     paper=C4_PAPER,
     source="Sec. III-B, the sentence before Theorem 2, and Theorem 2, (6)",
@@ -2498,9 +2501,7 @@ claims["C4a"] = results.claim(
              "kappa = 0.5 is X9 (ours)",
              assumptions and len(c4_gammas) >= 2 and thm2_gains),
     key="largest_step_slope", decides=False,
-    tolerance=results.Tolerance(rtol=0.05, atol=0.05, reason="log-log slope of chattering-limited "
-                                "errors: a chattering-size change of the smallest error moves it by a few "
-                                "hundredths"),
+    tolerance=SLOPE_TOL,
     section="Theorem 2 under attack: the error as γ grows",
 )
 claims["X9"] = results.claim(
@@ -2522,9 +2523,7 @@ claims["X9"] = results.claim(
     premise=("Assumptions 2 (q) and 4 hold (C2); at least two gains are run",
              assumptions and len(c4_gammas) >= 2),
     key="largest_step_slope",
-    tolerance=results.Tolerance(rtol=0.05, atol=0.05, reason="log-log slope of chattering-limited "
-                                "errors: a chattering-size change of the smallest error moves it by a few "
-                                "hundredths"),
+    tolerance=SLOPE_TOL,
     section="Theorem 2 under attack: the error as γ grows",
 )
 claims["X8"] = results.claim(
