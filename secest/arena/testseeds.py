@@ -371,11 +371,14 @@ def _rates(parts: list[dict[str, Any]]) -> dict[str, Any]:
 
 
 def _failed(parts: list[dict[str, Any]], seeds: list[int]) -> dict[str, Any] | None:
-    """The pooled record of a job that did not run on every seed: error, n/a or not finite."""
-    for status in ("error", "n/a"):
-        bad = [(s, p) for s, p in zip(seeds, parts, strict=True) if p["status"] == status]
-        if bad:
-            return {"status": status, "reason": f"seed {bad[0][0]}: {bad[0][1]['reason']}"}
+    """The pooled record of a job that did not run on every seed: error (the first seed named),
+    n/a or not finite."""
+    errors = [(s, p) for s, p in zip(seeds, parts, strict=True) if p["status"] == "error"]
+    if errors:
+        return {"status": "error", "reason": f"seed {errors[0][0]}: {errors[0][1]['reason']}"}
+    na = [p for p in parts if p["status"] == "n/a"]
+    if na:  # a requirement on the scenario's cards, the same on every seed
+        return {"status": "n/a", "reason": na[0]["reason"]}
     if any(p["status"] == "not finite" for p in parts):
         return {"status": "diverged", "reason": "the estimate is not finite in some run",
                 "growth": None}
