@@ -105,6 +105,9 @@ PLANTS = list(TEST["plants"])  # from the data: a plant added to the tuning appe
 ATTACKS = list(TEST["attacks"])
 KINDS = ("printed", "tuned")
 CARDS = scenarios.cards()
+if not [a for a in ATTACKS if CARDS["attack"][a].kind == "none"]:
+    raise ValidationError(f"test_path: {test_path} has no attack-free card (attacks {ATTACKS}): "
+                          "the findings compare every attack with it")
 SCENARIOS = [scenarios.scenario(net, att, horizon=TEST["plants"][net]["horizon"],
                                 runs=TEST["runs_per_seed"], seed=TEST["seeds"][0])
              for net in PLANTS for att in ATTACKS]
