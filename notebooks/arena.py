@@ -416,7 +416,7 @@ for name, s in live_cells.items():
           f"transient {t['transient']}, detection {t['detection'] or '–'}")
 
 # %% [markdown]
-# ## Findings (claims) on the test seeds
+# ## Findings (claims)
 #
 # Each finding is a measurement with a rule on its interval, stated before this design's first
 # run; none says which method should win, and each is reported **per plant** (the plant of a
@@ -442,7 +442,7 @@ for name, s in live_cells.items():
 
 # %%
 FACTOR, FA_MAX, DET_MIN = 2.0, 0.01, 0.5
-SECTION = "Findings (claims) on the test seeds"
+SECTION = "Findings (claims)"
 paper = [n for n in method_names if METHODS[n].kind == "paper"]
 others = [n for n in method_names if n != "oracle"]
 none_atts = [a for a in ATTACKS if CARDS["attack"][a].kind == "none"]
