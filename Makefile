@@ -25,7 +25,7 @@ export OPENBLAS_NUM_THREADS := 1
 export MPLBACKEND := Agg
 export PYDEVD_DISABLE_FILE_VALIDATION := 1
 
-.PHONY: venv figures test verify lint bench lock html clean robustness shots $(addprefix figures-,$(KEYS))
+.PHONY: venv figures test verify lint bench lock html clean robustness arena-test shots $(addprefix figures-,$(KEYS))
 
 venv: $(STAMP)
 
@@ -59,8 +59,22 @@ shots: $(STAMP)
 
 ## robustness: sweep each notebook's declared space on Dask (a LocalCluster sized to the machine;
 ## SCHEDULER=tcp://host:port sends it to an existing cluster). Writes figures/<key>/robustness.*
+## For the arena (NB=arena) it runs the tuning searches of secest/arena/protocol.toml on the
+## validation seeds instead (python -m secest.arena.tuning, every method with a search set on the
+## cards' plants) and writes figures/arena/tuned.json: commit that file before `make arena-test`
+WORKERS ?= $(shell nproc 2>/dev/null || echo 2)
+DASK = $(if $(SCHEDULER),--scheduler $(SCHEDULER),--workers $(WORKERS))
+SWEPT = $(filter-out arena,$(NB))
 robustness: $(STAMP)
-	$(PY) -m secest.repro.sweep $(NB) $(if $(SCHEDULER),--scheduler $(SCHEDULER))
+	$(if $(SWEPT),$(PY) -m secest.repro.sweep $(SWEPT) $(if $(SCHEDULER),--scheduler $(SCHEDULER)))
+	$(if $(filter arena,$(NB)),$(PY) -m secest.arena.tuning $(DASK) --out figures/arena/tuned.json)
+
+## arena-test: the arena's test stage (issue #28): every method printed and tuned (the committed
+## figures/arena/tuned.json) on the test seeds of protocol.toml, every plant and attack; refuses a
+## tuned.json that git does not track or that differs from its commit. Writes figures/arena/test.json
+## (then `make figures NB=arena`). WORKERS=n or SCHEDULER=tcp://host:port as for robustness
+arena-test: $(STAMP)
+	$(PY) -m secest.arena.tuning test --tuned figures/arena/tuned.json $(DASK) --out figures/arena/test.json
 
 ## verify: execute the notebooks (paper mode) into build/verify/ and compare every committed number
 ## with its declared tolerance (report: build/verify.json). It forces no BLAS kernel or CPU feature:

@@ -14,7 +14,8 @@ The package has four layers; each imports only the layers before it:
    five methods behind that interface), ``matrix`` (every
    method on every scenario, its tables), ``report`` (``race``: one's own cards and methods in one
    call, the matrix as files), ``cli`` (``python -m secest.arena``), ``protocol`` (the
-   pre-registered protocol), ``tuning`` (its tuning rule on the validation seeds)
+   pre-registered protocol), ``tuning`` (its tuning rule on the validation seeds), ``testseeds``
+   (the tuned and printed rows on the test seeds)
 :mod:`secest.repro`
    the reproduction tooling: results and claims, plotting, notebook execution, declared
    spaces, sweeps on Dask, ``make verify`` and the site

@@ -4,16 +4,18 @@ a number with its interval or a named N/A, the notebook's claims well formed. Me
 from __future__ import annotations
 
 import csv
+import hashlib
 import json
 import math
 import re
+import subprocess
 import tomllib
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from secest.arena import estimators, matrix, scenarios
+from secest.arena import estimators, matrix, scenarios, tuning
 from secest.arena.estimators import METHODS, Estimate, Method, Score, register
 from secest.core.validation import ValidationError
 from secest.repro.results import REQUIRED_KEYS, VERDICTS, repo_root
@@ -223,11 +225,33 @@ def test_evaluate_observes_every_run_and_refuses_unknown_methods() -> None:
         matrix.run_matrix([sc, sc], ["kf"], short=True)
 
 
+def git(repo: Path, *args: str) -> None:
+    subprocess.run(["git", "-C", str(repo), "-c", "user.name=t", "-c", "user.email=t@t", *args],
+                   check=True, capture_output=True)
+
+
+@pytest.fixture(scope="module")
+def arena_files(tmp_path_factory: pytest.TempPathFactory) -> dict[str, str]:
+    """A smoke tuning (every method, every plant: 2 runs of 8 steps on one validation seed)
+    committed in a temporary git repository, and the test stage on it (2 test seeds, 2 runs of 8
+    steps): the files the notebook reads, made the way `make robustness` and `make arena-test` do."""
+    root = tmp_path_factory.mktemp("arena-repo")
+    git(root, "init", "-q")
+    tuned, test = root / "tuned.json", root / "test.json"
+    assert tuning.main(["--seeds", "101", "--runs", "2", "--horizon", "8", "--short",
+                        "--out", str(tuned)]) == 0
+    git(root, "add", "tuned.json")
+    git(root, "commit", "-q", "-m", "tuned")
+    assert tuning.main(["test", "--tuned", str(tuned), "--seeds", "201", "202", "--runs", "2",
+                        "--horizon", "8", "--short", "--out", str(test)]) == 0
+    return {"tuned_path": str(tuned), "test_path": str(test)}
+
+
 @pytest.mark.notebook
-def test_arena_notebook_fast_mode(run_notebook) -> None:
-    """Fast mode at the default point (figures off): claims well formed and consistent."""
-    claims = run_notebook("arena", figures=False)
-    claims.pop("_fig_dir")
+def test_arena_notebook_fast_mode(run_notebook, arena_files: dict[str, str]) -> None:
+    """Fast mode on a smoke test's files: claims well formed and consistent, both heatmaps made."""
+    claims = run_notebook("arena", **arena_files)
+    fig_dir = Path(claims.pop("_fig_dir"))
     ids = set(claims)
     assert {"X1", "X2", "X3", "X5", "X6", "X7", "X8"} <= ids
     attacks = scenarios.cards()["matrix"]["attacks"]
@@ -235,11 +259,15 @@ def test_arena_notebook_fast_mode(run_notebook) -> None:
     for cid, entry in claims.items():
         assert set(REQUIRED_KEYS) <= set(entry), cid
         assert entry["verdict"] in VERDICTS and isinstance(entry["holds"], bool), cid
-        assert entry["basis"] == "measured", cid
-        assert entry["source"] == "ours", cid
+        assert entry["basis"] == "measured" and entry["source"] == "ours", cid
         assert entry["measured"][entry["key"]] is not None, cid
+        printed = entry["measured"]["printed"]
+        assert set(printed) == {entry["key"], "holds", "premise"}, cid
     # the rules, re-applied to the measured values (consistency of measured / threshold / holds)
-    assert claims["X1"]["holds"] == (claims["X1"]["measured"]["min_upper"] >= 1.0)
+    x1 = claims["X1"]["measured"]
+    assert x1["min_upper"] == min(v["min_upper"] for v in x1["per_plant"].values())
+    assert claims["X1"]["holds"] == (x1["min_upper"] >= 1.0)
+    assert not [v for v in x1["per_plant"].values() if re.search(r", (kf|chi2-kf|oracle)$", v["cell"])]
     assert claims["X8"]["holds"] == (claims["X8"]["measured"]["diverged"] == 0)
     assert claims["X8"]["measured"]["diverged"] == len(claims["X8"]["measured"]["cells"])
     x6 = claims["X6"]["measured"]
@@ -259,49 +287,53 @@ def test_arena_notebook_fast_mode(run_notebook) -> None:
         c = claims[f"X4_{a}"]
         x4 = c["measured"]
         assert sorted(x4["within"]) == sorted(n for n, v in x4["upper"].items() if v <= 2.0)
+        assert x4["upper"] == {n: max(v.values()) for n, v in x4["upper_per_plant"].items()}
         paper = [n for n in x4["within"] if METHODS[n].kind == "paper"]
         assert x4["paper_within"] == len(paper)
         assert c["holds"] == (len(paper) >= 1)
         assert c["premise"]["holds"] == bool(x4["plants"])
         assert c["verdict"] == ("fails-premise" if not x4["plants"] else "holds" if paper else "fails")
         assert not [n for n in x4["upper"] if not METHODS[n].exchanges] or a in ("bias", "replacement")
-
-
-@pytest.mark.notebook
-def test_arena_figures_and_the_whole_table(run_notebook) -> None:
-    """Every manifest figure and a whole table, at a perturbation point (tests/test_notebooks.py
-    runs it; one shared execution)."""
-    from secest.repro import spaces
-
-    point = spaces.perturbation_points(spaces.load("arena"))[-1]
-    fig_dir = Path(run_notebook("arena", **point)["_fig_dir"])
     manifest = tomllib.loads((ROOT / "figures" / "manifest.toml").read_text())
     expected = {Path(n).name for fig in manifest["arena"]["figures"] for n in fig["files"]}
     assert expected <= {p.name for p in fig_dir.iterdir()}
-    with (fig_dir / "extra_matrix_heatmap.csv").open() as fh:
-        rows = list(csv.DictReader(fh))
-    assert len(rows) == 15 * len(METHODS)
-    for row in rows:
-        if row["status"] == "ok":
-            for q in ("steady", "worst", "transient"):
-                lo, v, hi = (float(row[f"{q}_low"]), float(row[q]), float(row[f"{q}_high"]))
-                assert all(map(math.isfinite, (lo, v, hi))) and lo <= hi, row
-        else:
-            assert row["status"] in ("n/a", "diverged", "error") and row["reason"].strip(), row
-            assert math.isnan(float(row["steady"])), row
-    assert json.loads((fig_dir / "tolerances.json").read_text())
+    test = json.loads(Path(arena_files["test_path"]).read_text())
+    for kind in ("printed", "tuned"):
+        with (fig_dir / f"extra_heatmap_{kind}.csv").open() as fh:
+            rows = list(csv.DictReader(fh))
+        assert len(rows) == 3 * len(attacks) * (len(tuning.ARGUMENTS) + 1)
+        for row in rows:
+            net, att = row["scenario"].split("/")
+            mine = [r for r in test["plants"][net]["cells"][att] if r["method"] == row["method"]
+                    and r["row"] in (kind, "reference")]
+            assert len(mine) == 1 and row["status"] == mine[0]["status"], row
+            if row["status"] == "ok":
+                assert float(row["steady"]) == pytest.approx(mine[0]["steady"][0], rel=1e-2), row
+                lo, hi = float(row["steady_low"]), float(row["steady_high"])
+                assert math.isfinite(lo) and lo <= hi, row
+            else:
+                assert row["reason"].strip() and math.isnan(float(row["steady"])), row
 
 
 def test_committed_arena_covers_the_acceptance_matrix() -> None:
-    """At least 3 plants x 5 attack settings x every registered method, each cell a number or a named N/A."""
-    with (ROOT / "figures" / "arena" / "extra_matrix_heatmap.csv").open() as fh:
-        rows = list(csv.DictReader(fh))
-    scen = {r["scenario"] for r in rows}
-    methods = {r["method"] for r in rows}
-    plants = {s.split("/")[0] for s in scen}
-    attacks = {s.split("/")[1] for s in scen if "/" in s}
-    assert len(plants) >= 3 and len(attacks) >= 5
-    assert set(METHODS) <= methods, f"registered but not in the committed arena: {set(METHODS) - methods}"
-    assert len(rows) == len(scen) * len(methods)
-    for row in rows:
-        assert (row["status"] == "ok" and math.isfinite(float(row["steady_high"]))) or row["reason"].strip()
+    """The committed test stage: at least 3 plants x 5 attacks, every registered method printed and
+    tuned in every cell, each row a number with its interval, a diverged row's growth, or a reason;
+    run on the committed tuned.json (its SHA-256)."""
+    test = json.loads((ROOT / "figures" / "arena" / "test.json").read_text())
+    tuned = (ROOT / "figures" / "arena" / "tuned.json").read_bytes()
+    assert test["tuned"]["sha256"] == hashlib.sha256(tuned).hexdigest()
+    assert not test["short"] and test["seeds"] == [201, 202, 203, 204, 205, 206, 207, 208]
+    assert len(test["plants"]) >= 3 and len(test["attacks"]) >= 5
+    for net, record in test["plants"].items():
+        for att, rows in record["cells"].items():
+            kinds = {(r["method"], r["row"]) for r in rows}
+            for name in set(METHODS) - {"oracle"}:
+                assert {(name, "printed"), (name, "tuned")} <= kinds, (net, att, name)
+            for r in rows:
+                if r["status"] == "ok":
+                    assert r["steady"][1] <= r["steady"][0] <= r["steady"][2], r
+                elif r["status"] == "diverged":
+                    assert r["steady"] is None and (r["growth"] is None or r["growth"] == ">1e6"
+                                                    or r["growth"] >= 4.0), r
+                else:
+                    assert r["reason"].strip(), r

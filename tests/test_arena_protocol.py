@@ -9,18 +9,16 @@ from conftest import repo_root
 
 from secest.arena import protocol
 from secest.core.validation import ValidationError
-from secest.repro import spaces
+
+FIRST_DESIGN_SEEDS = {2026, 1, 2, 3}
+"""The seed axis notebooks/arena.toml declared (and its perturbation points used) until the test
+stage replaced it (issue #28; the file's History says so)."""
 
 
 def _seeds_used_before() -> set[int]:
-    """Trial seeds the repository ran: the matrix's (cards.toml) and the arena's declared space."""
+    """Trial seeds the repository ran: the matrix's (cards.toml) and the arena's first design's."""
     cards = tomllib.loads((repo_root() / "secest" / "arena" / "cards.toml").read_text())
-    space = spaces.load("arena")
-    used = {cards["matrix"]["seed"], space.parameters["seed"].default}
-    used |= {int(v) for v in space.axes["seed"].values}
-    used |= {int(p["seed"]) for p in tomllib.loads(
-        (repo_root() / "notebooks" / "arena.toml").read_text())["sweep"]["perturb"]}
-    return used
+    return {cards["matrix"]["seed"]} | FIRST_DESIGN_SEEDS
 
 
 def test_the_protocol_loads_and_its_seeds_are_new() -> None:

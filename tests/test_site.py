@@ -271,7 +271,7 @@ def test_the_arena_is_on_the_site_but_not_a_paper(site: Path) -> None:
     for cid in json.loads((ROOT / "figures" / "arena" / "claims.json").read_text()):
         assert f'id="{claim_label("arena", cid)}"' in claims, cid
     page = (site / "beyond" / "arena.html").read_text()
-    assert "Beyond the papers" in page and 'id="fig-arena-extra-matrix-heatmap"' in page
+    assert "Beyond the papers" in page and 'id="fig-arena-extra-heatmap-tuned"' in page
 
 
 def test_errata_links_land_on_the_deviations_heading(site: Path) -> None:

@@ -21,6 +21,9 @@
 ``tuning``
    the protocol's tuning rule: search grids, validation runs (validation seeds only), the choice,
    and the command line ``python -m secest.arena.tuning``
+``testseeds``
+   the test stage: the committed tuned constants (and the printed ones) on the test seeds, pooled
+   over the seeds (``python -m secest.arena.tuning test``)
 
 Importing any module of the arena registers the baselines and the five papers' methods.
 The arena uses the estimation library (:mod:`secest.core`) and the papers' methods

@@ -56,7 +56,9 @@ __all__ = [
     "rate_of_counts",
     "register",
     "score",
+    "scores_of_runs",
     "settle_steps",
+    "whitening",
 ]
 
 CHI2_ALPHA = 1e-3
@@ -454,18 +456,55 @@ def normalised_errors(
         The unit-free squared errors; their mean for the oracle is exactly 1.
     """
     eo = (oracle - x).reshape(-1, x.shape[-1])
-    lam, V = np.linalg.eigh(eo.T @ eo / eo.shape[0])
-    # a window of fewer oracle errors than states (a smoke test's) has a singular Sigma_o: its
-    # null directions are floored at 1e-12 of the largest variance instead of failing
-    lam = np.maximum(lam, 1e-12 * lam.max())
     e = xhat - x[:, :, None, :]
-    white = (e @ V) / np.sqrt(lam)
+    white = e @ whitening(eo.T @ eo / eo.shape[0])
     return np.sum(white**2, axis=-1) / x.shape[-1]
+
+
+def whitening(sigma: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``W`` with ``W W^T = Sigma_o^{-1}``: ``q = |e W|^2 / n`` (:func:`normalised_errors`).
+
+    A window of fewer oracle errors than states (a smoke test's) has a singular ``Sigma_o``: its
+    null directions are floored at 1e-12 of the largest variance instead of failing.
+
+    Parameters
+    ----------
+    sigma : (n, n) array
+        The oracle's error second moment over a window (symmetric, positive semi-definite).
+
+    Returns
+    -------
+    (n, n) array
+        ``V diag(lambda)^{-1/2}``, ``V diag(lambda) V^T`` the floored eigendecomposition of ``sigma``.
+    """
+    lam, V = np.linalg.eigh(sigma)
+    lam = np.maximum(lam, 1e-12 * lam.max())
+    return V / np.sqrt(lam)
 
 
 def _scores(q: NDArray[np.float64]) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
     """Network and worst-node scores of ``q`` (runs, k, N), each with its bootstrap interval."""
-    per_run = q.mean(axis=1)  # (runs, N)
+    return scores_of_runs(q.mean(axis=1))
+
+
+def scores_of_runs(
+    per_run: NDArray[np.float64],
+) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+    """Network and worst-node scores from each run's and node's mean ``q``, with their intervals.
+
+    The interval of each is the 95 % percentile bootstrap over the runs (:data:`BOOTSTRAP`
+    resamples, seed 0). Runs of several trials pool by stacking their rows (the test seeds).
+
+    Parameters
+    ----------
+    per_run : (runs, N) array
+        Mean unit-free squared error ``q`` over a window's steps, per run and node.
+
+    Returns
+    -------
+    network, worst : (value, low, high)
+        The mean over nodes of the per-node scores ``sqrt(mean over runs)``, and the largest.
+    """
     rng = np.random.default_rng(0)
     resampled = per_run[rng.integers(0, per_run.shape[0], (BOOTSTRAP, per_run.shape[0]))].mean(axis=1)
     nodes, nodes_b = np.sqrt(per_run.mean(axis=0)), np.sqrt(resampled)

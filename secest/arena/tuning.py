@@ -693,11 +693,14 @@ def _listed(values: list[str]) -> list[str]:
 def parser() -> argparse.ArgumentParser:
     """The argument parser of :func:`main` (its ``--help`` is the reference of every option)."""
     p = _Parser(prog=PROG, description="Tune methods on the validation seeds by the rule of "
-                "secest/arena/protocol.toml and write the chosen constants and every point as JSON.")
-    p.add_argument("--methods", nargs="+", required=True, metavar="NAME",
-                   help="methods with a [search] set (words or a comma-separated list)")
-    p.add_argument("--plants", nargs="+", required=True, metavar="NETWORK",
-                   help="network cards, e.g. target20 inertia5 tank12")
+                "secest/arena/protocol.toml and write the chosen constants and every point as JSON. "
+                f"The test stage is '{PROG} test' (its own --help); '{PROG} validate' is this one.")
+    p.add_argument("--methods", nargs="+", metavar="NAME",
+                   help="methods with a [search] set (words or a comma-separated list; default: "
+                   "every registered method with one)")
+    p.add_argument("--plants", nargs="+", metavar="NETWORK",
+                   help="network cards, e.g. target20 inertia5 tank12 (default: the cards' "
+                   "[matrix] networks)")
     p.add_argument("--seeds", nargs="+", type=int, metavar="SEED",
                    help="validation seeds (default: the protocol's; a test seed is refused)")
     p.add_argument("--runs", type=int, help="Monte Carlo runs per seed (default: runs_per_seed)")
@@ -722,8 +725,21 @@ def _jsonable(value: Any) -> Any:
     return value
 
 
+def _defaults(methods: list[str] | None, plants: list[str] | None) -> tuple[list[str], list[str]]:
+    """The methods and plants of the command line, or every method with a search set and the
+    cards' ``[matrix]`` networks."""
+    search = protocol.load()["search"]
+    every = [m for m in METHODS if m in search]
+    nets = list(scenarios.cards()["matrix"]["networks"])
+    return (every if methods is None else _listed(methods), nets if plants is None else _listed(plants))
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run :func:`tune` from the command line and write its JSON to ``--out``.
+    """Run :func:`tune` (or, after ``test``, the test stage) and write its JSON to ``--out``.
+
+    ``python -m secest.arena.tuning [validate] --out FILE ...`` is the validation;
+    ``python -m secest.arena.tuning test --tuned FILE --out FILE ...`` the test stage
+    (:func:`secest.arena.testseeds.main`).
 
     Parameters
     ----------
@@ -735,9 +751,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     int
         0 on success; a bad argument ends with a one-line error and status 2.
     """
-    args = parser().parse_args(argv)
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv[:1] == ["test"]:
+        from secest.arena import testseeds
+
+        return testseeds.main(argv[1:])
+    args = parser().parse_args(argv[1:] if argv[:1] == ["validate"] else argv)
     try:
-        result = tune(_listed(args.methods), _listed(args.plants), seeds=args.seeds,
+        methods, plants = _defaults(args.methods, args.plants)
+        result = tune(methods, plants, seeds=args.seeds,
                       runs=args.runs, horizon=args.horizon, short=args.short,
                       workers=args.workers, scheduler=args.scheduler)
     except ValidationError as exc:

@@ -1,0 +1,258 @@
+"""The arena's test stage (issue #28): order enforced, test seeds only, pooling, rows, isolation.
+
+Nothing here runs the real test stage: a tiny tuning (2 runs of 8 steps on one validation seed,
+``short``) is committed in a temporary git repository, and the stage runs on it at 2 runs of 8
+steps. The pooling identity runs at the protocol's horizon (target20, 410 steps, 3 runs a seed).
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from secest.arena import baselines, estimators, protocol, scenarios, testseeds, tuning
+from secest.arena.estimators import METHODS, Estimate
+from secest.arena.scenarios import Trial
+from secest.core.validation import ValidationError
+
+TINY = {"runs": 2, "horizon": 8, "short": True, "seeds": [201, 202], "attacks": ["none", "bias"]}
+METHODS_TUNED = ["kf", "chi2-kf", "wmsr-kf"]
+
+
+def git(repo: Path, *args: str) -> None:
+    subprocess.run(["git", "-C", str(repo), "-c", "user.name=t", "-c", "user.email=t@t", *args],
+                   check=True, capture_output=True)
+
+
+@pytest.fixture(scope="module")
+def repo(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A git repository holding a committed smoke tuning of three methods on tank12."""
+    root = tmp_path_factory.mktemp("repo")
+    git(root, "init", "-q")
+    out = root / "figures" / "arena" / "tuned.json"
+    assert tuning.main(["--methods", ",".join(METHODS_TUNED), "--plants", "tank12", "--seeds",
+                        "101", "--runs", "2", "--horizon", "8", "--short", "--out", str(out)]) == 0
+    git(root, "add", "figures/arena/tuned.json")
+    git(root, "commit", "-q", "-m", "tuned")
+    return root
+
+
+def tuned_file(repo: Path) -> Path:
+    return repo / "figures" / "arena" / "tuned.json"
+
+
+# ---------------------------------------------------------------------------------- the order
+
+
+def test_an_uncommitted_tuned_file_is_refused(tmp_path: Path) -> None:
+    loose = tmp_path / "tuned.json"
+    loose.write_text("{}")
+    with pytest.raises(ValidationError, match="not in a git work tree"):
+        testseeds.run(loose, **TINY)
+    git(tmp_path, "init", "-q")
+    with pytest.raises(ValidationError, match="tuned.json is not tracked by git"):
+        testseeds.run(loose, **TINY)
+    with pytest.raises(ValidationError, match="tuned must be an existing file"):
+        testseeds.run(tmp_path / "none.json", **TINY)
+
+
+def test_a_modified_tuned_file_is_refused_staged_or_not(repo: Path) -> None:
+    path = tuned_file(repo)
+    text = path.read_text()
+    try:
+        path.write_text(text.replace('"point": 0', '"point": 1', 1))
+        with pytest.raises(ValidationError, match="differs from its committed version"):
+            testseeds.run(path, **TINY)
+        git(repo, "add", "figures/arena/tuned.json")
+        with pytest.raises(ValidationError, match="differs from its committed version"):
+            testseeds.committed(path)
+    finally:
+        git(repo, "checkout", "HEAD", "--", "figures/arena/tuned.json")
+    record = testseeds.committed(path)
+    assert record["file"] == "figures/arena/tuned.json" and len(record["commit"]) == 40
+    assert len(record["sha256"]) == 64
+
+
+def test_a_smoke_tuning_is_refused_outside_a_smoke_test(repo: Path) -> None:
+    with pytest.raises(ValidationError, match="is not the protocol's validation"):
+        testseeds.load_tuned(tuned_file(repo))
+    assert set(testseeds.load_tuned(tuned_file(repo), short=True)["tuned"]) == {"tank12"}
+
+
+@pytest.mark.parametrize("seeds", [[101], [201, 104], [7]])
+def test_seeds_other_than_test_seeds_are_refused(repo: Path, seeds: list[int]) -> None:
+    with pytest.raises(ValidationError, match=r"are not test seeds of protocol.toml"):
+        testseeds.run(tuned_file(repo), **(TINY | {"seeds": seeds}))
+
+
+@pytest.mark.parametrize("kwargs, words", [
+    ({"seeds": [201, 201]}, "seeds must be a non-empty list of distinct integers"),
+    ({"runs": 1}, "runs"),
+    ({"horizon": 0}, "horizon"),
+    ({"short": False}, "is not the protocol.s validation"),
+    ({"plants": ["target20"]}, "plants must be a non-empty list of names from"),
+    ({"attacks": ["nope"]}, "attacks must be a non-empty list of names from"),
+    ({"workers": 0}, "workers must be an integer from 1 to 256"),
+])
+def test_bad_options_are_refused_before_any_work(repo: Path, kwargs: dict, words: str) -> None:
+    with pytest.raises(ValidationError, match=words):
+        testseeds.run(tuned_file(repo), **(TINY | kwargs))
+
+
+# ---------------------------------------------------------------------------------- pooling
+
+
+def concatenated(trials: list[Trial]) -> Trial:
+    """The runs of several trials of one scenario (other seeds) as one trial."""
+    sc = replace(trials[0].scenario, runs=sum(t.scenario.runs for t in trials))
+    fields = ("x", "y", "y_clean", "attacked", "link", "hits")
+    return Trial(sc, **{f: np.concatenate([getattr(t, f) for t in trials]) for f in fields})
+
+
+def joined(estimates: list[Estimate]) -> Estimate:
+    alarms = None if estimates[0].alarms is None else np.concatenate([e.alarms for e in estimates])
+    return Estimate(np.concatenate([e.xhat for e in estimates]), alarms=alarms)
+
+
+def pooled_and_score(seeds: list[int], estimate, short: bool = False):
+    """:func:`testseeds.pool` over ``seeds`` and :func:`estimators.score` on their runs joined."""
+    trials, ests, oracles, parts, oparts = [], [], [], [], []
+    for s in seeds:
+        sc = scenarios.scenario("target20", "bias", horizon="auto", runs=3, seed=s)
+        trial = scenarios.simulate(sc)
+        oracle = METHODS["oracle"].run(trial)
+        est = estimate(trial, oracle)
+        settle = estimators.settle_steps(sc)
+        trials.append(trial), ests.append(est), oracles.append(oracle)
+        parts.append(testseeds.summary(trial, est, settle))
+        oparts.append(testseeds.summary(trial, oracle, settle))
+    pooled = testseeds.pool(oparts, parts, seeds, short=short)
+    whole = estimators.score(concatenated(trials), joined(ests), joined(oracles), short=short)
+    return pooled, whole
+
+
+def chi2(trial: Trial, oracle: Estimate) -> Estimate:
+    return METHODS["chi2-kf"].run(trial)
+
+
+@pytest.mark.parametrize("seeds", [[201], [201, 202]])
+def test_pooled_scores_are_the_scores_of_the_runs_concatenated(seeds: list[int]) -> None:
+    pooled, whole = pooled_and_score(seeds, chi2)
+    assert pooled["status"] == whole.status == "ok"
+    for mine, theirs in (("steady", whole.steady), ("worst", whole.steady_worst),
+                         ("transient", whole.transient)):
+        assert pooled[mine] == pytest.approx(theirs, rel=1e-10), mine
+    assert pooled["growth"] == pytest.approx(whole.growth, rel=1e-10)
+    assert pooled["detection"] == whole.detection and pooled["false_alarm"] == whole.false_alarm
+    assert pooled["detection"][0] > 0  # the bias is seen on some attacked sample
+
+
+def test_the_oracle_pooled_scores_one() -> None:
+    pooled, _ = pooled_and_score([201, 202], lambda trial, oracle: oracle)
+    assert pooled["steady"][0] == pytest.approx(1.0, rel=1e-9)
+    assert pooled["transient"][0] == pytest.approx(1.0, rel=1e-9)
+
+
+def growing(trial: Trial, oracle: Estimate) -> Estimate:
+    """The oracle's estimate plus an error growing as k^2 (steps k): diverged by growth."""
+    k = np.arange(trial.x.shape[1], dtype=float)
+    drift = ((k / k[-1]) ** 2)[:, None] * 50.0 * trial.scenario.steady_covariance.diagonal() ** 0.5
+    return Estimate(oracle.xhat + drift[None, :, None, :])
+
+
+def test_a_diverged_row_reports_its_growth_and_no_score() -> None:
+    pooled, whole = pooled_and_score([201, 202], growing)
+    assert pooled["status"] == whole.status == "diverged"
+    assert pooled["growth"] == pytest.approx(whole.growth, rel=1e-10) and pooled["growth"] > 4
+    assert all(pooled[k] is None for k in ("steady", "worst", "transient", "detection"))
+    job = testseeds.Job("kf", ("printed", "tuned"), 0, METHODS["kf"], {})
+    rows = testseeds._rows(job, {"point": 0, "constants": {}, "rule": "r", "mark": ""}, pooled, 6)
+    assert [r["row"] for r in rows] == ["printed", "tuned"] and all(r["shared"] for r in rows)
+    for r in rows:
+        assert r["status"] == "diverged" and r["steady"] is None
+        assert r["growth"] == float(f"{pooled['growth']:.2g}")
+    huge = testseeds._written_growth(pooled | {"growth": 7.2e21})
+    assert huge["growth"] == ">1e6"
+    assert testseeds._written_growth(pooled | {"status": "ok", "growth": 1.23456})["growth"] == 1.23456
+
+
+def test_a_short_run_reports_growth_without_ruling_on_it() -> None:
+    pooled, whole = pooled_and_score([201], growing, short=True)
+    assert pooled["status"] == whole.status == "ok" and pooled["growth"] > 4
+
+
+def test_a_method_that_fails_on_one_seed_is_an_error_row() -> None:
+    ok = {"status": "ok"}
+    row = testseeds.pool([ok, ok], [ok, {"status": "error", "reason": "RuntimeError: x"}], [201, 202])
+    assert (row["status"], row["reason"], row["steady"]) == ("error", "seed 202: RuntimeError: x", None)
+    row = testseeds.pool([ok, ok], [{"status": "not finite"}, ok], [201, 202])
+    assert (row["status"], row["growth"]) == ("diverged", None)
+    row = testseeds.pool([ok, {"status": "error", "reason": "x"}], [ok, ok], [201, 202])
+    assert (row["status"], row["reason"]) == ("error", "seed 202: the oracle did not run")
+    with pytest.raises(ValidationError, match="Incompatible lengths of oracle, parts and seeds"):
+        testseeds.pool([ok], [ok, ok], [201, 202])
+
+
+# ---------------------------------------------------------------------------------- the stage
+
+
+def test_the_stage_writes_printed_and_tuned_rows_deterministically(repo: Path, tmp_path: Path) -> None:
+    a, b = tmp_path / "a.json", tmp_path / "b.json"
+    argv = ["test", "--tuned", str(tuned_file(repo)), "--seeds", "201", "202", "--runs", "2",
+            "--horizon", "8", "--short", "--attacks", "none,bias"]
+    assert tuning.main([*argv, "--out", str(a)]) == 0
+    assert tuning.main([*argv, "--out", str(b)]) == 0
+    assert a.read_bytes() == b.read_bytes()
+    data = json.loads(a.read_text())
+    tuned = json.loads(tuned_file(repo).read_text())
+    assert data["tuned"] == testseeds.committed(tuned_file(repo))
+    assert data["protocol"]["sha256"] == tuned["protocol"]["sha256"]
+    assert data["seeds"] == [201, 202] and data["attacks"] == ["none", "bias"]
+    plant = data["plants"]["tank12"]
+    assert plant["horizon"] == 8 and plant["home"] == []
+    for attack, rows in plant["cells"].items():
+        assert [r["method"] for r in rows][0] == "oracle", attack
+        assert rows[0]["steady"][0] == pytest.approx(1.0)
+        for name in METHODS_TUNED:
+            mine = [r for r in rows if r["method"] == name]
+            assert [r["row"] for r in mine] == ["printed", "tuned"]
+            choice = tuned["tuned"]["tank12"][name]
+            assert mine[1]["constants"] == choice["constants"] and mine[1]["rule"] == choice["rule"]
+            assert mine[0]["shared"] == mine[1]["shared"] == (choice["point"] == 0)
+            if mine[0]["shared"]:
+                assert mine[0]["steady"] == mine[1]["steady"]
+            assert all(r["runs"] == 4 for r in mine)
+    assert tuning.main(["test", "--tuned", str(tuned_file(repo)), "--seeds", "104",
+                        "--out", str(tmp_path / "c.json")]) == 2
+    assert not (tmp_path / "c.json").exists()
+
+
+def test_a_failing_method_is_its_own_rows_only(repo: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    def broken(self, trial):
+        raise RuntimeError("broken on purpose")
+
+    monkeypatch.setattr(baselines.WmsrKF, "run", broken)
+    data = testseeds.run(tuned_file(repo), **TINY)
+    for rows in data["plants"]["tank12"]["cells"].values():
+        for r in rows:
+            if r["method"] == "wmsr-kf":
+                assert (r["status"], r["reason"]) == ("error", "seed 201: RuntimeError: broken on purpose")
+            else:
+                assert r["status"] == "ok", r
+
+
+def test_a_local_cluster_gives_the_rows_of_one_process(repo: Path) -> None:
+    pytest.importorskip("dask.distributed")
+    small = TINY | {"seeds": [203], "attacks": ["bias"]}
+    assert testseeds.run(tuned_file(repo), **small, workers=1) == testseeds.run(tuned_file(repo), **small)
+
+
+def test_the_protocol_commit_is_recorded() -> None:
+    commit = testseeds._protocol_commit()
+    assert commit is None or len(commit) == 40
+    assert protocol.load()["seeds"]["test"] == [201, 202, 203, 204, 205, 206, 207, 208]
