@@ -281,7 +281,7 @@ def test_arena_figures_and_the_whole_table(run_notebook) -> None:
     assert expected <= {p.name for p in fig_dir.iterdir()}
     with (fig_dir / "extra_matrix_heatmap.csv").open() as fh:
         rows = list(csv.DictReader(fh))
-    assert len(rows) == 15 * len(METHODS)
+    assert len(rows) == (15 + len(scenarios.cards()["scenario"])) * len(METHODS)  # cross + home grounds
     for row in rows:
         if row["status"] == "ok":
             for q in ("steady", "worst", "transient"):
