@@ -154,7 +154,7 @@ def test_a_bad_cards_file_is_refused_by_key(tmp_path: Path, capsys) -> None:
     assert cli.main(["--cards", str(cards), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err.strip()
     assert err.endswith("attack bias2: unknown key 'magnitud' (did you mean 'magnitude'?); "
-                        "valid: ['kind', 'magnitude', 'nodes', 'start', 'title']")
+                        "valid: ['kind', 'magnitude', 'nodes', 'p', 'q', 'start', 'title', 'windows']")
     assert not (tmp_path / "o").exists()
 
 

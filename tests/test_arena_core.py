@@ -21,7 +21,9 @@ def test_every_card_loads_and_the_matrix_crosses_them() -> None:
     assert {"target", "three_inertia", "quadruple_tank"} <= set(c["plant"])
     assert {"none", "bias", "replacement", "message", "dos"} <= set(c["attack"])
     grid = scenarios.matrix(runs=2, horizon=5)
-    assert len(grid) == len(c["matrix"]["networks"]) * len(c["matrix"]["attacks"]) >= 15
+    cross = len(c["matrix"]["networks"]) * len(c["matrix"]["attacks"])
+    assert cross >= 15 and len(grid) == cross + len(c["scenario"])  # the cross, then the named ones
+    assert [sc.name for sc in grid[cross:]] == list(c["scenario"])
     target = c["plant"]["target"]
     T = target.dt
     assert np.allclose(target.A, [[1, T, T**2 / 2], [0, 1, T], [0, 0, 1]], atol=1e-15)  # ding2020's A

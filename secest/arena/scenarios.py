@@ -91,13 +91,16 @@ CARD_KEYS: dict[str, dict[str, str]] = {
         "title": "one line for tables and figures",
         "kind": "one of ATTACK_KINDS",
         "nodes": "bias, replacement: attacked sensor nodes, 0-based indices",
-        "start": "bias: onset as a fraction of the horizon, in [0, 1]",
+        "start": "bias: onset as a fraction of the horizon, in [0, 1] (or give windows)",
+        "windows": "bias, instead of start: per entry of nodes, the steps [first, last] (inclusive) "
+                   "or [first] (to the horizon's end) of its bias",
         "prob": "replacement: probability a measurement is replaced; "
                 "message: that a message is falsified",
         "magnitude": "bias, replacement: in noise standard deviations; "
                      "message: in the message's scale",
-        "p": "dos: failure probability per step of the shared Gilbert-Elliott chain",
-        "q": "dos: recovery probability per step",
+        "p": "dos (bias, optional: the links fail as well): failure probability per step of the "
+             "shared Gilbert-Elliott chain",
+        "q": "dos (bias, optional, with p): recovery probability per step",
     },
     "scenario": {
         "title": "optional: one line for tables and figures",
@@ -122,7 +125,7 @@ CARD_KEYS: dict[str, dict[str, str]] = {
 
 _ATTACK_KEYS = {
     "none": (set(), set()),
-    "bias": ({"nodes", "start", "magnitude"}, set()),
+    "bias": ({"nodes", "magnitude"}, {"start", "windows", "p", "q"}),
     "replacement": ({"nodes", "prob", "magnitude"}, set()),
     "message": ({"prob", "magnitude"}, set()),
     "dos": ({"p", "q"}, set()),
@@ -280,7 +283,13 @@ class Attack:
     p, q : float, defaults 0.0 and 1.0
         ``"dos"``: failure (up -> down) and recovery (down -> up) probabilities per step of the
         Gilbert-Elliott chain shared by every link (:func:`secest.core.channels.gilbert_elliott`);
-        the defaults keep every link up.
+        the defaults keep every link up. A ``"bias"`` card may set them too: its links then fail
+        on that chain while the bias acts (ding2020's Sec. V: deception and lossy channels
+        together; :attr:`lossy`).
+    windows : tuple of tuple of int, default ()
+        ``"bias"`` instead of ``start``: per entry of ``nodes``, the steps ``(first, last)``
+        (inclusive) or ``(first,)`` (up to the horizon) during which that node's outputs carry the
+        bias; a window beyond the horizon is cut at it.
     """
 
     name: str
@@ -292,6 +301,12 @@ class Attack:
     magnitude: float = 0.0
     p: float = 0.0
     q: float = 1.0
+    windows: tuple[tuple[int, ...], ...] = ()
+
+    @property
+    def lossy(self) -> bool:
+        """Whether the links follow a Gilbert-Elliott chain (a ``"dos"`` card, or a bias with ``p``)."""
+        return self.kind == "dos" or self.p > 0
 
 
 @dataclass(frozen=True)
@@ -383,7 +398,8 @@ class Trial:
     attacked : (runs, K + 1, N) bool
         Where a sensor attack is active (the ground truth of detection rates).
     link : (runs, K + 1) int8
-        Shared channel state of every inter-node link (1 = up); all ones without a DoS attack.
+        Shared channel state of every inter-node link (1 = up); all ones unless the attack is
+        :attr:`Attack.lossy`.
     hits : (runs, K + 1, N, N) bool
         ``hits[r, k, i, j]``: the message node ``i`` receives from ``j`` at step ``k`` is falsified.
     message_delta : (runs, K + 1, N, n) array, optional
@@ -643,6 +659,10 @@ def _attack(name: str, card: dict[str, Any]) -> Attack:
     if isinstance(size, bool) or not isinstance(size, int | float) or not (np.isfinite(size)
                                                                            and size > 0):
         raise ValidationError(f"attack {name}: magnitude must be a positive number, found {size!r}")
+    if kind == "bias" and ("start" in card) == ("windows" in card):
+        raise ValidationError(f"attack {name}: a bias needs either start or windows, not both")
+    if kind == "bias" and ("p" in card) != ("q" in card):
+        raise ValidationError(f"attack {name}: a bias's channel needs both p and q, or neither")
     return Attack(
         name,
         card["title"],
@@ -653,7 +673,22 @@ def _attack(name: str, card: dict[str, Any]) -> Attack:
         float(card.get("magnitude", 0.0)),
         float(card.get("p", 0.0)),
         float(card.get("q", 1.0)),
+        _windows(name, card.get("windows"), len(nodes)),
     )
+
+
+def _windows(name: str, windows: Any, n_nodes: int) -> tuple[tuple[int, ...], ...]:
+    """The ``windows`` of a bias card, checked: one ``[first, last]`` or ``[first]`` per node."""
+    if windows is None:
+        return ()
+    steps_ok = isinstance(windows, list) and len(windows) == n_nodes and all(
+        isinstance(w, list) and len(w) in (1, 2)
+        and all(isinstance(k, int) and not isinstance(k, bool) and k >= 0 for k in w)
+        and w[0] <= w[-1] for w in windows)
+    if not steps_ok:
+        raise ValidationError(f"attack {name}: windows must list, for each of the {n_nodes} nodes, "
+                              f"[first, last] or [first] steps (0 <= first <= last), found {windows!r}")
+    return tuple(tuple(w) for w in windows)
 
 
 def cards(extra: Extra = None) -> dict[str, dict[str, Any]]:
@@ -891,7 +926,7 @@ def simulate(sc: Scenario) -> Trial:
     )
     y, attacked = _sensor_attack(sc, y_clean, r_std, attack_rng)
     link = np.ones((R, K + 1), dtype=np.int8)
-    if att.kind == "dos":
+    if att.lossy:
         from secest.core import channels
 
         link = channels.gilbert_elliott(att.p, att.q, K + 1, channel_rng, size=R)
@@ -914,8 +949,11 @@ def _sensor_attack(
     nodes = list(att.nodes)
     if att.kind == "bias":
         first = int(np.ceil(att.start * (K1 - 1)))
-        attacked[:, first:, nodes] = True
-        y[:, first:, nodes] += att.magnitude * r_std[nodes]
+        spans = att.windows or tuple((first,) for _ in nodes)
+        for node, span in zip(nodes, spans, strict=True):
+            steps = slice(span[0], span[-1] + 1 if len(span) == 2 else K1)
+            attacked[:, steps, node] = True
+            y[:, steps, node] += att.magnitude * r_std[node]
     elif att.kind == "replacement":
         hit = rng.random((R, K1, len(nodes))) < att.prob
         attacked[:, :, nodes] = hit

@@ -50,9 +50,13 @@ class Ding2020(Method):
     kind = "paper"
     home = "target20"
     home_note = (
-        "its Sec. V plant (A, B, D, C_i as printed) and 20 sensors with its two sensor types; the "
-        "graph is a random geometric stand-in for its Fig. 1, its noise and attacks are the arena's"
-        " cards"
+        "its Sec. V plant (A, B, D, C_i as printed) and 20 nodes of its two sensor types on its "
+        "notebook's stand-in for Fig. 1 (not in our copy: random geometric, r = 0.35, seed 2020); "
+        "scenario ding2020-home adds its attack (+ 15 on y_4 at k = 90..95, on y_12 at k = 50..55) "
+        "over its Gilbert-Elliott channel (p = 0.1, q = 0.92), its 150 steps the first of 410 "
+        "(20 tau). Unlike its notebook: noises clipped at 3 sd, every node starts at x_hat = 0 "
+        "with Pi_0 = Gamma_0 = I (notebook: x_hat_i0 ~ N(0, I), Pi_0 = Gamma_0 = 2 I), one channel "
+        "chain per run (notebook: Fig. 2's chain in every run)"
     )
     reading = "kappa = 0.004 and threshold 25 of the paper's example; Pi_0 = Gamma_0 = prior covariance"
 

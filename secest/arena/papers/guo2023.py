@@ -167,7 +167,7 @@ class Guo2023(Method):
             ("(A, C_2) is observable, C_2 = [C_2^1; ...; C_2^N] the attack-free outputs (Assumption 2)",
              bool(C2.shape[0] > 0 and systems.is_observable(A, C2))),
             ("its attack model: deception on the sensors through known channels H^i (2); the "
-             "exchanged estimates arrive intact", sc.attack.kind not in ("message", "dos")),
+             "exchanged estimates arrive intact", sc.attack.kind != "message" and not sc.attack.lossy),
         ]
 
     def requirements(self, sc: Scenario) -> list[tuple[str, bool]]:

@@ -70,8 +70,13 @@ class Lee2020(Method):
     kind = "paper"
     home = "inertia5"
     home_note = (
-        "its Sec. IV plant (matrices (1)) and ring of five sensor banks; sampled at 0.02 s with "
-        "process and sensor noise (its model is noise-free), the arena's attack cards"
+        "its Sec. IV plant (matrices (1)) and ring 1-2-3-4-5 of five single-sensor banks; scenario "
+        "lee2020-home adds its attack (a = pi/3 rad on bank 1 from t = 10 s). Not as printed: "
+        "sampled at 0.02 s with process and sensor noise (its model is noise-free and continuous; "
+        "the arena's unit, the oracle's error, is zero without noise), no torque u (known to "
+        "every estimator, it leaves the continuous-time estimation errors unchanged) and a random "
+        "x_0 (its notebook's is fixed); its notebook's horizon (40 s, not printed) is the first "
+        "part of 57.2 s (20 tau)"
     )
     tolerance = SIGN_DRIVEN  # sign-driven (Filippov) correction: last bits flip a sgn elsewhere
     reading = (
@@ -144,7 +149,7 @@ class Lee2020(Method):
              "the plant)", bool(d["redundant"])),
             ("its model (1) is noise-free (the arena's plants have process and sensor noise)", False),
             ("Assumption 3: reliable links (no falsified or lost messages)",
-             sc.attack.kind not in ("message", "dos")),
+             sc.attack.kind != "message" and not sc.attack.lossy),
         ]
 
     def requirements(self, sc: Scenario) -> list[tuple[str, bool]]:

@@ -86,8 +86,9 @@ class Li2025(Method):
     kind = "paper"
     home = ""
     home_note = (
-        "its Sec. IV example is a singularly perturbed sequential system under a round-robin-like "
-        "multichannel schedule; the arena's cards have neither two time scales nor a schedule"
+        "its Sec. IV example is a time-varying (T_k = 0.8 tanh k, r_k = 0.1 + 0.3 tanh k) singularly "
+        "perturbed sequential system of three coupled targets under a round-robin-like multichannel "
+        "schedule; the arena's cards have neither time-varying plants, two time scales nor a schedule"
     )
     reading = (
         "each node runs the paper's estimator (K_i empty, H_eps = I, m = n_y) on its own and its "

@@ -124,7 +124,7 @@ class Ma2021(Method):
             ("Assumption 1 (2): every measurement noise stays in its ellipsoid (no sensor attack)",
              not sc.attacked_nodes),
             ("its attack model: falsified innovations on reliable links (Sec. II; no lost messages)",
-             sc.attack.kind != "dos"),
+             not sc.attack.lossy),
         ]
 
     def requirements(self, sc: Scenario) -> list[tuple[str, bool]]:
