@@ -153,6 +153,7 @@ def test_a_bad_cards_file_is_refused_by_key(tmp_path: Path, capsys) -> None:
     cards.write_text((EXAMPLES / "my_cards.toml").read_text().replace("magnitude = 30.0", "magnitud = 30.0"))
     assert cli.main(["--cards", str(cards), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err.strip()
+    assert err.startswith(f"python -m secest.arena: error: --cards {cards}: ")
     assert err.endswith("attack bias2: unknown key 'magnitud' (did you mean 'magnitude'?); "
                         "valid: ['kind', 'magnitude', 'nodes', 'start', 'title']")
     assert not (tmp_path / "o").exists()

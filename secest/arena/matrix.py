@@ -29,8 +29,8 @@ from numpy.typing import NDArray
 
 from secest.arena import estimators
 from secest.arena.estimators import METHODS, Estimate, Score
-from secest.arena.scenarios import Scenario, Trial, simulate
-from secest.core.validation import ValidationError
+from secest.arena.scenarios import Scenario, Trial, check_scenario, simulate
+from secest.core.validation import ValidationError, check_bool
 
 __all__ = [
     "CELL_FIELDS",
@@ -40,6 +40,7 @@ __all__ = [
     "attack_activity",
     "cell_text",
     "check_dask_arguments",
+    "check_matrix",
     "dask_client",
     "error_curve",
     "fmt_interval",
@@ -108,6 +109,32 @@ class Matrix:
             raise ValidationError(f"no cell ({scenario!r}, {method!r}) in the matrix") from None
 
 
+def check_matrix(label: str, value: object) -> Matrix:
+    """``value`` if it is a :class:`Matrix` (from :func:`run_matrix`).
+
+    Parameters
+    ----------
+    label : str
+        The argument's name, used in the message.
+    value : object
+        The value to check.
+
+    Returns
+    -------
+    Matrix
+        ``value``.
+
+    Raises
+    ------
+    ValidationError
+        If ``value`` is not a Matrix.
+    """
+    if not isinstance(value, Matrix):
+        raise ValidationError(f"{label} must be a Matrix (secest.arena.matrix.run_matrix), found "
+                              f"{type(value).__name__}")
+    return value
+
+
 def scaled(sc: Scenario, factor: float) -> Scenario:
     """``sc`` with its attack's magnitude multiplied by ``factor`` (same random draws).
 
@@ -124,7 +151,7 @@ def scaled(sc: Scenario, factor: float) -> Scenario:
     if not (isinstance(factor, int | float) and not isinstance(factor, bool) and factor > 0
             and math.isfinite(factor)):
         raise ValidationError(f"factor must be a positive finite number, found {factor!r}")
-    if sc.attack.kind not in ("bias", "replacement", "message") or factor == 1:
+    if check_scenario("sc", sc).attack.kind not in ("bias", "replacement", "message") or factor == 1:
         return sc
     return replace(sc, attack=replace(sc.attack, magnitude=sc.attack.magnitude * float(factor)))
 
@@ -156,7 +183,7 @@ def attack_activity(trial: Trial) -> NDArray[np.float64]:
     trial : Trial
         One simulated scenario (``secest.arena.scenarios.simulate``).
     """
-    kind = trial.scenario.attack.kind
+    kind = estimators.check_trial("trial", trial).scenario.attack.kind
     if kind in ("bias", "replacement"):
         acting = trial.attacked.any(axis=2)
     elif kind == "message":
@@ -203,15 +230,11 @@ def run_matrix(
         Without ``scheduler``: the number of single-threaded worker processes of a Dask
         ``LocalCluster`` started for this call (the ``sweep`` extra brings Dask).
     """
-    names = list(METHODS) if methods is None else list(methods)
-    unknown = [n for n in names if n not in METHODS]
-    if unknown:
-        raise ValidationError(f"methods {unknown} are not registered; registered: {list(METHODS)}")
+    names = list(METHODS) if methods is None else estimators.check_names("methods", methods)
     if "oracle" not in names:
         names.insert(0, "oracle")
-    seen = [sc.name for sc in scenarios]
-    if len(set(seen)) != len(seen):
-        raise ValidationError(f"scenario names must be unique, found {seen}")
+    scenarios = _check_scenarios(scenarios)
+    curves, short = check_bool("curves", curves), check_bool("short", short)
     check_dask_arguments(scheduler, workers)
     for sc in scenarios:  # every horizon checked before any work starts
         estimators.settle_steps(sc, short=short)
@@ -227,6 +250,19 @@ def run_matrix(
         if curve is not None:
             out.curves[sc.name] = curve
     return out
+
+
+def _check_scenarios(scenarios: object) -> list[Scenario]:
+    """A non-empty list of scenarios with distinct names."""
+    if isinstance(scenarios, Scenario) or not isinstance(scenarios, Sequence) or not scenarios:
+        raise ValidationError(f"scenarios must be a non-empty list of Scenario, found "
+                              f"{type(scenarios).__name__}")
+    for sc in scenarios:
+        check_scenario("scenarios: each entry", sc)
+    seen = [sc.name for sc in scenarios]
+    if len(set(seen)) != len(seen):
+        raise ValidationError(f"scenarios: scenario names must be unique, found {seen}")
+    return list(scenarios)
 
 
 def scenario_task(
@@ -403,6 +439,9 @@ def fmt_interval(value: tuple[float, float, float] | None, *, percent: bool = Fa
     """
     if value is None:
         return "–"
+    if (not isinstance(value, tuple | list) or len(value) != 3
+            or not all(isinstance(v, int | float | np.floating) for v in value)):
+        raise ValidationError(f"value must be None or (value, low, high) numbers, found {value!r}")
     scale, unit = (100.0, " %") if percent else (1.0, "")
     v, lo, hi = (scale * float(u) for u in value)
     return f"{_sig(v)}{unit} [{_sig(lo)}, {_sig(hi)}]"
@@ -426,6 +465,8 @@ def cell_text(s: Score) -> dict[str, str]:
     s : Score
         The score of one (scenario, method) cell.
     """
+    if not isinstance(s, Score):
+        raise ValidationError(f"s must be a Score, found {type(s).__name__}")
     if s.status not in STATUSES:
         raise ValidationError(f"status must be one of {STATUSES}, found {s.status!r}")
     blank = dict.fromkeys(CELL_FIELDS, "")
@@ -462,7 +503,7 @@ def table_rows(m: Matrix) -> list[dict[str, str]]:
         The scored matrix (:func:`run_matrix`).
     """
     rows = []
-    for sc in m.scenarios:
+    for sc in check_matrix("m", m).scenarios:
         for name in m.methods:
             rows.append({"scenario": sc.name, "method": name} | cell_text(m.cell(sc.name, name)))
     return rows
