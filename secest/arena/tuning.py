@@ -371,15 +371,25 @@ def _run_here(jobs: list[tuple[Scenario, Method]], short: bool) -> list[dict[str
 
 def _run_on_dask(jobs: list[tuple[Scenario, Method]], short: bool, scheduler: str | None,
                  workers: int | None) -> list[dict[str, Any]]:
-    """:func:`point_task` of every job on Dask (the client of :func:`matrix.dask_client`)."""
+    """:func:`point_task` of every job on Dask (the client of :func:`matrix.dask_client`).
+
+    One task per point: the seeds of a point run in one process on one copy of its method, so a
+    design the method caches (it depends on the plant, not on the seed) is computed once.
+    """
+    batches: dict[int, list[int]] = {}
+    for i, (_, method) in enumerate(jobs):
+        batches.setdefault(id(method), []).append(i)
     with matrix.dask_client([m for _, m in jobs], scheduler, workers) as client:
-        futures = [client.submit(point_task, sc, m, short, pure=False) for sc, m in jobs]
-        out = []
-        for (sc, _), future in zip(jobs, futures, strict=True):
+        futures = [client.submit(_run_here, [jobs[i] for i in idx], short, pure=False)
+                   for idx in batches.values()]
+        out: list[dict[str, Any]] = [{} for _ in jobs]
+        for idx, future in zip(batches.values(), futures, strict=True):
             try:
-                out.append(future.result())
+                results = future.result()
             except Exception as exc:  # one failing point is one record, never an abort
-                out.append(_failed(sc.seed, exc))
+                results = [_failed(jobs[i][0].seed, exc) for i in idx]
+            for i, result in zip(idx, results, strict=True):
+                out[i] = result
         return out
 
 
