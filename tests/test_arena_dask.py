@@ -91,7 +91,7 @@ def test_a_design_is_cut_into_batches_that_share_no_design() -> None:
     grid = [scenarios.scenario(net, att, runs=2, horizon=h, seed=s, name=f"{net}/{att}/{h}/{s}")
             for net in ("target20", "inertia5") for att in ("none", "bias") for h in (10, 20)
             for s in (1, 2)]
-    names = ["oracle", "kf", "local-kf", "guo2023", "li2025", "ding2020"]
+    names = ["oracle", "kf", "local-kf", "guo2023", "li2025", "ma2021"]
     batches = matrix.plan_tasks(grid, names, workers=2)
     groups = {(sc.network.name, sc.horizon) for sc in grid}
     assert len(batches) == len(groups) * 2  # 4 per worker x 2 workers over 4 groups
@@ -99,8 +99,13 @@ def test_a_design_is_cut_into_batches_that_share_no_design() -> None:
         mine = [b for b in batches if {(sc.network.name, sc.horizon) for sc in b[0]} == {key}]
         assert sorted(n for _, ns in mine for n in ns) == sorted(names)
         assert all(len(b[0]) == 4 for b in mine)  # 2 attacks x 2 seeds
-    costs = [sum(sc.runs * sc.horizon * sc.network.N for sc in b[0]) * len(b[1]) for b in batches]
+    costs = [sum(sc.runs * sc.horizon * sc.network.N for sc in b[0]) * sum(METHODS[n].cost for n in b[1])
+             for b in batches]
     assert costs == sorted(costs, reverse=True)
+    heavy = [b for b in batches if "ma2021" in b[1]]
+    assert METHODS["ma2021"].cost > sum(METHODS[n].cost for n in names if n != "ma2021")
+    assert all(b[1] == ["ma2021"] for b in heavy)  # the costliest method alone in its batch
+    assert batches[0][1] == ["ma2021"]
     assert len(matrix.plan_tasks(grid[:1], names, workers=64)) == len(names)  # one batch per method
 
 

@@ -117,6 +117,10 @@ class Method:
     exchanges : bool
         Whether its nodes send each other messages (False: falsified or lost messages cannot
         reach it, so the message and DoS columns do not test it).
+    cost : float
+        Rough cost of the method on one scenario, its design included, relative to a Kalman
+        filter's (1): it only orders the batches of a design on Dask, largest first
+        (:func:`secest.arena.matrix.plan_tasks`), and never changes a result.
     """
 
     name: str = ""
@@ -127,6 +131,7 @@ class Method:
     home: str = ""
     home_note: str = ""
     exchanges: bool = True
+    cost: float = 1.0
 
     def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
         """The conditions of the method's theory on ``sc``: (statement, holds) pairs.

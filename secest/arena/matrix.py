@@ -438,11 +438,11 @@ def plan_tasks(scenarios: Sequence[Scenario], methods: Sequence[str],
     A method's design (gains, LMIs, observer banks) depends on the plant, the network and the
     horizon, not on the attack or the seed, and is cached on the method: so every scenario of one
     (network, horizon) goes into the batches of that group, and each method into exactly one of
-    them, so that no design is computed twice. A group's methods are dealt round robin into as
-    many batches as give about :data:`TASKS_PER_WORKER` batches per worker over the design (at
-    most one batch per method). Each batch draws its scenarios' trials and runs the oracle on them
-    (the unit of every score): cheap beside the methods, and what keeps every draw equal to the
-    one in a single process.
+    them, so that no design is computed twice. A group's methods are dealt into as many batches
+    as give about :data:`TASKS_PER_WORKER` batches per worker over the design (at most one batch
+    per method), of about equal :attr:`~secest.arena.estimators.Method.cost`. Each batch draws
+    its scenarios' trials and runs the oracle on them (the unit of every score): cheap beside the
+    methods, and what keeps every draw equal to the one in a single process.
 
     Parameters
     ----------
@@ -456,16 +456,28 @@ def plan_tasks(scenarios: Sequence[Scenario], methods: Sequence[str],
     Returns
     -------
     list of (list of Scenario, list of str)
-        The batches, by decreasing estimated cost (runs x steps x nodes x methods): the order to
-        submit them in (a greedy balance).
+        The batches, by decreasing estimated cost (runs x steps x nodes x the methods' costs):
+        the order to submit them in (a greedy balance).
     """
     groups: dict[tuple[str, int], list[Scenario]] = {}
     for sc in scenarios:
         groups.setdefault((sc.network.name, sc.horizon), []).append(sc)
     per_group = min(len(methods), max(1, math.ceil(TASKS_PER_WORKER * workers / len(groups))))
-    batches = [(group, list(methods[i::per_group])) for group in groups.values()
-               for i in range(per_group)]
-    return sorted(batches, key=lambda b: -sum(_cost(sc) for sc in b[0]) * len(b[1]))
+    batches = [(group, names) for group in groups.values()
+               for names in _deal(list(methods), per_group)]
+    return sorted(batches, key=lambda b: -sum(map(_cost, b[0])) * sum(METHODS[n].cost for n in b[1]))
+
+
+def _deal(names: list[str], chunks: int) -> list[list[str]]:
+    """``names`` dealt into ``chunks`` lists of about equal :attr:`Method.cost`, costliest first;
+    each list in the order of ``names``."""
+    dealt: list[list[str]] = [[] for _ in range(chunks)]
+    loads = [0.0] * chunks
+    for name in sorted(names, key=lambda n: -METHODS[n].cost):
+        i = loads.index(min(loads))
+        dealt[i].append(name)
+        loads[i] += METHODS[name].cost
+    return [sorted(d, key=names.index) for d in dealt]
 
 
 def _timed_batch(scenarios: list[Scenario], methods: list[estimators.Method], curves: bool,
