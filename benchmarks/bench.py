@@ -8,7 +8,7 @@ section FAILED in the table, prints the traceback and makes the exit status 1.
 Prints one table and writes ``build/bench.json`` (machine-dependent, not committed).
 
 Usage: ``python benchmarks/bench.py [--only KEY[,KEY]] [--repeats N] [--json PATH]``
-with KEY among ding2020, guo2023, li2025, lee2020, ma2021, arena, sweep, runs.
+with KEY among ding2020, guo2023, li2025, lee2020, ma2021, arena, sweep, arena-dask, runs.
 """
 
 from __future__ import annotations
@@ -776,6 +776,76 @@ def bench_sweep(repeats: int) -> list[Row]:
         one / two >= 1.7, "sweep", 2)]
 
 
+# ---------------------------------------------------------------------------- arena design on Dask
+DASK_DESIGN = {"networks": ("target20", "inertia5", "tank12"),
+               "attacks": ("none", "bias", "message", "dos"), "seeds": (1, 2), "runs": 8, "horizon": 200}
+"""The arena design of the Dask row: plants (networks) x attacks x seeds x every registered method,
+short horizons (smoke-test windows: the row measures cost, not scores)."""
+
+
+def _dask_design() -> list:
+    from secest.arena import scenarios
+
+    d = DASK_DESIGN
+    return [scenarios.scenario(net, att, runs=d["runs"], horizon=d["horizon"], seed=seed,
+                               name=f"{net}/{att}/seed{seed}")
+            for net in d["networks"] for att in d["attacks"] for seed in d["seeds"]]
+
+
+def _same_cells(a: object, b: object) -> str:
+    """The two matrices' cells are equal (status, reason, every score); else AssertionError."""
+    fields = ("status", "reason", "steady", "steady_worst", "transient", "detection", "false_alarm")
+    if list(a.cells) != list(b.cells):
+        raise AssertionError("the 1-worker and 2-worker matrices have different cells")
+    for key, cell in a.cells.items():
+        if [getattr(cell, f) for f in fields] != [getattr(b.cells[key], f) for f in fields]:
+            raise AssertionError(f"cell {key} differs between 1 and 2 workers")
+    return f"{len(a.cells)} cells identical"
+
+
+def bench_arena_dask(repeats: int) -> list[Row]:
+    """An arena design on a Dask LocalCluster of two workers against one worker.
+
+    The design (:data:`DASK_DESIGN`, every registered method) runs through
+    ``secest.arena.matrix.run_matrix(scheduler=...)``: batches of (scenarios, methods) planned by
+    ``plan_tasks``. Each side gets a fresh cluster per repeat (no design cached from an earlier
+    run), warmed by a two-step design first (imports), not timed; two alternating repeats per side.
+    The scheduling overhead of a run is ``1 - sum of the batches' own times / (wall x workers)``:
+    the share of the workers' time not spent in the arena's work (waiting, transfers, the tail).
+    """
+    from dask.distributed import LocalCluster
+
+    from secest.arena import matrix, scenarios
+
+    design = _dask_design()
+    warm = [scenarios.scenario("target20", "none", runs=2, horizon=2)]
+    times: dict[int, list[float]] = {1: [], 2: []}
+    overhead: dict[int, list[float]] = {1: [], 2: []}
+    result: dict[int, object] = {}
+    for _ in range(2):
+        for n in (1, 2):
+            with LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                              dashboard_address=None) as cluster:
+                matrix.run_matrix(warm, short=True, scheduler=cluster.scheduler_address)
+                t0 = time.perf_counter()
+                result[n] = matrix.run_matrix(design, short=True, scheduler=cluster.scheduler_address)
+                wall = time.perf_counter() - t0
+            times[n].append(wall)
+            overhead[n].append(1.0 - sum(result[n].tasks) / (wall * n))
+    agreement = _same_cells(result[1], result[2])
+    one, two = float(np.median(times[1])), float(np.median(times[2]))
+    load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
+    d = DASK_DESIGN
+    what = (f"arena design on Dask: 2 workers vs 1 ({len(d['networks'])} plants x "
+            f"{len(d['attacks'])} attacks x {len(d['seeds'])} seeds x {len(result[1].methods)} "
+            f"methods, {d['runs']} runs x {d['horizon']} steps; {len(result[2].tasks)} batches)")
+    return [Row(what, "2 workers", "1 worker", two, one, one / two,
+                f"{agreement}; scheduling overhead 1 worker "
+                f"{100 * float(np.median(overhead[1])):.1f} %, 2 workers "
+                f"{100 * float(np.median(overhead[2])):.1f} %; load average at the end {load}",
+                ">= 1.7x on 2 cores", one / two >= 1.7, "design", 2)]
+
+
 SECTIONS: dict[str, Callable[[int], list[Row]]] = {
     "ding2020": bench_ding2020,
     "guo2023": bench_guo2023,
@@ -784,6 +854,7 @@ SECTIONS: dict[str, Callable[[int], list[Row]]] = {
     "ma2021": bench_ma2021,
     "arena": bench_arena,
     "sweep": bench_sweep,
+    "arena-dask": bench_arena_dask,
     "runs": bench_runs,
 }
 

@@ -153,6 +153,7 @@ def test_a_bad_cards_file_is_refused_by_key(tmp_path: Path, capsys) -> None:
     cards.write_text((EXAMPLES / "my_cards.toml").read_text().replace("magnitude = 30.0", "magnitud = 30.0"))
     assert cli.main(["--cards", str(cards), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err.strip()
+    assert err.startswith(f"python -m secest.arena: error: --cards {cards}: ")
     assert err.endswith("attack bias2: unknown key 'magnitud' (did you mean 'magnitude'?); "
                         "valid: ['kind', 'magnitude', 'nodes', 'p', 'q', 'start', 'title', 'windows']")
     assert not (tmp_path / "o").exists()
@@ -207,6 +208,26 @@ def test_the_documented_card_keys_are_the_validated_ones() -> None:
         rows = [line.split("`")[1] for line in block.splitlines() if line.startswith("| `")]
         assert rows == list(keys)
     assert "```{include} _generated/card_schema.md" in PAGE.read_text()
+
+
+@pytest.mark.parametrize("key, low, below", [("horizon", 1, 0), ("runs", 2, 1), ("seed", 0, -1)])
+def test_the_run_settings_are_checked_as_the_schema_says(key: str, low: int, below: int) -> None:
+    """Each setting is a documented key of [scenario.<name>] and [matrix], with its lower bound."""
+    assert key in scenarios.CARD_KEYS["scenario"] and key in scenarios.CARD_KEYS["matrix"]
+    assert f">= {low}" in scenarios.CARD_KEYS["scenario"][key]
+    assert f">= {low}" in scenarios.CARD_KEYS["matrix"][key]
+    assert scenarios.SETTINGS[key](key, low) == low
+    with pytest.raises(ValidationError, match=rf"^scenario s: {key} must be >= {low}, found {below}$"):
+        scenarios.cards(extra={"scenario": {"s": {"network": "inertia5", "attack": "none", key: below}}})
+    assert set(scenarios.SETTINGS) == set(scenarios.CARD_KEYS["scenario"]) - {"title", "network", "attack"}
+
+
+def test_an_unknown_matrix_key_is_refused_with_the_nearest_one() -> None:
+    table = {**scenarios._cards()["matrix"], "atacks": ["none"]}
+    c = scenarios.cards()
+    with pytest.raises(ValidationError, match=r"^cards \[matrix\]: unknown key 'atacks' \(did you mean "
+                                              r"'attacks'\?\); valid: \[.*\]$"):
+        scenarios._matrix_table(table, c["network"], c["attack"])
 
 
 @pytest.mark.parametrize("kind, card", [

@@ -84,3 +84,36 @@ def test_the_command_line_refuses_zero_workers() -> None:
     assert proc.returncode == 2
     assert "--workers: expected an integer >= 1, found 0" in proc.stderr
     assert len(proc.stderr.strip().splitlines()) == 1
+
+
+def test_a_design_is_cut_into_batches_that_share_no_design() -> None:
+    """Each (network, horizon) group's methods are dealt into batches, each method into one."""
+    grid = [scenarios.scenario(net, att, runs=2, horizon=h, seed=s, name=f"{net}/{att}/{h}/{s}")
+            for net in ("target20", "inertia5") for att in ("none", "bias") for h in (10, 20)
+            for s in (1, 2)]
+    names = ["oracle", "kf", "local-kf", "guo2023", "li2025", "ma2021"]
+    batches = matrix.plan_tasks(grid, names, workers=2)
+    groups = {(sc.network.name, sc.horizon) for sc in grid}
+    assert len(batches) == len(groups) * 2  # 4 per worker x 2 workers over 4 groups
+    for key in groups:
+        mine = [b for b in batches if {(sc.network.name, sc.horizon) for sc in b[0]} == {key}]
+        assert sorted(n for _, ns in mine for n in ns) == sorted(names)
+        assert all(len(b[0]) == 4 for b in mine)  # 2 attacks x 2 seeds
+    costs = [sum(sc.runs * sc.horizon * sc.network.N for sc in b[0]) * sum(METHODS[n].cost for n in b[1])
+             for b in batches]
+    assert costs == sorted(costs, reverse=True)
+    heavy = [b for b in batches if "ma2021" in b[1]]
+    assert METHODS["ma2021"].cost > sum(METHODS[n].cost for n in names if n != "ma2021")
+    assert all(b[1] == ["ma2021"] for b in heavy)  # the costliest method alone in its batch
+    assert batches[0][1] == ["ma2021"]
+    assert len(matrix.plan_tasks(grid[:1], names, workers=64)) == len(names)  # one batch per method
+
+
+def test_the_tasks_of_a_dask_matrix_are_timed() -> None:
+    grid = scenarios.matrix(networks=["target20", "tank12"], attacks=["none"], runs=2, horizon=12)
+    m = matrix.run_matrix(grid, ["kf", "local-kf", "guo2023"], short=True, workers=2)
+    assert len(m.tasks) == len(matrix.plan_tasks(grid, m.methods, 2)) == 8
+    assert all(t > 0 for t in m.tasks)
+    here = matrix.run_matrix(grid, ["kf", "local-kf", "guo2023"], short=True)
+    assert len(here.tasks) == len(grid)
+    _same(here, m)

@@ -88,7 +88,7 @@ def test_a_bias_without_nodes_is_refused() -> None:
 
 def test_a_start_outside_the_horizon_is_refused() -> None:
     _refused(lambda: scenarios.cards(extra=_card("attack", {**BIAS, "start": 1.5})),
-             r"attack mine: start must lie in \[0, 1\], found 1\.5")
+             r"attack mine: start must lie in \[0, 1\), found 1\.5")
 
 
 def test_a_negative_node_index_is_refused() -> None:
@@ -199,3 +199,104 @@ def test_a_horizon_in_an_extra_matrix_is_refused() -> None:
              r"extra cards: \[matrix\] horizon is not read from an extra file; pass horizon= to "
              r"matrix\(\) or scenario\(\) \(--horizon on the command line\)")
 
+
+
+# ------------------------------------------------------------- found by the API sweep (issue #29)
+
+
+@pytest.mark.parametrize("change, pattern", [
+    ({"start": 1.0}, r"attack mine: start must lie in \[0, 1\), found 1\.0"),
+    ({"nodes": [0, 0]}, r"attack mine: nodes must be distinct, found \[0, 0\]"),
+    ({"title": 5}, r"attack mine: title must be a non-empty string, found 5"),
+    ({"kin": "bias", "kind": None}, r"attack mine: unknown key 'kin' \(did you mean 'kind'\?\); "
+                                    r"valid: \[.*'kind'.*\]"),
+])
+def test_a_bias_card_that_ran_silently_is_refused(change: dict, pattern: str) -> None:
+    """start = 1 attacked the last step only; duplicate nodes, a number as title passed unseen; a
+    misspelt kind was reported as a missing kind."""
+    card = {k: v for k, v in {**BIAS, **change}.items() if v is not None}
+    _refused(lambda: scenarios.cards(extra=_card("attack", card)), pattern)
+
+
+@pytest.mark.parametrize("card, pattern", [
+    ({"title": "r", "kind": "replacement", "nodes": [0], "prob": 0.0, "magnitude": 4.0},
+     r"attack mine: prob must lie in \(0, 1\], found 0\.0"),
+    ({"title": "d", "kind": "dos", "p": 0.0, "q": 0.5}, r"attack mine: p must lie in \(0, 1\], found 0\.0"),
+])
+def test_an_attack_that_never_acts_is_refused(card: dict, pattern: str) -> None:
+    _refused(lambda: scenarios.cards(extra=_card("attack", card)), pattern)
+
+
+def test_a_misspelt_graph_is_named_not_an_optional_key() -> None:
+    """``grap = "ring"`` was reported as an unknown ``degree``."""
+    card = {("grap" if k == "graph" else k): v for k, v in {**RING, "degree": 2}.items()}
+    _refused(lambda: scenarios.cards(extra=_card("network", card)),
+             r"network mine: unknown key 'grap' \(did you mean 'graph'\?\); valid: \[.*\]")
+
+
+@pytest.mark.parametrize("key, value, pattern", [
+    ("runs", 1, r"scenario s: runs must be >= 2, found 1"),
+    ("horizon", "Auto", r"scenario s: horizon must be an integer >= 1 or \"auto\", found 'Auto'"),
+    ("seed", -1, r"scenario s: seed must be >= 0, found -1"),
+])
+def test_a_named_scenario_card_checks_its_settings(key: str, value: object, pattern: str) -> None:
+    """cards() returned a named scenario with runs = 1 or seed = -1 as checked."""
+    card = {"network": "inertia5", "attack": "none", key: value}
+    _refused(lambda: scenarios.cards(extra={"scenario": {"s": card}}), pattern)
+
+
+def test_an_extra_matrix_naming_no_card_is_refused() -> None:
+    _refused(lambda: scenarios.cards(extra={"matrix": {"networks": ["nosuch"]}}),
+             r"\[matrix\] networks: \['nosuch'\] have no card; known: \[.*\]")
+
+
+def test_a_cards_file_that_is_no_toml_is_refused(tmp_path) -> None:
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[plant.x\n")
+    _refused(lambda: scenarios.cards(extra=bad), rf"extra: '{re.escape(str(bad))}' is not a TOML file \(.*\)")
+
+
+@pytest.mark.parametrize("kwargs, pattern", [
+    ({"seed": -1}, r"seed must be >= 0, found -1"),
+    ({"name": ""}, r"name must be a non-empty string, found ''"),
+])
+def test_scenario_arguments_are_checked(kwargs: dict, pattern: str) -> None:
+    _refused(lambda: scenarios.scenario("inertia5", "none", runs=2, horizon=10, **kwargs), pattern)
+
+
+def test_a_misspelt_matrix_override_is_refused() -> None:
+    _refused(lambda: scenarios.matrix(runs=2, horizn=10),
+             r"matrix\(\) arguments: unknown key 'horizn' \(did you mean 'horizon'\?\); "
+             r"valid: \['horizon', 'runs', 'seed'\]")
+
+
+def test_evaluate_with_no_names_is_refused(small) -> None:
+    """names=[] scored every registered method."""
+    sc, trial, _ = small
+    _refused(lambda: estimators.evaluate(sc, [], trial=trial, short=True),
+             r"names must be a non-empty list of registered method names, found \[\]")
+
+
+def test_run_matrix_of_no_scenario_is_refused() -> None:
+    _refused(lambda: matrix.run_matrix([], ["kf"]),
+             r"scenarios must be a non-empty list of Scenario, found list")
+
+
+def test_an_oracle_of_another_trial_is_refused(small) -> None:
+    _, trial, oracle = small
+    other = scenarios.simulate(scenarios.scenario("inertia5", "none", runs=3, horizon=10, seed=7))
+    _refused(lambda: estimators.score(other, oracle, oracle, short=True),
+             r"oracle: not the oracle's estimate on this trial of 'inertia5/none' "
+             r"\(computed on another trial\?\)")
+
+
+def test_a_paper_method_constant_out_of_range_is_refused() -> None:
+    from secest.arena.papers.ding2020 import Ding2020
+
+    _refused(lambda: Ding2020(kappa=-1.0), r"kappa must lie in \(0, 1\), found -1\.0")
+
+
+def test_a_network_of_another_plant_is_refused() -> None:
+    c = scenarios.cards()
+    _refused(lambda: scenarios.steady_state(c["plant"]["target"], c["network"]["inertia5"]),
+             r"network inertia5 observes plant 'three_inertia', not plant 'target'")

@@ -249,8 +249,12 @@ class LocalKF(Method):
         return Estimate(out)
 
 
+_MAX_ROUNDS = 1000
+"""Most consensus rounds per step a consensus baseline accepts (each round is one exchange)."""
+
+
 def _check_rounds(rounds: object) -> int:
-    return check_int("rounds", rounds, minimum=1)
+    return check_int("rounds", rounds, minimum=1, maximum=_MAX_ROUNDS)
 
 
 @register

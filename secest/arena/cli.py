@@ -134,6 +134,9 @@ def load_method(spec: str) -> str:
     str
         The method's name in the registry.
     """
+    if not isinstance(spec, str):
+        raise ValidationError(f"--method must be MOD:CLASS (a module or .py path, a class name), "
+                              f"found {spec!r}")
     where, sep, cls_name = spec.rpartition(":")
     if not sep or not where or not cls_name.isidentifier():
         raise ValidationError(f"--method must be MOD:CLASS (a module or .py path, a class name), "
@@ -194,8 +197,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         if args.cards is not None and not Path(args.cards).is_file():
             raise ValidationError(f"--cards: no file {args.cards!r}")
-        if args.cards is not None:
-            scenarios.cards(args.cards)  # every card checked before any method is imported
+        if args.cards is not None:  # every card checked before any method is imported
+            try:
+                scenarios.cards(args.cards)
+            except ValidationError as exc:
+                raise ValidationError(f"--cards {args.cards}: {exc}") from None
         for spec in args.method:
             load_method(spec)
         if args.list:

@@ -34,9 +34,14 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import stats
 
-from secest.arena.scenarios import Scenario, Trial
+from secest.arena.scenarios import Scenario, Trial, check_scenario
 from secest.core.tolerances import DETERMINISTIC, Tolerance
-from secest.core.validation import ValidationError, check_probability
+from secest.core.validation import (
+    ValidationError,
+    check_bool,
+    check_callable,
+    check_probability,
+)
 
 __all__ = [
     "BOOTSTRAP",
@@ -49,6 +54,8 @@ __all__ = [
     "Estimate",
     "Method",
     "Score",
+    "check_names",
+    "check_trial",
     "evaluate",
     "growth",
     "normalised_errors",
@@ -112,6 +119,10 @@ class Method:
     exchanges : bool
         Whether its nodes send each other messages (False: falsified or lost messages cannot
         reach it, so the message and DoS columns do not test it).
+    cost : float
+        Rough cost of the method on one scenario, its design included, relative to a Kalman
+        filter's (1): it only orders the batches of a design on Dask, largest first
+        (:func:`secest.arena.matrix.plan_tasks`), and never changes a result.
     """
 
     name: str = ""
@@ -122,6 +133,7 @@ class Method:
     home: str = ""
     home_note: str = ""
     exchanges: bool = True
+    cost: float = 1.0
 
     def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
         """The conditions of the method's theory on ``sc``: (statement, holds) pairs.
@@ -183,6 +195,7 @@ def register(method: Method | type[Method], *, replace: bool = False) -> Method 
         If ``method`` is not a :class:`Method` with a non-empty name, or its name is taken
         (unless ``replace``) or reserved.
     """
+    replace = check_bool("replace", replace)
     inst = method() if isinstance(method, type) and issubclass(method, Method) else method
     if not isinstance(inst, Method) or not isinstance(inst.name, str) or not inst.name:
         raise ValidationError("method must be a secest.arena.estimators.Method with a non-empty name")
@@ -421,7 +434,8 @@ def settle_steps(sc: Scenario, *, short: bool = False) -> int:
     """
     from secest.arena.scenarios import MIN_HORIZON_TAU, horizon_of
 
-    tau = sc.time_constant
+    short = check_bool("short", short)
+    tau = check_scenario("sc", sc).time_constant
     if sc.horizon < MIN_HORIZON_TAU * tau:
         if not short:
             raise ValidationError(
@@ -455,6 +469,12 @@ def normalised_errors(
     (runs, k, N) array
         The unit-free squared errors; their mean for the oracle is exactly 1.
     """
+    xhat, x, oracle = (np.asarray(a, dtype=float) for a in (xhat, x, oracle))
+    if (xhat.ndim != 4 or x.ndim != 3 or oracle.shape != x.shape
+            or xhat.shape[:2] + xhat.shape[3:] != x.shape):
+        raise ValidationError(f"Incompatible dimensions of xhat, x and oracle: expected (runs, k, N, "
+                              f"n), (runs, k, n) and (runs, k, n), found {xhat.shape}, {x.shape} "
+                              f"and {oracle.shape}")
     eo = (oracle - x).reshape(-1, x.shape[-1])
     e = xhat - x[:, :, None, :]
     white = e @ whitening(eo.T @ eo / eo.shape[0])
@@ -530,6 +550,11 @@ def growth(q: NDArray[np.float64]) -> float:
         ``mean q[:, 3k/4:] / mean q[:, k/4:k/2]`` (inf when the second quarter's mean is 0); a cell
         is diverged above :data:`GROWTH_LIMIT`.
     """
+    if not isinstance(q, np.ndarray) or q.ndim != 3 or q.size == 0:
+        raise ValidationError(f"q must be a (runs, k, N) array with k >= 1, found "
+                              f"{getattr(q, 'shape', type(q).__name__)}")
+    if not np.all(np.isfinite(q) & (q >= 0)):
+        raise ValidationError("q must hold finite non-negative squared errors")
     L = q.shape[1]
     mid = q[:, L // 4: max(L // 2, L // 4 + 1)].mean()
     late = q[:, (3 * L) // 4:].mean()
@@ -558,8 +583,10 @@ def score(trial: Trial, estimate: Estimate, oracle: Estimate, *, short: bool = F
         ``"ok"`` with the scores (and rates when the method raises alarms), or ``"diverged"``
         with the reason (not finite, or the growth factor).
     """
+    trial = check_trial("trial", trial)
     _check_estimate("estimate", estimate, trial)
     _check_estimate("oracle", oracle, trial)
+    _check_oracle_of(oracle, trial)
     settle = settle_steps(trial.scenario, short=short)
     if not np.all(np.isfinite(estimate.xhat)):
         return Score("diverged", "the estimate is not finite in some run")
@@ -587,19 +614,103 @@ def _scenario_key(sc: Scenario) -> tuple:
     return (sc.name, sc.plant.name, sc.network.name, sc.attack, sc.horizon, sc.runs, sc.seed)
 
 
+def check_trial(label: str, value: object) -> Trial:
+    """``value`` if it is a :class:`~secest.arena.scenarios.Trial` (drawn by ``simulate``).
+
+    Parameters
+    ----------
+    label : str
+        The argument's name, used in the message.
+    value : object
+        The value to check.
+
+    Returns
+    -------
+    Trial
+        ``value``.
+
+    Raises
+    ------
+    ValidationError
+        If ``value`` is not a Trial.
+    """
+    if not isinstance(value, Trial):
+        raise ValidationError(f"{label} must be a Trial (secest.arena.scenarios.simulate), "
+                              f"found {type(value).__name__}")
+    return value
+
+
+def check_names(label: str, names: object) -> list[str]:
+    """``names`` if it is a non-empty list of distinct registered method names.
+
+    Parameters
+    ----------
+    label : str
+        The argument's name, used in the message (``names``, ``methods``).
+    names : object
+        The value to check.
+
+    Returns
+    -------
+    list of str
+        The names, in the order given.
+
+    Raises
+    ------
+    ValidationError
+        If ``names`` is a bare string, not a non-empty list of strings, lists a name twice, or
+        names a method that is not registered.
+    """
+    if (isinstance(names, str) or not isinstance(names, list | tuple) or not names
+            or not all(isinstance(n, str) for n in names)):
+        raise ValidationError(f"{label} must be a non-empty list of registered method names, "
+                              f"found {names!r}")
+    if len(set(names)) != len(names):
+        raise ValidationError(f"{label}: a method is listed twice in {list(names)}")
+    unknown = [n for n in names if n not in METHODS]
+    if unknown:
+        raise ValidationError(f"{label}: methods {unknown} are not registered; registered: "
+                              f"{list(METHODS)}")
+    return list(names)
+
+
+def _check_oracle_of(oracle: Estimate, trial: Trial) -> None:
+    """``oracle`` is the oracle's estimate on ``trial``: its first step is recomputed and compared.
+
+    The first step is the prior updated with the clean measurements of step 0 (one Kalman update),
+    so an oracle run on another trial (of the same shapes) is refused at the cost of one update.
+    """
+    sc = trial.scenario
+    first = centralised_kf(sc, trial.y_clean[:, :1])[:, 0]
+    if not np.allclose(oracle.xhat[:, 0, 0], first, rtol=1e-6, atol=1e-9 * sc.plant.x0_std):
+        raise ValidationError(f"oracle: not the oracle's estimate on this trial of {sc.name!r} "
+                              "(computed on another trial?)")
+
+
 def _check_estimate(name: str, est: Estimate, trial: Trial) -> None:
     """``est`` has one estimate per run, step, node and state component of ``trial``."""
     runs, K1, N, _ = trial.y.shape
     want = (runs, K1, N, trial.scenario.plant.n)
     xhat = getattr(est, "xhat", None)
     if not isinstance(est, Estimate) or not isinstance(xhat, np.ndarray):
-        raise ValidationError(f"{name} must be an Estimate, found {type(est).__name__}")
+        raise ValidationError(f"{name} must be an Estimate with an array xhat, found "
+                              f"{type(est).__name__}")
     if xhat.shape != want:
         raise ValidationError(f"Incompatible dimensions of {name}.xhat: expected {want} "
                               f"(runs, K + 1, nodes, states), found {xhat.shape}")
-    if est.alarms is not None and np.shape(est.alarms) != want[:3]:
-        raise ValidationError(f"Incompatible dimensions of {name}.alarms: expected {want[:3]}, "
-                              f"found {np.shape(est.alarms)}")
+    if not np.issubdtype(xhat.dtype, np.number) or np.issubdtype(xhat.dtype, np.complexfloating):
+        raise ValidationError(f"{name}.xhat must hold real numbers, found dtype {xhat.dtype}")
+    if est.alarms is not None and (np.shape(est.alarms) != want[:3]
+                                   or np.asarray(est.alarms).dtype != bool):
+        raise ValidationError(f"{name}.alarms must be a bool array of shape {want[:3]}, found "
+                              f"{np.shape(est.alarms)} of {np.asarray(est.alarms).dtype}")
+    if est.bound is not None:
+        try:
+            np.broadcast_shapes(np.shape(est.bound), (*want, want[-1]))
+        except ValueError:
+            raise ValidationError(f"Incompatible dimensions of {name}.bound: expected an array "
+                                  f"broadcastable to {(*want, want[-1])}, found "
+                                  f"{np.shape(est.bound)}") from None
 
 
 def rate(alarms: NDArray[np.bool_], where: NDArray[np.bool_]) -> tuple[float, float, float]:
@@ -618,6 +729,13 @@ def rate(alarms: NDArray[np.bool_], where: NDArray[np.bool_]) -> tuple[float, fl
     -------
     (rate, low, high)
     """
+    for label, a in (("alarms", alarms), ("where", where)):
+        if not isinstance(a, np.ndarray) or a.dtype != bool or a.ndim == 0:
+            raise ValidationError(f"{label} must be a bool array of (run, ...) samples, found "
+                                  f"{getattr(a, 'dtype', type(a).__name__)}")
+    if alarms.shape != where.shape:
+        raise ValidationError(f"Incompatible dimensions of alarms and where: {alarms.shape} and "
+                              f"{where.shape}")
     hits = (alarms & where).reshape(alarms.shape[0], -1).sum(axis=1)
     total = where.reshape(where.shape[0], -1).sum(axis=1)
     return rate_of_counts(hits, total)
@@ -644,6 +762,11 @@ def rate_of_counts(hits: NDArray[np.int_], total: NDArray[np.int_]) -> tuple[flo
     if hits.ndim != 1 or hits.shape != total.shape:
         raise ValidationError(f"Incompatible dimensions of hits and total: expected two (runs,) "
                               f"arrays, found {hits.shape} and {total.shape}")
+    if not all(np.issubdtype(a.dtype, np.integer) for a in (hits, total)):
+        raise ValidationError(f"hits and total must be integer counts, found {hits.dtype} and "
+                              f"{total.dtype}")
+    if np.any(hits < 0) or np.any(hits > total):
+        raise ValidationError("hits and total: every run needs 0 <= hits <= total")
     n_hits, n = int(hits.sum()), int(total.sum())
     if n == 0:
         raise ValidationError("where must select at least one sample")
@@ -678,7 +801,7 @@ def evaluate(
     ----------
     sc : Scenario
     names : list of str, optional
-        Registered method names (default: every one, in registration order).
+        Registered method names, a non-empty list (default: every one, in registration order).
     runner : callable, optional
         ``runner(method, trial) -> Estimate`` instead of ``method.run(trial)`` (e.g. to time it).
     observe : callable, optional
@@ -691,10 +814,12 @@ def evaluate(
     """
     from secest.arena.scenarios import simulate
 
-    unknown = [n for n in names or [] if n not in METHODS]
-    if unknown:
-        raise ValidationError(f"methods {unknown} are not registered; registered: {list(METHODS)}")
-    if trial is not None and _scenario_key(trial.scenario) != _scenario_key(sc):
+    sc = check_scenario("sc", sc)
+    names = list(METHODS) if names is None else check_names("names", names)
+    for label, fn in (("runner", runner), ("observe", observe)):
+        if fn is not None:
+            check_callable(label, fn)
+    if trial is not None and _scenario_key(check_trial("trial", trial).scenario) != _scenario_key(sc):
         raise ValidationError(f"trial: drawn for scenario {trial.scenario.name!r}, not for {sc.name!r}")
     settle_steps(sc, short=short)
     trial = simulate(sc) if trial is None else trial
@@ -702,7 +827,7 @@ def evaluate(
     if observe is not None:
         observe("oracle", trial, oracle)
     out: dict[str, Score] = {}
-    for name in names or list(METHODS):
+    for name in names:
         out[name] = _cell(METHODS[name], trial, oracle, runner, observe, short)
     return out
 

@@ -29,8 +29,8 @@ from numpy.typing import NDArray
 
 from secest.arena import estimators
 from secest.arena.estimators import METHODS, Estimate, Score
-from secest.arena.scenarios import Scenario, Trial, simulate
-from secest.core.validation import ValidationError
+from secest.arena.scenarios import Scenario, Trial, check_scenario, simulate
+from secest.core.validation import ValidationError, check_bool
 
 __all__ = [
     "CELL_FIELDS",
@@ -40,6 +40,8 @@ __all__ = [
     "attack_activity",
     "cell_text",
     "check_dask_arguments",
+    "check_matrix",
+    "plan_tasks",
     "dask_client",
     "error_curve",
     "fmt_interval",
@@ -92,6 +94,10 @@ class Matrix:
         Scenario name -> :class:`Curves`.
     seconds : dict
         ``(scenario name, method name) -> wall time of its run`` (machine-dependent).
+    tasks : list of float
+        Wall time of each task inside its process (machine-dependent): one per scenario in this
+        process, one per batch on Dask (:func:`plan_tasks`). Their sum over the wall time of the
+        call times the workers is the share of the workers' time spent on the arena's work.
     """
 
     scenarios: list[Scenario]
@@ -99,6 +105,7 @@ class Matrix:
     cells: dict[tuple[str, str], Score]
     curves: dict[str, Curves] = field(default_factory=dict)
     seconds: dict[tuple[str, str], float] = field(default_factory=dict)
+    tasks: list[float] = field(default_factory=list)
 
     def cell(self, scenario: str, method: str) -> Score:
         """The score of ``method`` on the scenario named ``scenario``."""
@@ -106,6 +113,32 @@ class Matrix:
             return self.cells[(scenario, method)]
         except KeyError:
             raise ValidationError(f"no cell ({scenario!r}, {method!r}) in the matrix") from None
+
+
+def check_matrix(label: str, value: object) -> Matrix:
+    """``value`` if it is a :class:`Matrix` (from :func:`run_matrix`).
+
+    Parameters
+    ----------
+    label : str
+        The argument's name, used in the message.
+    value : object
+        The value to check.
+
+    Returns
+    -------
+    Matrix
+        ``value``.
+
+    Raises
+    ------
+    ValidationError
+        If ``value`` is not a Matrix.
+    """
+    if not isinstance(value, Matrix):
+        raise ValidationError(f"{label} must be a Matrix (secest.arena.matrix.run_matrix), found "
+                              f"{type(value).__name__}")
+    return value
 
 
 def scaled(sc: Scenario, factor: float) -> Scenario:
@@ -124,7 +157,7 @@ def scaled(sc: Scenario, factor: float) -> Scenario:
     if not (isinstance(factor, int | float) and not isinstance(factor, bool) and factor > 0
             and math.isfinite(factor)):
         raise ValidationError(f"factor must be a positive finite number, found {factor!r}")
-    if sc.attack.kind not in ("bias", "replacement", "message") or factor == 1:
+    if check_scenario("sc", sc).attack.kind not in ("bias", "replacement", "message") or factor == 1:
         return sc
     return replace(sc, attack=replace(sc.attack, magnitude=sc.attack.magnitude * float(factor)))
 
@@ -156,7 +189,7 @@ def attack_activity(trial: Trial) -> NDArray[np.float64]:
     trial : Trial
         One simulated scenario (``secest.arena.scenarios.simulate``).
     """
-    kind = trial.scenario.attack.kind
+    kind = estimators.check_trial("trial", trial).scenario.attack.kind
     if kind in ("bias", "replacement"):
         acting = trial.attacked.any(axis=2)
     elif kind == "message":
@@ -181,9 +214,9 @@ def run_matrix(
 
     One :func:`~secest.arena.scenarios.simulate` per scenario feeds every method
     (:func:`secest.arena.estimators.evaluate`); the oracle is the reference of each ratio.
-    A scenario (its trial and every method on it) is one task: in this process, or, with
-    ``scheduler`` or ``workers``, on Dask distributed (:func:`_on_dask`), with the same result
-    (every draw comes from the scenario's own seed).
+    In this process a scenario (its trial and every method on it) is one task; with ``scheduler``
+    or ``workers`` the design runs as batches on Dask distributed (:func:`plan_tasks`), with the
+    same result (every draw comes from the scenario's own seed).
 
     Parameters
     ----------
@@ -203,30 +236,57 @@ def run_matrix(
         Without ``scheduler``: the number of single-threaded worker processes of a Dask
         ``LocalCluster`` started for this call (the ``sweep`` extra brings Dask).
     """
-    names = list(METHODS) if methods is None else list(methods)
-    unknown = [n for n in names if n not in METHODS]
-    if unknown:
-        raise ValidationError(f"methods {unknown} are not registered; registered: {list(METHODS)}")
+    names = list(METHODS) if methods is None else estimators.check_names("methods", methods)
     if "oracle" not in names:
         names.insert(0, "oracle")
-    seen = [sc.name for sc in scenarios]
-    if len(set(seen)) != len(seen):
-        raise ValidationError(f"scenario names must be unique, found {seen}")
+    scenarios = _check_scenarios(scenarios)
+    curves, short = check_bool("curves", curves), check_bool("short", short)
     check_dask_arguments(scheduler, workers)
     for sc in scenarios:  # every horizon checked before any work starts
         estimators.settle_steps(sc, short=short)
     shipped = [METHODS[n] for n in names]
     if scheduler is None and workers is None:
-        parts = [scenario_task(sc, shipped, curves, short) for sc in scenarios]
+        done = [_timed_batch([sc], shipped, curves, short) for sc in scenarios]
     else:
-        parts = _on_dask(list(scenarios), shipped, curves, short, scheduler, workers)
-    out = Matrix(list(scenarios), names, {})
-    for sc, (cells, seconds, curve) in zip(scenarios, parts, strict=True):
-        out.cells.update({(sc.name, n): s for n, s in cells.items()})
-        out.seconds.update({(sc.name, n): t for n, t in seconds.items()})
-        if curve is not None:
-            out.curves[sc.name] = curve
+        done = _on_dask(scenarios, shipped, curves, short, scheduler, workers)
+    return _assemble(scenarios, names, done)
+
+
+def _assemble(scenarios: list[Scenario], names: list[str],
+              done: list[tuple[list, float]]) -> Matrix:
+    """The matrix of the batches' parts, cells in scenario then method order (as in one process)."""
+    cells: dict[str, dict[str, Score]] = {sc.name: {} for sc in scenarios}
+    seconds: dict[str, dict[str, float]] = {sc.name: {} for sc in scenarios}
+    curves: dict[str, Curves] = {}
+    for parts, _ in done:
+        for name, (c, t, curve) in parts:
+            cells[name].update(c)
+            seconds[name].update(t)
+            if curve is not None and name in curves:
+                curves[name].rms.update(curve.rms)
+            elif curve is not None:
+                curves[name] = curve
+    out = Matrix(list(scenarios), names, {}, tasks=[t for _, t in done])
+    for sc in scenarios:
+        out.cells.update({(sc.name, n): cells[sc.name][n] for n in names})
+        out.seconds.update({(sc.name, n): seconds[sc.name][n] for n in names if n in seconds[sc.name]})
+        if sc.name in curves:
+            rms = curves[sc.name].rms
+            out.curves[sc.name] = replace(curves[sc.name], rms={n: rms[n] for n in names if n in rms})
     return out
+
+
+def _check_scenarios(scenarios: object) -> list[Scenario]:
+    """A non-empty list of scenarios with distinct names."""
+    if isinstance(scenarios, Scenario) or not isinstance(scenarios, Sequence) or not scenarios:
+        raise ValidationError(f"scenarios must be a non-empty list of Scenario, found "
+                              f"{type(scenarios).__name__}")
+    for sc in scenarios:
+        check_scenario("scenarios: each entry", sc)
+    seen = [sc.name for sc in scenarios]
+    if len(set(seen)) != len(seen):
+        raise ValidationError(f"scenarios: scenario names must be unique, found {seen}")
+    return list(scenarios)
 
 
 def scenario_task(
@@ -367,15 +427,79 @@ def dask_client(methods: Sequence[estimators.Method], scheduler: str | None,
             cluster.close()
 
 
+TASKS_PER_WORKER = 4
+"""A design on Dask is cut into about this many batches per worker (:func:`plan_tasks`)."""
+
+
+def plan_tasks(scenarios: Sequence[Scenario], methods: Sequence[str],
+               workers: int) -> list[tuple[list[Scenario], list[str]]]:
+    """The batches of a design on Dask: (scenarios, methods) pairs, largest first.
+
+    A method's design (gains, LMIs, observer banks) depends on the plant, the network and the
+    horizon, not on the attack or the seed, and is cached on the method: so every scenario of one
+    (network, horizon) goes into the batches of that group, and each method into exactly one of
+    them, so that no design is computed twice. A group's methods are dealt into as many batches
+    as give about :data:`TASKS_PER_WORKER` batches per worker over the design (at most one batch
+    per method), of about equal :attr:`~secest.arena.estimators.Method.cost`. Each batch draws
+    its scenarios' trials and runs the oracle on them (the unit of every score): cheap beside the
+    methods, and what keeps every draw equal to the one in a single process.
+
+    Parameters
+    ----------
+    scenarios : sequence of Scenario
+        The design's scenarios (distinct names).
+    methods : sequence of str
+        The method names scored on every scenario (the oracle among them).
+    workers : int
+        Worker processes the batches are for (>= 1).
+
+    Returns
+    -------
+    list of (list of Scenario, list of str)
+        The batches, by decreasing estimated cost (runs x steps x nodes x the methods' costs):
+        the order to submit them in (a greedy balance).
+    """
+    groups: dict[tuple[str, int], list[Scenario]] = {}
+    for sc in scenarios:
+        groups.setdefault((sc.network.name, sc.horizon), []).append(sc)
+    per_group = min(len(methods), max(1, math.ceil(TASKS_PER_WORKER * workers / len(groups))))
+    batches = [(group, names) for group in groups.values()
+               for names in _deal(list(methods), per_group)]
+    return sorted(batches, key=lambda b: -sum(map(_cost, b[0])) * sum(METHODS[n].cost for n in b[1]))
+
+
+def _deal(names: list[str], chunks: int) -> list[list[str]]:
+    """``names`` dealt into ``chunks`` lists of about equal :attr:`Method.cost`, costliest first;
+    each list in the order of ``names``."""
+    dealt: list[list[str]] = [[] for _ in range(chunks)]
+    loads = [0.0] * chunks
+    for name in sorted(names, key=lambda n: -METHODS[n].cost):
+        i = loads.index(min(loads))
+        dealt[i].append(name)
+        loads[i] += METHODS[name].cost
+    return [sorted(d, key=names.index) for d in dealt]
+
+
+def _timed_batch(scenarios: list[Scenario], methods: list[estimators.Method], curves: bool,
+                 short: bool) -> tuple[list[tuple[str, Any]], float]:
+    """:func:`scenario_task` of every scenario of a batch, and the batch's wall time."""
+    t0 = time.perf_counter()
+    parts = [(sc.name, scenario_task(sc, methods, curves, short)) for sc in scenarios]
+    return parts, time.perf_counter() - t0
+
+
 def _on_dask(scenarios: list[Scenario], methods: list[estimators.Method], curves: bool, short: bool,
-             scheduler: str | None, workers: int | None) -> list[Any]:
-    """:func:`scenario_task` of every scenario on Dask, largest first (a greedy balance)."""
+             scheduler: str | None, workers: int | None) -> list[tuple[list, float]]:
+    """:func:`plan_tasks`'s batches on Dask, submitted largest first; their parts and wall times."""
     with dask_client(methods, scheduler, workers) as client:
-        order = sorted(range(len(scenarios)), key=lambda i: -_cost(scenarios[i]))
-        shipped = client.scatter(methods, broadcast=True)
-        futures = {i: client.submit(scenario_task, scenarios[i], shipped, curves, short, pure=False)
-                   for i in order}
-        return [futures[i].result() for i in range(len(scenarios))]
+        n_workers = max(1, len(client.scheduler_info()["workers"]))
+        by_name = dict(zip((m.name for m in methods), client.scatter(methods, broadcast=True),
+                           strict=True))
+        batches = plan_tasks(scenarios, list(by_name), n_workers)
+        futures = [client.submit(_timed_batch, group, [by_name[n] for n in names], curves, short,
+                                 pure=False, priority=len(batches) - i)
+                   for i, (group, names) in enumerate(batches)]
+        return client.gather(futures)
 
 
 # ---------------------------------------------------------------------------------- words
@@ -403,6 +527,9 @@ def fmt_interval(value: tuple[float, float, float] | None, *, percent: bool = Fa
     """
     if value is None:
         return "–"
+    if (not isinstance(value, tuple | list) or len(value) != 3
+            or not all(isinstance(v, int | float | np.floating) for v in value)):
+        raise ValidationError(f"value must be None or (value, low, high) numbers, found {value!r}")
     scale, unit = (100.0, " %") if percent else (1.0, "")
     v, lo, hi = (scale * float(u) for u in value)
     return f"{_sig(v)}{unit} [{_sig(lo)}, {_sig(hi)}]"
@@ -426,6 +553,8 @@ def cell_text(s: Score) -> dict[str, str]:
     s : Score
         The score of one (scenario, method) cell.
     """
+    if not isinstance(s, Score):
+        raise ValidationError(f"s must be a Score, found {type(s).__name__}")
     if s.status not in STATUSES:
         raise ValidationError(f"status must be one of {STATUSES}, found {s.status!r}")
     blank = dict.fromkeys(CELL_FIELDS, "")
@@ -462,7 +591,7 @@ def table_rows(m: Matrix) -> list[dict[str, str]]:
         The scored matrix (:func:`run_matrix`).
     """
     rows = []
-    for sc in m.scenarios:
+    for sc in check_matrix("m", m).scenarios:
         for name in m.methods:
             rows.append({"scenario": sc.name, "method": name} | cell_text(m.cell(sc.name, name)))
     return rows

@@ -23,15 +23,15 @@ import csv
 import importlib.util
 import json
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from secest.arena import matrix, scenarios
+from secest.arena import estimators, matrix, scenarios
 from secest.arena.estimators import METHODS, Method, register
-from secest.core.validation import ValidationError
+from secest.core.validation import ValidationError, check_bool, check_real
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -82,7 +82,7 @@ def columns(m: matrix.Matrix) -> dict[str, list]:
         method's theory that fail there (``outside``, ``"; "``-joined).
     """
     data: dict[str, list] = {k: [] for k in COLUMNS}
-    for sc in m.scenarios:
+    for sc in matrix.check_matrix("m", m).scenarios:
         for name in m.methods:
             c = m.cell(sc.name, name)
             data["scenario"].append(sc.name)
@@ -109,6 +109,7 @@ def method_order(names: Sequence[str]) -> list[str]:
     names : sequence of str
         Registered method names.
     """
+    names = estimators.check_names("names", names)
     return [n for kind, _ in GROUPS for n in names if _group(n) == kind]
 
 
@@ -142,6 +143,10 @@ def heatmap(m: matrix.Matrix, *, title: str, width: float = 7.16) -> Figure:
         Not attached to pyplot; save it with ``fig.savefig``. Font sizes are set here (those of
         :mod:`secest.repro.plotting`'s house style), so the figure reads the same without it.
     """
+    matrix.check_matrix("m", m)
+    if not isinstance(title, str):
+        raise ValidationError(f"title must be a string, found {type(title).__name__}")
+    width = check_real("width", width, lower=0.0, lower_open=True)
     import matplotlib as mpl
     from matplotlib.colors import LogNorm
     from matplotlib.figure import Figure
@@ -233,7 +238,7 @@ def plant_tables(m: matrix.Matrix) -> dict[str, str]:
         scores, the transient score, the detection and false-alarm rates with their 95 %
         intervals, and the failed conditions of the method's theory; or the cell's status in bold.
     """
-    plant_of = {sc.name: sc.plant for sc in m.scenarios}
+    plant_of = {sc.name: sc.plant for sc in matrix.check_matrix("m", m).scenarios}
     out: dict[str, list[str]] = {}
     for row in matrix.table_rows(m):
         plant = plant_of[row["scenario"]]
@@ -277,6 +282,8 @@ def _names(label: str, value: Sequence[str] | None) -> list[str] | None:
     if isinstance(value, str) or not isinstance(value, Sequence) or not value or not all(
             isinstance(v, str) and v for v in value):
         raise ValidationError(f"{label} must be a non-empty list of card names, found {value!r}")
+    if len(set(value)) != len(value):
+        raise ValidationError(f"{label}: a card is listed twice in {list(value)}")
     return list(value)
 
 
@@ -299,7 +306,7 @@ def _method_names(methods: Sequence[str | Method | type[Method]] | None) -> list
         else:
             raise ValidationError(f"methods: each entry must be a method name or a Method subclass, "
                                   f"found {m!r}")
-    return names
+    return estimators.check_names("methods", names)
 
 
 def race(
@@ -351,7 +358,11 @@ def race(
     Matrix
         The scored matrix (:func:`secest.arena.matrix.run_matrix`).
     """
+    if cards is not None and not isinstance(cards, str | Path | Mapping):
+        raise ValidationError(f"cards must be a TOML file's path or a mapping of card tables, found "
+                              f"{type(cards).__name__}")
     names = _method_names(methods)
+    short = check_bool("short", short)
     matrix.check_dask_arguments(scheduler, workers)
     plants, attacks = _names("plants", plants), _names("attacks", attacks)
     if out is not None and (not isinstance(out, str | Path) or Path(out).is_file()):
@@ -398,6 +409,9 @@ def write(m: matrix.Matrix, out: str | Path) -> list[Path]:
         (:func:`heatmap`; only where matplotlib is installed, :func:`can_plot`, and some cell
         is scored) and ``tables/<plant>.md`` (:func:`plant_tables`).
     """
+    matrix.check_matrix("m", m)
+    if not isinstance(out, str | Path):
+        raise ValidationError(f"out must be a folder path, found {type(out).__name__}")
     folder = Path(out)
     if folder.is_file():
         raise ValidationError(f"out must be a folder path (not a file), found {str(out)!r}")

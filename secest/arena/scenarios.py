@@ -41,7 +41,7 @@ import scipy.linalg as sla
 from numpy.typing import NDArray
 
 from secest.core import validation
-from secest.core.validation import ValidationError, as_matrix, check_positive_int, check_probability
+from secest.core.validation import ValidationError, as_matrix, check_positive_int
 
 __all__ = [
     "ATTACK_KINDS",
@@ -51,9 +51,12 @@ __all__ = [
     "Network",
     "Plant",
     "Scenario",
+    "SETTINGS",
     "Trial",
     "auto_horizon",
     "cards",
+    "check_horizon",
+    "check_scenario",
     "horizon_of",
     "matrix",
     "scenario",
@@ -90,32 +93,35 @@ CARD_KEYS: dict[str, dict[str, str]] = {
     "attack": {
         "title": "one line for tables and figures",
         "kind": "one of ATTACK_KINDS",
-        "nodes": "bias, replacement: attacked sensor nodes, 0-based indices",
-        "start": "bias: onset as a fraction of the horizon, in [0, 1] (or give windows)",
+        "nodes": "bias, replacement: attacked sensor nodes, distinct 0-based indices below N",
+        "start": "bias: onset as a fraction of the horizon, in [0, 1) (or give windows)",
         "windows": "bias, instead of start: per entry of nodes, the steps [first, last] (inclusive) "
                    "or [first] (to the horizon's end) of its bias",
         "prob": "replacement: probability a measurement is replaced; "
-                "message: that a message is falsified",
+                "message: that a message is falsified; in (0, 1]",
         "magnitude": "bias, replacement: in noise standard deviations; "
                      "message: in the message's scale",
         "p": "dos (bias, optional: the links fail as well): failure probability per step of the "
-             "shared Gilbert-Elliott chain",
-        "q": "dos (bias, optional, with p): recovery probability per step",
+             "shared Gilbert-Elliott chain, in (0, 1]",
+        "q": "dos (bias, optional, with p): recovery probability per step, in [0, 1]",
     },
     "scenario": {
-        "title": "optional: one line for tables and figures",
+        "title": "optional: one line for tables and figures, a non-empty string",
         "network": "name of a network card (with its plant)",
         "attack": "name of an attack card",
-        "horizon": "optional: steps, or \"auto\" (20 time constants of the plant on the network)",
-        "runs": "optional: Monte Carlo runs, >= 2",
-        "seed": "optional: seed of the trials",
+        "horizon": "optional: steps, an integer >= 1, or \"auto\" (20 time constants of the "
+                   "plant on the network)",
+        "runs": "optional: Monte Carlo runs, an integer >= 2",
+        "seed": "optional: seed of the trials, an integer >= 0",
     },
     "matrix": {
-        "networks": "network cards crossed with the attacks (an extra file's list is appended)",
-        "attacks": "attack cards crossed with the networks (an extra file's list is appended)",
-        "horizon": "package file only: steps, or \"auto\"; a call passes horizon=",
-        "runs": "package file only: Monte Carlo runs; a call passes runs=",
-        "seed": "package file only: seed of the trials; a call passes seed=",
+        "networks": "network cards crossed with the attacks, a non-empty list of card names "
+                    "(an extra file's list is appended)",
+        "attacks": "attack cards crossed with the networks, a non-empty list of card names "
+                   "(an extra file's list is appended)",
+        "horizon": "package file only: steps, an integer >= 1, or \"auto\"; a call passes horizon=",
+        "runs": "package file only: Monte Carlo runs, an integer >= 2; a call passes runs=",
+        "seed": "package file only: seed of the trials, an integer >= 0; a call passes seed=",
     },
 }
 """Every key a card may have, with what it means: the one schema the validator and the docs use.
@@ -149,6 +155,66 @@ def _check_keys(kind: str, name: str, card: Mapping[str, Any], required: set[str
     missing = sorted(required - set(card))
     if missing:
         raise ValidationError(f"{kind} {name}: missing key(s) {missing}")
+
+
+def _check_text(label: str, value: object) -> str:
+    """``value`` if it is a non-empty string (a title, a source, a name)."""
+    if not isinstance(value, str) or not value.strip():
+        raise ValidationError(f"{label} must be a non-empty string, found {value!r}")
+    return value
+
+
+def _check_table(label: str, value: object) -> dict[str, Any]:
+    """``value`` as a dict if it is a table (a mapping of keys to values)."""
+    if not isinstance(value, Mapping):
+        raise ValidationError(f"{label} must be a table (keys and values), found {value!r}")
+    return dict(value)
+
+
+def check_horizon(label: str, value: object) -> int | str:
+    """A horizon: ``"auto"`` or an integer number of steps from 1 to ``MAX_STEPS``.
+
+    Parameters
+    ----------
+    label : str
+        What the value is (the argument or card key), used in the message.
+    value : object
+        The horizon to check.
+
+    Returns
+    -------
+    int or "auto"
+        ``value``.
+
+    Raises
+    ------
+    ValidationError
+        If ``value`` is neither (a :class:`~secest.core.validation.SizeLimitError` above the limit).
+    """
+    if isinstance(value, str):
+        if value != "auto":
+            raise ValidationError(f'{label} must be an integer >= 1 or "auto", found {value!r}')
+        return value
+    steps = check_positive_int(label, value)
+    return validation.check_size(label, steps, validation.MAX_STEPS, "steps")
+
+
+SETTINGS: dict[str, Callable[[str, object], Any]] = {
+    "horizon": check_horizon,
+    "runs": lambda label, value: validation.check_size(
+        label, check_positive_int(label, value, minimum=2), validation.MAX_ELEMENTS, "runs"),
+    "seed": lambda label, value: validation.check_int(label, value, minimum=0),
+}
+"""How the run settings are checked wherever they are given: a ``[scenario.<name>]`` card, the
+``[matrix]`` table, or the ``horizon=``, ``runs=``, ``seed=`` arguments (the ranges of
+:data:`CARD_KEYS`)."""
+
+
+def _check_settings(label: str, table: Mapping[str, Any]) -> None:
+    """Every run setting (:data:`SETTINGS`) that ``table`` gives, checked."""
+    for key, check in SETTINGS.items():
+        if key in table:
+            check(f"{label} {key}", table[key])
 
 
 @dataclass(frozen=True)
@@ -469,6 +535,43 @@ class Trial:
         return out + shift
 
 
+def _check_pair(plant: object, network: object) -> None:
+    """``plant`` a :class:`Plant` and ``network`` a :class:`Network` that observes it."""
+    if not isinstance(plant, Plant):
+        raise ValidationError(f"plant must be a Plant card, found {type(plant).__name__}")
+    if not isinstance(network, Network):
+        raise ValidationError(f"network must be a Network card, found {type(network).__name__}")
+    if network.plant != plant.name:
+        raise ValidationError(f"network {network.name} observes plant {network.plant!r}, "
+                              f"not plant {plant.name!r}")
+
+
+def check_scenario(label: str, value: object) -> Scenario:
+    """``value`` if it is a :class:`Scenario` (built by :func:`scenario`).
+
+    Parameters
+    ----------
+    label : str
+        The argument's name, used in the message.
+    value : object
+        The value to check.
+
+    Returns
+    -------
+    Scenario
+        ``value``.
+
+    Raises
+    ------
+    ValidationError
+        If ``value`` is not a Scenario.
+    """
+    if not isinstance(value, Scenario):
+        raise ValidationError(f"{label} must be a Scenario (secest.arena.scenarios.scenario), "
+                              f"found {type(value).__name__}")
+    return value
+
+
 def steady_state(plant: Plant, network: Network) -> tuple[NDArray[np.float64], float]:
     """The oracle's steady state on ``network``: its error covariance and the time constant ``tau``.
 
@@ -488,6 +591,7 @@ def steady_state(plant: Plant, network: Network) -> tuple[NDArray[np.float64], f
     (P, tau)
         ``P`` (n, n), the error covariance after the update; ``tau`` in steps (finite, > 0).
     """
+    _check_pair(plant, network)
     C = plant.outputs[network.measures].reshape(-1, plant.n)
     R = np.diag((plant.r_std[network.measures] ** 2).reshape(-1))
     A, Q = plant.A, plant.Q
@@ -526,7 +630,10 @@ def _cards(extra: Extra = None) -> dict[str, Any]:
         if not path.is_file():
             raise ValidationError(f"extra must be a cards file or a mapping; {str(path)!r} is no file")
         with path.open("rb") as fh:
-            more = tomllib.load(fh)
+            try:
+                more = tomllib.load(fh)
+            except tomllib.TOMLDecodeError as exc:
+                raise ValidationError(f"extra: {str(path)!r} is not a TOML file ({exc})") from None
     elif isinstance(extra, Mapping):
         more = dict(extra)
     else:
@@ -535,11 +642,12 @@ def _cards(extra: Extra = None) -> dict[str, Any]:
     if unknown:
         raise ValidationError(f"extra cards: unknown tables {unknown}; known: {[*CARD_KINDS, 'matrix']}")
     for kind in CARD_KINDS:
-        for name, card in more.get(kind, {}).items():
+        for name, card in _check_table(f"extra cards: [{kind}]", more.get(kind, {})).items():
+            _check_table(f"extra cards: {kind} {name}", card)
             if name in raw.get(kind, {}):
                 raise ValidationError(f"extra cards: {kind} {name!r} already exists in cards.toml")
             raw.setdefault(kind, {})[name] = card
-    extends = more.get("matrix", {})
+    extends = _check_table("extra cards: [matrix]", more.get("matrix", {}))
     per_call = sorted({"horizon", "runs", "seed"} & set(extends))
     if per_call:
         raise ValidationError(f"extra cards: [matrix] {per_call[0]} is not read from an extra file; "
@@ -548,10 +656,12 @@ def _cards(extra: Extra = None) -> dict[str, Any]:
     _check_keys("extra cards:", "[matrix]", extends, set(),
                 set(CARD_KEYS["matrix"]) - {"horizon", "runs", "seed"})
     for key in ("networks", "attacks"):  # extra [matrix] lists extend the cross
-        names = extends.get(key, [])
-        if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
-            raise ValidationError(f"extra cards: [matrix] {key} must be a list of card names, "
-                                  f"found {names!r}")
+        names = extends.get(key)
+        if names is None:
+            continue
+        if not isinstance(names, list) or not names or not all(isinstance(n, str) for n in names):
+            raise ValidationError(f"extra cards: [matrix] {key} must be a non-empty list of card "
+                                  f"names, found {names!r}")
         added = [n for n in names if n not in raw["matrix"][key]]
         raw["matrix"][key] = [*raw["matrix"][key], *added]
     return raw
@@ -560,6 +670,8 @@ def _cards(extra: Extra = None) -> dict[str, Any]:
 def _plant(name: str, card: dict[str, Any]) -> Plant:
     keys = set(CARD_KEYS["plant"])
     _check_keys("plant", name, card, keys, keys)
+    for key in ("title", "source"):
+        _check_text(f"plant {name}: {key}", card[key])
     Ac = as_matrix(f"plant {name}: Ac", card["Ac"], square=True)
     outputs = as_matrix(f"plant {name}: outputs", card["outputs"], (None, Ac.shape[0]))
     r_std = as_matrix(f"plant {name}: r_std", card["r_std"], (outputs.shape[0],))
@@ -617,9 +729,12 @@ def _graph(name: str, card: dict[str, Any]) -> NDArray[np.float64]:
 
 def _network(name: str, card: dict[str, Any], plants: dict[str, Plant]) -> Network:
     common = {"title", "plant", "N", "graph", "measures"}
+    if card.get("graph") not in _NETWORK_KEYS:  # a misspelt key (graph itself?) before the graph
+        _check_keys("network", name, card, common, set(CARD_KEYS["network"]))
     required, optional = _NETWORK_KEYS.get(card.get("graph"), (set(), set()))
     _check_keys("network", name, card, common | required, common | optional | required)
-    if card["plant"] not in plants:
+    _check_text(f"network {name}: title", card["title"])
+    if not isinstance(card["plant"], str) or card["plant"] not in plants:
         raise ValidationError(f"network {name}: plant {card['plant']!r} has no card")
     adj = _graph(name, card)
     rows = card["measures"]
@@ -630,9 +745,9 @@ def _network(name: str, card: dict[str, Any], plants: dict[str, Plant]) -> Netwo
                               f"output indices (integers), found {rows!r}")
     measures = np.asarray(rows, dtype=np.intp) if len({len(r) for r in rows}) == 1 else np.empty(0)
     n_out = plants[card["plant"]].outputs.shape[0]
-    if measures.ndim != 2 or measures.shape[0] != adj.shape[0]:
+    if measures.ndim != 2 or measures.shape[0] != adj.shape[0] or measures.shape[1] == 0:
         raise ValidationError(
-            f"network {name}: measures must list the same number of rows for each of "
+            f"network {name}: measures must list the same number (>= 1) of rows for each of "
             f"the {adj.shape[0]} nodes"
         )
     if measures.min() < 0 or measures.max() >= n_out:
@@ -640,21 +755,31 @@ def _network(name: str, card: dict[str, Any], plants: dict[str, Plant]) -> Netwo
     return Network(name, card["title"], card["plant"], adj, measures)
 
 
+_ATTACK_RANGES = {"start": (0.0, 1.0, False, True), "prob": (0.0, 1.0, True, False),
+                  "p": (0.0, 1.0, True, False), "q": (0.0, 1.0, False, False)}
+"""Per attack key: (lower, upper, lower open, upper open) of its interval (:data:`CARD_KEYS`)."""
+
+
 def _attack(name: str, card: dict[str, Any]) -> Attack:
     kind = card.get("kind")
-    if kind not in ATTACK_KINDS:
+    if kind not in ATTACK_KINDS:  # a misspelt key (kind itself?) before the kind
+        _check_keys("attack", name, card, {"kind"}, set(CARD_KEYS["attack"]))
         raise ValidationError(f"attack {name}: kind must be one of {ATTACK_KINDS}, found {kind!r}")
     required, optional = _ATTACK_KEYS[kind]
     base = {"title", "kind"}
     _check_keys("attack", name, card, base | required, base | required | optional)
-    for key in ("prob", "p", "q", "start"):
+    _check_text(f"attack {name}: title", card["title"])
+    for key, (low, high, low_open, high_open) in _ATTACK_RANGES.items():
         if key in card:
-            check_probability(f"attack {name}: {key}", card[key])
+            validation.check_real(f"attack {name}: {key}", card[key], lower=low, upper=high,
+                                  lower_open=low_open, upper_open=high_open)
     nodes = card.get("nodes", [0])
     if (not isinstance(nodes, list) or not nodes
             or not all(isinstance(i, int) and not isinstance(i, bool) and i >= 0 for i in nodes)):
         raise ValidationError(f"attack {name}: nodes must be a non-empty list of node indices >= 0, "
                               f"found {nodes!r}")
+    if len(set(nodes)) != len(nodes):
+        raise ValidationError(f"attack {name}: nodes must be distinct, found {nodes!r}")
     size = card.get("magnitude", 1.0)
     if isinstance(size, bool) or not isinstance(size, int | float) or not (np.isfinite(size)
                                                                            and size > 0):
@@ -718,8 +843,25 @@ def cards(extra: Extra = None) -> dict[str, dict[str, Any]]:
         "network": networks,
         "attack": attacks,
         "scenario": named,
-        "matrix": raw.get("matrix", {}),
+        "matrix": _matrix_table(raw["matrix"], networks, attacks),
     }
+
+
+def _matrix_table(table: dict[str, Any], networks: dict[str, Network],
+                  attacks: dict[str, Attack]) -> dict[str, Any]:
+    """The ``[matrix]`` table checked: its keys (:data:`CARD_KEYS`), card names and settings."""
+    keys = set(CARD_KEYS["matrix"])
+    _check_keys("cards", "[matrix]", table, keys, keys)
+    for key, known in (("networks", networks), ("attacks", attacks)):
+        names = table[key]
+        if not isinstance(names, list) or not names or not all(isinstance(n, str) for n in names):
+            raise ValidationError(f"[matrix] {key} must be a non-empty list of card names, "
+                                  f"found {names!r}")
+        unknown = [n for n in names if n not in known]
+        if unknown:
+            raise ValidationError(f"[matrix] {key}: {unknown} have no card; known: {sorted(known)}")
+    _check_settings("[matrix]", table)
+    return table
 
 
 def _named(
@@ -727,8 +869,11 @@ def _named(
 ) -> dict[str, Any]:
     _check_keys("scenario", name, card, {"network", "attack"}, set(CARD_KEYS["scenario"]))
     for kind, known in (("network", networks), ("attack", attacks)):
-        if card.get(kind) not in known:
-            raise ValidationError(f"scenario {name}: {kind} {card.get(kind)!r} has no card")
+        if not isinstance(card[kind], str) or card[kind] not in known:
+            raise ValidationError(f"scenario {name}: {kind} {card[kind]!r} has no card")
+    if "title" in card:
+        _check_text(f"scenario {name}: title", card["title"])
+    _check_settings(f"scenario {name}:", card)
     return dict(card)
 
 
@@ -773,22 +918,24 @@ def scenario(
         horizon or fewer than 2 runs.
     """
     c = cards(extra)
-    if network not in c["network"]:
-        raise ValidationError(f"network must be one of {sorted(c['network'])}, found {network!r}")
-    if attack not in c["attack"]:
-        raise ValidationError(f"attack must be one of {sorted(c['attack'])}, found {attack!r}")
+    for label, value, known in (("network", network, c["network"]), ("attack", attack, c["attack"])):
+        if not isinstance(value, str) or value not in known:
+            near = difflib.get_close_matches(str(value), sorted(known), n=1)
+            hint = f" (did you mean {near[0]!r}?)" if near else ""
+            raise ValidationError(f"{label} must be one of {sorted(known)}, found {value!r}{hint}")
+    if name is not None:
+        _check_text("name", name)
     net = c["network"][network]
     m = c["matrix"]
     att = c["attack"][attack]
     if any(i >= net.N for i in att.nodes):
         raise ValidationError(f"attack {attack}: nodes {att.nodes} do not all exist in {network}")
-    R = check_positive_int("runs", runs if runs is not None else m["runs"], minimum=2)
+    R = SETTINGS["runs"]("runs", runs if runs is not None else m["runs"])
+    seed = SETTINGS["seed"]("seed", seed if seed is not None else m["seed"])
     plant = c["plant"][net.plant]
-    K = horizon if horizon is not None else m["horizon"]
+    K = check_horizon("horizon", horizon if horizon is not None else m["horizon"])
     if K == "auto":
         K = auto_horizon(plant, net)
-    K = check_positive_int("horizon", K)
-    validation.check_size("horizon", K, validation.MAX_STEPS, "steps")
     widest = max(plant.n, net.measures.shape[1])  # a trial holds every node's output per step
     validation.check_size("runs x (horizon + 1) x nodes", R * (K + 1) * net.N * widest,
                           validation.MAX_ELEMENTS, "array entries of a trial")
@@ -801,8 +948,17 @@ def scenario(
         attack=att,
         horizon=K,
         runs=R,
-        seed=int(seed if seed is not None else m["seed"]),
+        seed=seed,
     )
+
+
+def _card_names(label: str, names: object) -> list[str]:
+    """``names`` if it is a non-empty list of distinct card names (not one bare string)."""
+    if (isinstance(names, str) or not isinstance(names, list | tuple) or not names
+            or not all(isinstance(n, str) for n in names) or len(set(names)) != len(names)):
+        raise ValidationError(f"{label} must be a non-empty list of distinct card names, "
+                              f"found {names!r}")
+    return list(names)
 
 
 MIN_HORIZON_TAU = 20
@@ -840,6 +996,7 @@ def horizon_of(tau: float) -> int:
     int
         The horizon in steps.
     """
+    tau = validation.check_real("tau", tau, lower=0.0, lower_open=True)
     return int(10 * np.ceil(MIN_HORIZON_TAU * tau / 10))
 
 
@@ -867,8 +1024,9 @@ def matrix(
     """
     c = cards(extra)
     m = c["matrix"]
-    nets = list(m["networks"]) if networks is None else list(networks)
-    atts = list(m["attacks"]) if attacks is None else list(attacks)
+    _check_keys("matrix()", "arguments", overrides, set(), set(SETTINGS))
+    nets = list(m["networks"]) if networks is None else _card_names("networks", networks)
+    atts = list(m["attacks"]) if attacks is None else _card_names("attacks", attacks)
     for kind, names in (("network", nets), ("attack", atts)):
         unknown = [n for n in names if n not in c[kind]]
         if unknown:
@@ -910,7 +1068,7 @@ def simulate(sc: Scenario) -> Trial:
         The truth, the clean and the delivered measurements, the attack mask, the link state
         and the message falsifications of every run.
     """
-    plant, net, att = sc.plant, sc.network, sc.attack
+    plant, net, att = check_scenario("sc", sc).plant, sc.network, sc.attack
     R, K, N = sc.runs, sc.horizon, net.N
     noise, attack_rng, channel_rng, message_rng = (
         np.random.default_rng(s) for s in np.random.SeedSequence(sc.seed).spawn(4)

@@ -84,7 +84,7 @@ from scipy import stats
 from secest.arena import estimators, matrix, protocol, scenarios
 from secest.arena.estimators import METHODS, Estimate, Method
 from secest.arena.scenarios import Scenario, Trial
-from secest.core.validation import ValidationError, check_bool, check_positive_int
+from secest.core.validation import ValidationError, check_bool, check_positive_int, check_probability
 
 __all__ = [
     "ARGUMENTS",
@@ -138,13 +138,13 @@ NO_ADMISSIBLE = "no admissible point"
 # ---------------------------------------------------------------------------------- the grid
 
 
-def _method_name(name: object, search: dict[str, Any]) -> str:
+def _method_name(name: object, search: dict[str, Any], label: str = "method") -> str:
     """``name`` if it is a registered method with a search set; else a one-line error."""
     if name == "oracle":
-        raise ValidationError("method 'oracle' is the reference of every score: it is not tuned")
+        raise ValidationError(f"{label} 'oracle' is the reference of every score: it is not tuned")
     if not isinstance(name, str) or name not in search or name not in METHODS:
         known = sorted(n for n in search if n in METHODS)
-        raise ValidationError(f"method must be a registered method with a [search] set in "
+        raise ValidationError(f"{label} must be a registered method with a [search] set in "
                               f"protocol.toml, one of {known}; found {name!r}")
     return name
 
@@ -246,6 +246,10 @@ def refuse_test_seeds(seeds: Sequence[int], test: Sequence[int] | None = None) -
         If a seed of ``seeds`` is a test seed.
     """
     test = protocol.load()["seeds"]["test"] if test is None else test
+    for label, values in (("seeds", seeds), ("test", test)):
+        if isinstance(values, str) or not isinstance(values, Sequence) or not all(
+                isinstance(s, int) and not isinstance(s, bool) for s in values):
+            raise ValidationError(f"{label} must be a list of integer seeds, found {values!r}")
     bad = [s for s in seeds if s in set(test)]
     if bad:
         raise ValidationError(f"seeds: {bad} are test seeds of protocol.toml; the tuning sees the "
@@ -270,11 +274,11 @@ def _seeds(seeds: object, p: dict[str, Any]) -> list[int]:
     return seeds
 
 
-def _plant(plant: object) -> str:
+def _plant(plant: object, label: str = "plant") -> str:
     """``plant`` if it names a network card (a plant on its sensor network)."""
     networks = sorted(scenarios.cards()["network"])
     if not isinstance(plant, str) or plant not in networks:
-        raise ValidationError(f"plant must be a network card, one of {networks}; found {plant!r}")
+        raise ValidationError(f"{label} must be a network card, one of {networks}; found {plant!r}")
     return plant
 
 
@@ -313,6 +317,10 @@ def point_task(sc: Scenario, method: Method, short: bool) -> dict[str, Any]:
         alarms, ``hits`` and ``total``: per run, the false alarms and the samples of the steady
         window.
     """
+    scenarios.check_scenario("sc", sc)
+    if not isinstance(method, Method):
+        raise ValidationError(f"method must be a Method, found {type(method).__name__}")
+    short = check_bool("short", short)
     key = f"{method.name}#{uuid.uuid4().hex}"
     ran = copy.copy(method)
     ran.name = key
@@ -363,15 +371,25 @@ def _run_here(jobs: list[tuple[Scenario, Method]], short: bool) -> list[dict[str
 
 def _run_on_dask(jobs: list[tuple[Scenario, Method]], short: bool, scheduler: str | None,
                  workers: int | None) -> list[dict[str, Any]]:
-    """:func:`point_task` of every job on Dask (the client of :func:`matrix.dask_client`)."""
+    """:func:`point_task` of every job on Dask (the client of :func:`matrix.dask_client`).
+
+    One task per point: the seeds of a point run in one process on one copy of its method, so a
+    design the method caches (it depends on the plant, not on the seed) is computed once.
+    """
+    batches: dict[int, list[int]] = {}
+    for i, (_, method) in enumerate(jobs):
+        batches.setdefault(id(method), []).append(i)
     with matrix.dask_client([m for _, m in jobs], scheduler, workers) as client:
-        futures = [client.submit(point_task, sc, m, short, pure=False) for sc, m in jobs]
-        out = []
-        for (sc, _), future in zip(jobs, futures, strict=True):
+        futures = [client.submit(_run_here, [jobs[i] for i in idx], short, pure=False)
+                   for idx in batches.values()]
+        out: list[dict[str, Any]] = [{} for _ in jobs]
+        for idx, future in zip(batches.values(), futures, strict=True):
             try:
-                out.append(future.result())
+                results = future.result()
             except Exception as exc:  # one failing point is one record, never an abort
-                out.append(_failed(sc.seed, exc))
+                results = [_failed(jobs[i][0].seed, exc) for i in idx]
+            for i, result in zip(idx, results, strict=True):
+                out[i] = result
         return out
 
 
@@ -532,6 +550,10 @@ def validate(
     if points is not None and (not isinstance(points, list) or not points or not all(
             isinstance(i, int) and not isinstance(i, bool) for i in points)):
         raise ValidationError(f"points must be a non-empty list of grid indices, found {points!r}")
+    if points is not None:
+        size = len(grid(name, scenarios.cards()["network"][plant].measures.shape[1]))
+        if not all(0 <= i < size for i in points):
+            raise ValidationError(f"points must be grid indices from 0 to {size - 1}, found {points!r}")
     return _many([(name, plant)], seeds, runs, horizon, short, workers, scheduler,
                  points)[(name, plant)]
 
@@ -549,6 +571,14 @@ def _check_records(records: object) -> list[dict[str, Any]]:
                               f"{list(_RECORD_KEYS)}), found {type(records).__name__}")
     if sum(bool(r["printed"]) for r in records) != 1:
         raise ValidationError("records must hold exactly one printed point")
+    if len({r["point"] for r in records}) != len(records):
+        raise ValidationError("records: a point is listed twice")
+    for r in records:
+        score = r["score"]
+        if score is not None and (isinstance(score, bool) or not isinstance(score, int | float)
+                                  or not np.isfinite(score)):
+            raise ValidationError(f"records: point {r['point']} has score {score!r}, expected a "
+                                  "finite number or None")
     return records
 
 
@@ -591,7 +621,8 @@ def choose(records: list[dict[str, Any]], *, cap: float | None = None) -> dict[s
         If ``records`` is not a non-empty list of records with exactly one printed point.
     """
     records = _check_records(records)
-    cap = protocol.load()["detection"]["false_alarm_cap"] if cap is None else float(cap)
+    cap = protocol.load()["detection"]["false_alarm_cap"] if cap is None else cap
+    cap = check_probability("cap", cap)
     why = {r["point"]: _exclusion(r, cap) for r in records}
     admissible = [r for r in records if not why[r["point"]]]
     mark = ""
@@ -658,8 +689,8 @@ def tune(
         :func:`validate`'s records): deterministic content only, JSON-ready.
     """
     search = protocol.load()["search"]
-    methods = [_method_name(m, search) for m in _names("methods", methods)]
-    plants = [_plant(p) for p in _names("plants", plants)]
+    methods = [_method_name(m, search, "methods: each method") for m in _names("methods", methods)]
+    plants = [_plant(p, "plants: each plant") for p in _names("plants", plants)]
     seeds, runs, horizon, short = _check_options(seeds, runs, horizon, short, workers, scheduler)
     pairs = [(m, p) for p in plants for m in methods]
     found = _many(pairs, seeds, runs, horizon, short, workers, scheduler)
@@ -758,6 +789,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         return testseeds.main(argv[1:])
     args = parser().parse_args(argv[1:] if argv[:1] == ["validate"] else argv)
     try:
+        if args.out.is_dir():
+            raise ValidationError(f"--out must be a JSON file's path, found the folder "
+                                  f"{str(args.out)!r}")
         methods, plants = _defaults(args.methods, args.plants)
         result = tune(methods, plants, seeds=args.seeds,
                       runs=args.runs, horizon=args.horizon, short=args.short,

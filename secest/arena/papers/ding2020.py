@@ -18,6 +18,7 @@ import numpy as np
 from secest.arena.estimators import Estimate, Method, register
 from secest.arena.scenarios import Scenario, Trial
 from secest.core import graphs
+from secest.core.validation import check_real
 from secest.methods import ding2020
 
 __all__ = ["Ding2020"]
@@ -61,8 +62,8 @@ class Ding2020(Method):
     reading = "kappa = 0.004 and threshold 25 of the paper's example; Pi_0 = Gamma_0 = prior covariance"
 
     def __init__(self, kappa: float = 0.004, threshold: float = 25.0) -> None:
-        self.kappa = kappa
-        self.threshold = threshold
+        self.kappa = check_real("kappa", kappa, lower=0.0, upper=1.0, lower_open=True, upper_open=True)
+        self.threshold = check_real("threshold", threshold, lower=0.0, lower_open=True)
 
     def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
         same_R = bool(np.allclose(sc.R, sc.R[0]))

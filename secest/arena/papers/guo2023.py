@@ -15,7 +15,7 @@ from secest.arena.estimators import CHI2_ALPHA, Estimate, Method, register
 from secest.arena.scenarios import Scenario, Trial
 from secest.core import graphs, systems
 from secest.core.estimation import FeedthroughSVD, feedthrough_decomposition
-from secest.core.validation import ValidationError, check_probability
+from secest.core.validation import ValidationError, check_probability, check_real
 from secest.methods.guo2023 import (
     GuoModel,
     run_estimator,
@@ -146,7 +146,7 @@ class Guo2023(Method):
         if threat not in THREATS:
             raise ValidationError(f"threat must be one of {THREATS}, found {threat!r}")
         self.threat = threat
-        self.rtol = rtol
+        self.rtol = check_real("rtol", rtol, lower=0.0, upper=1.0, lower_open=True, upper_open=True)
         self.false_alarm = check_probability("false_alarm", false_alarm, open_interval=True)
 
     def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:

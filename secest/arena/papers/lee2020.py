@@ -16,7 +16,7 @@ from secest.arena.estimators import CHI2_ALPHA, Estimate, Method, register
 from secest.arena.scenarios import Scenario, Trial
 from secest.core import graphs, systems
 from secest.core.tolerances import SIGN_DRIVEN
-from secest.core.validation import ValidationError, check_positive_int
+from secest.core.validation import ValidationError, check_positive_int, check_real
 from secest.methods.lee2020 import (
     CHATTER_FRACTION,
     FINEST_SUBSTEP,
@@ -96,10 +96,9 @@ class Lee2020(Method):
     ) -> None:
         if poles not in ("near", "shifted"):
             raise ValidationError(f"poles must be 'near' or 'shifted', found {poles!r}")
-        for name, value in (("kappa", kappa), ("gamma", gamma), ("chatter", chatter)):
-            if not (np.isfinite(value) and value > 0):
-                raise ValidationError(f"{name} must be a positive number, found {value!r}")
-        self.kappa, self.gamma, self.chatter = float(kappa), float(gamma), float(chatter)
+        self.kappa, self.gamma, self.chatter = (
+            check_real(name, value, lower=0.0, lower_open=True)
+            for name, value in (("kappa", kappa), ("gamma", gamma), ("chatter", chatter)))
         self.poles = poles
         self.q = check_positive_int("q", q)
         self._designs: dict[str, dict[str, Any]] = {}

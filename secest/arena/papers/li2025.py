@@ -99,7 +99,9 @@ class Li2025(Method):
     )
 
     def __init__(self, weights: Sequence[float] = ARENA_WEIGHTS, variant: str = "corrected") -> None:
-        if len(weights) != 5 or min(weights) <= 0:
+        if (isinstance(weights, str) or not isinstance(weights, Sequence) or len(weights) != 5
+                or not all(isinstance(w, int | float) and not isinstance(w, bool)
+                           and np.isfinite(w) and w > 0 for w in weights)):
             raise ValidationError(
                 f"weights must be 5 positive numbers (lambda, alpha1..alpha4), found {weights!r}"
             )
