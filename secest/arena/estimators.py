@@ -34,7 +34,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import stats
 
-from secest.arena.scenarios import Scenario, Trial
+from secest.arena.scenarios import Network, Scenario, Trial
 from secest.core.tolerances import DETERMINISTIC, Tolerance
 from secest.core.validation import ValidationError, check_probability
 
@@ -334,11 +334,30 @@ class Chi2KF(Method):
         return Estimate(_every_node(out, N), alarms=alarms)
 
 
-def metropolis_weights(adj: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Metropolis-Hastings weights of an undirected graph: symmetric and doubly stochastic."""
-    deg = adj.sum(axis=1)
-    W = adj / (1.0 + np.maximum(deg[:, None], deg[None, :]))
-    return W + np.diag(1.0 - W.sum(axis=1))
+def metropolis_weights(network: Network) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Metropolis-Hastings weights of an undirected graph, per edge: symmetric, doubly stochastic.
+
+    ``w_ij = 1 / (1 + max(d_i, d_j))`` on every edge ``(i, j)`` of :attr:`Network.edges`
+    (``d`` the in-degree), and ``w_ii = 1 - sum_j w_ij``: O(E), no N x N matrix.
+
+    Parameters
+    ----------
+    network : Network
+        The graph (its edge list and degrees).
+
+    Returns
+    -------
+    edge : (E,) array
+        ``w_ij`` of every edge, in the order of ``network.edges``.
+    own : (N,) array
+        ``w_ii`` of every node.
+    """
+    if not isinstance(network, Network):
+        raise ValidationError(f"network must be a secest.arena.scenarios.Network, "
+                              f"found {type(network).__name__}")
+    d = network.degree
+    edge = 1.0 / (1.0 + np.maximum(d[network.receivers], d[network.senders]))
+    return edge, 1.0 - network.sum_in(edge[None])[0]
 
 
 # ---------------------------------------------------------------------------------- scoring
