@@ -207,11 +207,11 @@ CENTRAL_BLOCK = 20
 def _blocks(sc: Scenario) -> list[tuple[slice, NDArray[np.float64], NDArray[np.float64]]]:
     """Per block of :data:`CENTRAL_BLOCK` nodes: its node slice, stacked ``C`` and diagonal ``R``."""
     N, n = sc.network.N, sc.plant.n
+    r = np.diagonal(sc.R, axis1=1, axis2=2)  # (N, ny): the nodes' noise variances
     out = []
     for start in range(0, N, CENTRAL_BLOCK):
         nodes = slice(start, min(start + CENTRAL_BLOCK, N))
-        C = sc.C[nodes].reshape(-1, n)
-        out.append((nodes, C, np.diag(np.concatenate([np.diag(r) for r in sc.R[nodes]]))))
+        out.append((nodes, sc.C[nodes].reshape(-1, n), np.diag(r[nodes].reshape(-1))))
     return out
 
 
@@ -248,24 +248,26 @@ def centralised_kf(
     """
     runs, K1 = y.shape[:2]
     A, Q = sc.plant.A, sc.plant.Q
+    blocks = _blocks(sc)
     x, P = _prior(sc, runs)
     P = np.broadcast_to(P, (runs, *P.shape)).copy()
     out = np.empty((runs, K1, sc.plant.n))
     for k in range(K1):
         if k > 0:
             x, P = x @ A.T, A @ P @ A.T + Q
-        x, P = _blocked_update(sc, x, P, y[:, k], None if use is None else use[:, k])
+        x, P = _blocked_update(blocks, x, P, y[:, k], None if use is None else use[:, k])
         out[:, k] = x
     return out
 
 
 def _blocked_update(
-    sc: Scenario, x: NDArray[np.float64], P: NDArray[np.float64], y: NDArray[np.float64],
-    use: NDArray[np.bool_] | None,
+    blocks: list[tuple[slice, NDArray[np.float64], NDArray[np.float64]]], x: NDArray[np.float64],
+    P: NDArray[np.float64], y: NDArray[np.float64], use: NDArray[np.bool_] | None,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """The update with every node's rows ``y`` (runs, N, ny), one block of nodes after another."""
+    """The update with every node's rows ``y`` (runs, N, ny), one block (:func:`_blocks`) after
+    another."""
     runs, _, ny = y.shape
-    for nodes, C, R in _blocks(sc):
+    for nodes, C, R in blocks:
         rows = (np.ones((runs, C.shape[0]), bool) if use is None
                 else np.repeat(use[:, nodes], ny, axis=1))
         x, P = _update(x, P, y[:, nodes].reshape(runs, -1), C, R, rows)
@@ -351,6 +353,7 @@ class Chi2KF(Method):
         runs, K1, N, ny = trial.y.shape
         threshold = float(stats.chi2.ppf(1 - self.false_alarm, ny))
         A, Q = sc.plant.A, sc.plant.Q
+        blocks = _blocks(sc)
         x, P0 = _prior(sc, runs)
         P = np.broadcast_to(P0, (runs, *P0.shape)).copy()
         out = np.empty((runs, K1, sc.plant.n))
@@ -362,7 +365,7 @@ class Chi2KF(Method):
             S = np.einsum("iyn,rnm,izm->riyz", sc.C, P, sc.C) + sc.R
             nis = np.einsum("riy,riy->ri", eta, np.linalg.solve(S, eta[..., None])[..., 0])
             alarms[:, k] = nis > threshold
-            x, P = _blocked_update(sc, x, P, trial.y[:, k], ~alarms[:, k])
+            x, P = _blocked_update(blocks, x, P, trial.y[:, k], ~alarms[:, k])
             out[:, k] = x
         return Estimate(_every_node(out, N), alarms=alarms)
 
