@@ -652,7 +652,9 @@ def _scaling_curve(name: str, method: object, trials: dict, repeats: int) -> tup
 
     A checked warm-up call per size (in increasing N, which decides where the curve stops), then
     ``repeats`` rounds that call ``run`` once at every kept size (interleaved, so that a change of
-    the machine's load hits every size alike); the median of each size's calls.
+    the machine's load hits every size alike); the median of each size's calls. Times are this
+    process's CPU time (``time.process_time``): on a shared machine the wall time of a call also
+    counts the time it waits for a core, which varied by 3x between identical calls here.
     """
     from secest.arena.scenarios import DENSE_NODES
 
@@ -666,15 +668,15 @@ def _scaling_curve(name: str, method: object, trials: dict, repeats: int) -> tup
             stop = f"N = {N} not timed: {stop}"
             break
         try:
-            t0 = time.perf_counter()
+            t0 = time.process_time()
             na = method.not_applicable(sc)  # also builds what a method caches per network
-            design[N] = time.perf_counter() - t0
+            design[N] = time.process_time() - t0
             if na is not None:
                 stop = f"N/A at N = {N}: {na}"
                 break
-            t0 = time.perf_counter()
+            t0 = time.process_time()
             _finite(method.run(trial).xhat)
-            warm[N] = time.perf_counter() - t0
+            warm[N] = time.process_time() - t0
         except Exception as exc:  # noqa: BLE001 - a method still on dense arrays: reported, not fatal
             dense = "is dense, refused" in str(exc)
             stop = (f"dense: skipped above N={DENSE_NODES}" if dense
@@ -683,9 +685,9 @@ def _scaling_curve(name: str, method: object, trials: dict, repeats: int) -> tup
     times: dict[int, list[float]] = {N: [] for N in warm}
     for _ in range(repeats):
         for N in warm:
-            t0 = time.perf_counter()
+            t0 = time.process_time()
             method.run(trials[N][1])
-            times[N].append(time.perf_counter() - t0)
+            times[N].append(time.process_time() - t0)
     return {N: float(np.median(t)) / _node_steps(trials[N][0]) for N, t in times.items()}, design, stop
 
 
@@ -698,11 +700,12 @@ def bench_scaling(repeats: int) -> list[Row]:
     """Per-node step cost of every arena method at N = 20, 200, 2000, 10 000 and its design cost.
 
     The target plant on a ring of degree :data:`SCALING_DEGREE` (constant in N), no attack,
-    :data:`SCALING_RUNS` runs of :data:`SCALING_STEPS` steps: each method's ``run`` is timed (median,
-    :func:`_scaling_curve`) and divided by runs x (steps + 1) x N; its conditions and design (what it
-    caches per network, built by ``not_applicable``) are timed once per size. Prints the curve
-    per method; one row per method: the per-node cost at the largest timed size against N = 20
-    (target: ratio <= 2 at N = 10 000), the curve and the design times in the agreement column.
+    :data:`SCALING_RUNS` runs of :data:`SCALING_STEPS` steps: each method's ``run`` is timed (CPU
+    time, median, :func:`_scaling_curve`) and divided by runs x (steps + 1) x N; its conditions and
+    design (what it caches per network, built by ``not_applicable``) are timed once per size.
+    Prints the curve per method; one row per method: the per-node cost at the largest timed size
+    against N = 20 (target: ratio <= 2 at N = 10 000), the curve and the design times in the
+    agreement column.
     """
     from secest.arena import scenarios
     from secest.arena.estimators import METHODS
