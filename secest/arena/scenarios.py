@@ -38,8 +38,8 @@ from typing import Any
 
 import numpy as np
 import scipy.linalg as sla
-from scipy.sparse import csr_array
 from numpy.typing import NDArray
+from scipy.sparse import csr_array
 
 from secest.core import validation
 from secest.core.validation import ValidationError, as_matrix, check_positive_int, check_probability
@@ -317,7 +317,7 @@ class Network:
         return self.adjacency.toarray()
 
     def sum_in(self, values: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Sum per-edge values over every node's in-edges: ``out[r, i] = sum_{e: receiver i} values[r, e]``.
+        """Sum per-edge values over each node's in-edges: ``out[r, i] = sum_{e -> i} values[r, e]``.
 
         Parameters
         ----------
