@@ -224,6 +224,8 @@ def test_sparse_weights_and_per_edge_messages_are_the_dense_fusion() -> None:
         assert _rel(b.x, a.x) <= 1e-12 and _rel(b.P, a.P) <= 1e-12
         if lk is None:  # the stored entries of the sparse Pi (diagonal included), row by row
             assert _rel(b.W, a.W[:, *np.nonzero(mdl.Pi)]) <= 1e-12
+            with pytest.raises(ValidationError, match="dense"):
+                guo2023.error_covariance(sparse, b)
     with pytest.raises(ValidationError, match="per-edge"):
         guo2023.run_estimator(sparse, ya, received=lambda k, x: x)
 

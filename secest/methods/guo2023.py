@@ -967,10 +967,14 @@ def error_covariance(mdl: Any, run: GuoRun, *, spread: float = 1.0) -> tuple[Arr
     Raises
     ------
     ValidationError
-        ``run`` without its steps (``keep_steps=False``) or with per-run gains (failing links).
+        ``run`` without its steps (``keep_steps=False``), with per-run gains (failing links), or
+        on a model with sparse ``Pi`` (its weights are kept per stored entry, not as ``W``).
     """
     if run.K is None or run.J is None or run.W is None:
         raise ValidationError("run must keep its steps (run_estimator(..., keep_steps=True))")
+    if sp.issparse(mdl.Pi):
+        raise ValidationError("mdl.Pi must be a dense (N, N) array: the joint covariance needs every "
+                              "W^{i,j}, which a run with sparse Pi keeps per stored entry only")
     if run.W.ndim != 5:
         raise ValidationError(f"run must have gains shared by its runs (no failing link), found W of "
                               f"shape {run.W.shape}")
