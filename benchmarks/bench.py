@@ -8,7 +8,7 @@ section FAILED in the table, prints the traceback and makes the exit status 1.
 Prints one table and writes ``build/bench.json`` (machine-dependent, not committed).
 
 Usage: ``python benchmarks/bench.py [--only KEY[,KEY]] [--repeats N] [--json PATH]``
-with KEY among ding2020, guo2023, li2025, lee2020, ma2021, arena, sweep, arena-dask, runs.
+with KEY among ding2020, guo2023, li2025, lee2020, ma2021, arena, scaling, sweep, arena-dask, runs.
 """
 
 from __future__ import annotations
@@ -559,60 +559,15 @@ def bench_ma2021(repeats: int) -> list[Row]:
 
 
 # ---------------------------------------------------------------------------- arena
-ARENA_GROWTH = (20, 200, 2000)
-"""Network sizes of the arena's growth rows (target plant on a ring, each node linked to 2 per side)."""
-ARENA_CALL_BUDGET_S = 20.0
-"""A size is not measured when the previous size predicts a call longer than this (per-node cost
-assumed to grow like N, the dense N x N message arrays of secest.arena.scenarios.Trial.received)."""
-ARENA_DESIGN_BUDGET_S = 300.0
-"""... or conditions and design (once per network) longer than this, assumed to grow like N^2."""
-ARENA_MAX_SUBSETS = 100_000
-"""Designs that enumerate subsets of sensor banks are not run beyond this many subsets."""
-ARENA_ENUMERATIONS = {
-    "lee2020": lambda m, N: (math.comb(N, 2 * m.q),
-                             f"C(N, 2q) = C({N}, {2 * m.q}) bank subsets, each an observability "
-                             "rank test (2q-redundant observability, Assumption 2)"),
-}
-"""Methods whose design enumerates sets of nodes: (count, what) at N nodes."""
-ARENA_CENTRALISED = ("oracle", "kf", "chi2-kf")
-"""Baselines that process every node's data in one update: they have no per-node step."""
-
-
-def _arena_ring(N: int, horizon: int) -> object:
-    from secest.arena import scenarios
-
-    extra = {"network": {f"bench-ring{N}": {
-        "title": f"target plant, {N} nodes on a ring (bench)", "plant": "target", "N": N,
-        "graph": "ring", "degree": 4, "measures": [[i % 2] for i in range(N)]}}}
-    return scenarios.scenario(f"bench-ring{N}", "none", runs=2, horizon=horizon, seed=N, extra=extra)
-
-
 def bench_arena(repeats: int) -> list[Row]:
-    """Per-node step cost of every arena method on one common scenario, and its growth with N.
+    """Per-node step cost of every arena method on one common scenario.
 
     Common scenario: the arena's ``target20/none`` with 4 runs of 50 steps (a method's call
     estimates every node of every run at every step; its time is divided by runs x (K + 1) x N).
-    Growth: the target plant on rings of N = 20, 200, 2000 nodes, two runs of 10 steps (3 at
-    N = 2000), each distributed method's per-node step cost at N against N = 20 (a ratio near 1:
-    the per-node cost does not grow with N); the centralised baselines are reported as such.
-    Design work that a method caches per network (lee2020's observers) is done before timing;
-    a method whose conditions fail at a size, whose design enumerates more than
-    ``ARENA_MAX_SUBSETS`` sets of nodes (lee2020's 2q-redundant observability), or whose
-    previous size predicts a call over ``ARENA_CALL_BUDGET_S`` or a design over
-    ``ARENA_DESIGN_BUDGET_S``, is reported as not measured with the reason.
+    Its growth with N is the ``scaling`` section.
     """
     from secest.arena import scenarios
     from secest.arena.estimators import METHODS
-
-    def runner(method, trial):  # noqa: ANN001, ANN202
-        def run():  # noqa: ANN202
-            return method.run(trial).xhat
-        return run
-
-    def finite(x: np.ndarray) -> str:
-        if not np.all(np.isfinite(x)):
-            raise AssertionError("non-finite estimate")
-        return f"finite estimates, shape {tuple(x.shape)}"
 
     rows: list[Row] = []
     common = scenarios.scenario("target20", "none", runs=4, horizon=50)
@@ -624,73 +579,166 @@ def bench_arena(repeats: int) -> list[Row]:
         if reason is not None:
             rows.append(not_measured(what, f"N/A on the common scenario: {reason}"))
             continue
-        rows.append(measure(what, (name, runner(method, trial)), finite, repeats=repeats, per=per,
-                            unit="node-step"))
+        rows.append(measure(what, (name, lambda m=method: m.run(trial).xhat), _finite,
+                            repeats=repeats, per=per, unit="node-step"))
+    return rows
+
+
+def _finite(x: np.ndarray) -> str:
+    if not np.all(np.isfinite(x)):
+        raise AssertionError("non-finite estimate")
+    return f"finite estimates, shape {tuple(x.shape)}"
+
+
+# ---------------------------------------------------------------------------- per-node scaling
+SCALING_N = (20, 200, 2000, 10_000)
+"""Network sizes of the per-node step cost curve (target plant on a ring of constant degree)."""
+SCALING_DEGREE = 4
+"""Every node of the ring hears 2 neighbours on each side, whatever N."""
+SCALING_RUNS, SCALING_STEPS = 2, 30
+"""Monte Carlo runs and steps of each size's trial (a call covers runs x (steps + 1) x N node-steps)."""
+SCALING_CALL_BUDGET_S = 30.0
+"""A size is not timed when the previous sizes predict one call longer than this (the per-node
+cost extrapolated with the growth exponent measured between the two previous sizes, at least 1)."""
+SCALING_DESIGN_BUDGET_S = 300.0
+"""... or conditions and design (once per network) longer than this (extrapolated like N^2)."""
+SCALING_MAX_SUBSETS = 100_000
+"""Designs that enumerate subsets of sensor banks are not run beyond this many subsets."""
+SCALING_ENUMERATIONS = {
+    "lee2020": lambda m, N: (math.comb(N, 2 * m.q),
+                             f"C(N, 2q) = C({N}, {2 * m.q}) bank subsets, each an observability "
+                             "rank test (2q-redundant observability, Assumption 2)"),
+}
+"""Methods whose design enumerates sets of nodes: (count, what) at N nodes."""
+
+
+def _scaling_ring(N: int) -> object:
+    from secest.arena import scenarios
+
+    extra = {"network": {f"bench-ring{N}": {
+        "title": f"target plant, {N} nodes on a ring (bench)", "plant": "target", "N": N,
+        "graph": "ring", "degree": SCALING_DEGREE, "measures": [[i % 2] for i in range(N)]}}}
+    return scenarios.scenario(f"bench-ring{N}", "none", runs=SCALING_RUNS, horizon=SCALING_STEPS,
+                              seed=N, extra=extra)
+
+
+def _skip_reason(name: str, method: object, N: int, curve: dict, design: dict) -> str | None:
+    """Why size ``N`` is not timed for this method (enumeration, predicted call or design), or None."""
+    if name in SCALING_ENUMERATIONS:
+        count, enumerated = SCALING_ENUMERATIONS[name](method, N)
+        if count > SCALING_MAX_SUBSETS:
+            return f"its design enumerates {enumerated}: {count:.2e} > {SCALING_MAX_SUBSETS:.0e}"
+    sizes = sorted(curve)
+    if not sizes:
+        return None
+    last = sizes[-1]
+    slope = 1.0
+    if len(sizes) >= 2:
+        prev = sizes[-2]
+        slope = max(1.0, math.log(curve[last] * last / (curve[prev] * prev)) / math.log(last / prev))
+    call = curve[last] * last * SCALING_RUNS * (SCALING_STEPS + 1) * (N / last) ** slope
+    if call > SCALING_CALL_BUDGET_S:
+        return (f"one call predicted at {call:.0f} s from N = {last} (growth N^{slope:.2f}; "
+                f"> {SCALING_CALL_BUDGET_S:g} s budget)")
+    predicted = design[last] * (N / last) ** 2
+    if predicted > SCALING_DESIGN_BUDGET_S:
+        return (f"its design took {design[last]:.1f} s at N = {last}; like N^2 it predicts "
+                f"{predicted:.0f} s (> {SCALING_DESIGN_BUDGET_S:g} s budget)")
+    return None
+
+
+def _scaling_curve(name: str, method: object, trials: dict, repeats: int) -> tuple[dict, dict, str]:
+    """Per-node step cost and design seconds at each size; the reason the curve stops, if it does.
+
+    A checked warm-up call per size (in increasing N, which decides where the curve stops), then
+    ``repeats`` rounds that call ``run`` once at every kept size (interleaved, so that a change of
+    the machine's load hits every size alike); the median of each size's calls. Times are this
+    process's CPU time (``time.process_time``): on a shared machine the wall time of a call also
+    counts the time it waits for a core, which varied by 3x between identical calls here.
+    """
+    from secest.arena.scenarios import DENSE_NODES
+
+    warm: dict[int, float] = {}
+    design: dict[int, float] = {}
+    stop = ""
+    for N, (sc, trial) in trials.items():
+        stop = _skip_reason(name, method, N, {n: warm[n] / _node_steps(trials[n][0]) for n in warm},
+                            design) or ""
+        if stop:
+            stop = f"N = {N} not timed: {stop}"
+            break
+        try:
+            t0 = time.process_time()
+            na = method.not_applicable(sc)  # also builds what a method caches per network
+            design[N] = time.process_time() - t0
+            if na is not None:
+                stop = f"N/A at N = {N}: {na}"
+                break
+            t0 = time.process_time()
+            _finite(method.run(trial).xhat)
+            warm[N] = time.process_time() - t0
+        except Exception as exc:  # noqa: BLE001 - a method still on dense arrays: reported, not fatal
+            dense = "is dense, refused" in str(exc)
+            stop = (f"dense: skipped above N={DENSE_NODES}" if dense
+                    else f"error at N = {N}: {type(exc).__name__}: {exc}")
+            break
+    times: dict[int, list[float]] = {N: [] for N in warm}
+    for _ in range(repeats):
+        for N in warm:
+            t0 = time.process_time()
+            method.run(trials[N][1])
+            times[N].append(time.process_time() - t0)
+    return {N: float(np.median(t)) / _node_steps(trials[N][0]) for N, t in times.items()}, design, stop
+
+
+def _node_steps(sc: object) -> int:
+    """What one call estimates: runs x (horizon + 1) x N node-steps."""
+    return sc.runs * (sc.horizon + 1) * sc.network.N
+
+
+def bench_scaling(repeats: int) -> list[Row]:
+    """Per-node step cost of every arena method at N = 20, 200, 2000, 10 000 and its design cost.
+
+    The target plant on a ring of degree :data:`SCALING_DEGREE` (constant in N), no attack,
+    :data:`SCALING_RUNS` runs of :data:`SCALING_STEPS` steps: each method's ``run`` is timed (CPU
+    time, median, :func:`_scaling_curve`) and divided by runs x (steps + 1) x N; its conditions and
+    design (what it caches per network, built by ``not_applicable``) are timed once per size.
+    Prints the curve per method; one row per method: the per-node cost at the largest timed size
+    against N = 20 (target: ratio <= 2 at N = 10 000), the curve and the design times in the
+    agreement column.
+    """
+    from secest.arena import scenarios
+    from secest.arena.estimators import METHODS
 
     trials = {}
-    for N in ARENA_GROWTH:
-        sc = _arena_ring(N, 10 if N < 2000 else 3)
-        trials[N] = (sc, scenarios.simulate(sc), sc.runs * (sc.horizon + 1) * N)
+    for N in SCALING_N:
+        sc = _scaling_ring(N)
+        trials[N] = (sc, scenarios.simulate(sc))
+    rows: list[Row] = []
+    lines = [f"{'method':16s}" + "".join(f"{f'N={N}':>12s}" for N in SCALING_N)
+             + f"{'ratio':>8s}  design s at " + ", ".join(str(N) for N in SCALING_N)]
     for name, method in METHODS.items():
-        if name in ARENA_CENTRALISED:
-            rows.append(not_measured(
-                f"arena {name}: growth of the per-node step cost with N",
-                "centralised: one Kalman update of all N ny measurement rows per step (an "
-                "(N ny) x (N ny) innovation covariance), no per-node step to compare"))
+        curve, design, stop = _scaling_curve(name, method, trials, repeats)
+        cells = "".join(f"{curve[N] * 1e6:10.3g}us" if N in curve else f"{'-':>12s}" for N in SCALING_N)
+        top = max(curve) if curve else None
+        ratio = curve[top] / curve[SCALING_N[0]] if top and top > SCALING_N[0] else None
+        lines.append(f"{name:16s}{cells}{'' if ratio is None else f'{ratio:8.2f}':>8s}  "
+                     + ", ".join(f"{design[N]:.3g}" for N in SCALING_N if N in design)
+                     + (f"  [{stop}]" if stop else ""))
+        what = (f"arena {name}: per-node step cost, N = {SCALING_N[-1]} vs N = {SCALING_N[0]} "
+                f"(ring, degree {SCALING_DEGREE})")
+        text = ("curve (us/node-step) " + ", ".join(f"{N}: {curve[N] * 1e6:.3g}" for N in curve)
+                + "; design (s) " + ", ".join(f"{N}: {design[N]:.3g}" for N in design)
+                + (f"; {stop}" if stop else ""))
+        if ratio is None:
+            rows.append(not_measured(what, text))
             continue
-        base_sc, base_trial, base_per = trials[ARENA_GROWTH[0]]
-        t0 = time.perf_counter()
-        reason = method.not_applicable(base_sc)  # also builds what a method caches per network
-        design = (ARENA_GROWTH[0], time.perf_counter() - t0)
-        if reason is not None:
-            rows.append(not_measured(f"arena {name}: growth of the per-node step cost with N",
-                                     f"N/A at N = {ARENA_GROWTH[0]}: {reason}"))
-            continue
-        t0 = time.perf_counter()
-        method.run(base_trial)
-        last = (ARENA_GROWTH[0], time.perf_counter() - t0)
-        for N in ARENA_GROWTH[1:]:
-            sc, tr, per_n = trials[N]
-            what = (f"arena {name}: per-node step cost at N = {N} vs N = {ARENA_GROWTH[0]} "
-                    f"(target plant, ring, degree 4)")
-            if name in ARENA_ENUMERATIONS:
-                count, enumerated = ARENA_ENUMERATIONS[name](method, N)
-                if count > ARENA_MAX_SUBSETS:
-                    rows.append(not_measured(what, f"its design enumerates {enumerated}: "
-                                             f"{count:.2e} > {ARENA_MAX_SUBSETS:.0e}"))
-                    break
-            size0, t_last = last
-            steps_ratio = (sc.horizon + 1) / (trials[size0][0].horizon + 1)
-            predicted = t_last * (N / size0) ** 2 * steps_ratio
-            design_predicted = design[1] * (N / design[0]) ** 2
-            if design_predicted > ARENA_DESIGN_BUDGET_S:
-                rows.append(not_measured(what, (
-                    f"its conditions and design (once per network) took {design[1]:.1f} s at "
-                    f"N = {design[0]}; growing like N^2 they predict {design_predicted:.0f} s "
-                    f"(> {ARENA_DESIGN_BUDGET_S:g} s budget)")))
-                break
-            if predicted > ARENA_CALL_BUDGET_S:
-                rows.append(not_measured(what, f"one call predicted at {predicted:.0f} s from N = "
-                                         f"{size0} (> {ARENA_CALL_BUDGET_S:g} s budget)"))
-                break
-            t0 = time.perf_counter()
-            reason = method.not_applicable(sc)
-            design = (N, time.perf_counter() - t0)
-            if reason is not None:
-                rows.append(not_measured(what, f"N/A at N = {N}: {reason}"))
-                break
-            row = compare(what, (f"N = {ARENA_GROWTH[0]}", runner(method, base_trial)),
-                          (f"N = {N}", runner(method, tr)),
-                          lambda a, b: f"{finite(a)}; {finite(b)}", repeats=repeats, per=1.0,
-                          unit="node-step")
-            # compare() divides both sides by one `per`: rescale each side to its own node-steps
-            row.ours_s, row.alternative_s = row.ours_s / base_per, row.alternative_s / per_n
-            row.ratio = row.alternative_s / row.ours_s
-            row.target, row.met = "ratio <= 2 (per-node cost flat in N)", bool(row.ratio <= 2.0)
-            rows.append(row)
-            last = (N, row.alternative_s * per_n)
-            if not math.isfinite(row.ratio):
-                break
+        rows.append(Row(what, f"N = {SCALING_N[0]}", f"N = {top}", curve[SCALING_N[0]], curve[top],
+                        ratio, text, f"ratio <= 2 at N = {SCALING_N[-1]}",
+                        bool(ratio <= 2.0 and top == SCALING_N[-1]), "node-step", repeats))
+    print("\nper-node step cost (target plant, ring of degree "
+          f"{SCALING_DEGREE}, {SCALING_RUNS} runs x {SCALING_STEPS} steps):\n  " + "\n  ".join(lines),
+          flush=True)
     return rows
 
 
@@ -853,6 +901,7 @@ SECTIONS: dict[str, Callable[[int], list[Row]]] = {
     "lee2020": bench_lee2020,
     "ma2021": bench_ma2021,
     "arena": bench_arena,
+    "scaling": bench_scaling,
     "sweep": bench_sweep,
     "arena-dask": bench_arena_dask,
     "runs": bench_runs,

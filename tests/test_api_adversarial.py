@@ -362,6 +362,21 @@ SPECS: dict[str, Spec] = {
         lambda: dict(n=10, radius=0.6, seed=1, max_tries=100, return_positions=False),
         dict(n=_int(2, huge=True), radius=POS, seed=_seed, max_tries=_int(1, huge=True),
              return_positions=_bool)),
+    "graphs.edge_list": Spec(lambda: dict(adj=RING6), dict(adj=_adj())),
+    "graphs.ring_edges": Spec(lambda: dict(n=6, degree=2), dict(
+        n=_int(3, huge=True), degree=_join(_int(2, huge=True), _custom(("odd", 3), ("not below n", 6))))),
+    "graphs.complete_edges": Spec(lambda: dict(n=5), dict(n=_int(2, huge=True))),
+    "graphs.random_geometric_edges": Spec(
+        lambda: dict(n=10, radius=0.6, seed=1, max_tries=100, return_positions=False),
+        dict(n=_int(2, huge=True), radius=POS, seed=_seed, max_tries=_int(1, huge=True),
+             return_positions=_bool)),
+    "graphs.check_connected_edges": Spec(
+        lambda: dict(edges=np.argwhere(RING6 > 0), n=6, strongly=True),
+        dict(edges=_join(_garbage, _custom(
+            ("wrong shape", np.ones((3, 3), int)), ("float", np.argwhere(RING6 > 0) + 0.5),
+            ("out of range", np.array([[0, 7]])), ("self loop", np.array([[0, 0], [0, 1]])),
+            ("unsorted", np.argwhere(RING6 > 0)[::-1]), ("disconnected", np.argwhere(_TWO_RINGS > 0)))),
+             n=_int(1, huge=True), strongly=_bool)),
     "graphs.check_connected": Spec(lambda: dict(adj=RING6, strongly=True),
                                    dict(adj=_adj(connected=True), strongly=_bool)),
     "graphs.neighbours": Spec(lambda: dict(adj=RING6, include_self=False), dict(adj=_adj(), include_self=_bool)),

@@ -9,6 +9,7 @@ import pytest
 
 from secest.arena import baselines, estimators, scenarios
 from secest.arena.estimators import METHODS
+from secest.core import graphs
 from secest.core.validation import ValidationError
 
 DISTRIBUTED = ("consensus-kf-1", "consensus-kf", "diffusion-kf", "kcf", "wmsr-kf")
@@ -73,7 +74,7 @@ def test_many_consensus_rounds_give_the_centralised_kf() -> None:
 
 def test_one_round_on_a_complete_graph_averages_exactly() -> None:
     t = _trial("inertia5")
-    complete = replace(t.scenario.network, adj=np.ones((5, 5)) - np.eye(5))
+    complete = replace(t.scenario.network, edges=graphs.complete_edges(5))
     t = replace(t, scenario=replace(t.scenario, network=complete))
     central = estimators.centralised_kf(t.scenario, t.y)[:, :, None]
     assert np.abs(baselines.ConsensusKF(rounds=1).run(t).xhat - central).max() < 1e-8
@@ -118,17 +119,17 @@ def test_wmsr_trimming_every_neighbour_is_the_local_kf() -> None:
 def test_wmsr_step_drops_the_extremes_around_its_own_value() -> None:
     """Own 0, neighbours 5, 1, 2 above and -1, -7 below; F = 1 drops 5 and -7: (0+1+2-1)/4."""
     own = np.zeros((1, 6, 1))
-    received = np.zeros((1, 6, 6, 1))
-    received[0, 0, 1:, 0] = [5.0, 1.0, 2.0, -1.0, -7.0]
-    delivered = np.zeros((1, 6, 6))
-    delivered[0, 0, 1:] = 1.0
-    assert baselines.wmsr(own, received, delivered, 1)[0, 0, 0] == pytest.approx(0.5)
-    assert baselines.wmsr(own, received, delivered, 0)[0, 0, 0] == pytest.approx(0.0)
-    assert baselines.wmsr(own, received, delivered, 5)[0, 0, 0] == 0.0
-    received[0, 0, 1, 0] = 1e9  # a Byzantine neighbour: dropped, the result does not move
-    assert baselines.wmsr(own, received, delivered, 1)[0, 0, 0] == pytest.approx(0.5)
-    delivered[0, 0, 2] = 0.0  # value 1 lost: 1e9 dropped, then 2, -1 kept with -7 dropped
-    assert baselines.wmsr(own, received, delivered, 1)[0, 0, 0] == pytest.approx(1.0 / 3.0)
+    to = np.zeros(5, np.intp)  # node 0 receives from 1 .. 5 (edges in sender order)
+    received = np.array([5.0, 1.0, 2.0, -1.0, -7.0]).reshape(1, 5, 1)
+    delivered = np.ones((1, 5))
+    assert baselines.wmsr(own, received, delivered, to, 1)[0, 0, 0] == pytest.approx(0.5)
+    assert baselines.wmsr(own, received, delivered, to, 0)[0, 0, 0] == pytest.approx(0.0)
+    assert baselines.wmsr(own, received, delivered, to, 5)[0, 0, 0] == 0.0
+    received[0, 0, 0] = 1e9  # a Byzantine neighbour: dropped, the result does not move
+    assert baselines.wmsr(own, received, delivered, to, 1)[0, 0, 0] == pytest.approx(0.5)
+    delivered[0, 1] = 0.0  # value 1 lost: 1e9 dropped, then 2, -1 kept with -7 dropped
+    assert baselines.wmsr(own, received, delivered, to, 1)[0, 0, 0] == pytest.approx(1.0 / 3.0)
+    assert np.array_equal(baselines.wmsr(own, received, delivered, to, 1)[0, 1:], own[0, 1:])
 
 
 def test_encodings_map_a_state_perturbation_to_the_message() -> None:
@@ -173,19 +174,26 @@ def test_a_ci_round_is_the_weighted_average_of_the_information_pairs() -> None:
     Y = L @ np.swapaxes(L, -1, -2) + n * np.eye(n)
     x = rng.standard_normal((runs, N, n))
     q = np.einsum("rinm,rim->rin", Y, x)
-    W = estimators.metropolis_weights(scenarios.scenario("inertia5", "none").network.adj)
-    Wk = np.broadcast_to(W, (runs, N, N))
-    x_new, Y_new = baselines._ci_round(Wk, x, Y, np.broadcast_to(q[:, None], (runs, N, N, n)))
-    Y_avg = np.einsum("rij,rjnm->rinm", Wk, Y)
-    x_avg = np.linalg.solve(Y_avg, np.einsum("rij,rjn->rin", Wk, q)[..., None])[..., 0]
-    assert np.array_equal(Y_new, Y_avg)
+    net = scenarios.scenario("inertia5", "none").network
+    w, own = estimators.metropolis_weights(net)
+    W = np.diag(own)
+    W[net.receivers, net.senders] = w
+    assert np.allclose(W.sum(axis=1), 1.0) and np.array_equal(W, W.T)  # doubly stochastic
+    Wk = baselines._Weights(np.broadcast_to(w, (runs, net.E)), np.broadcast_to(own, (runs, N)))
+    x_new, Y_new = baselines._ci_round(net, Wk, x, Y, q[:, net.senders])
+    Y_avg = np.einsum("ij,rjnm->rinm", W, Y)
+    x_avg = np.linalg.solve(Y_avg, np.einsum("ij,rjn->rin", W, q)[..., None])[..., 0]
+    assert np.abs(Y_new - Y_avg).max() < 1e-15 * np.abs(Y_avg).max()  # summation order only
     assert np.abs(x_new - x_avg).max() < 1e-13 * np.abs(x_avg).max()  # measured 4.4e-16 at |x| <= 1.2
 
 
 def test_wmsr_refuses_inconsistent_shapes() -> None:
+    to = np.array([0, 1, 2])
     with pytest.raises(ValidationError, match="Incompatible dimensions of received"):
-        baselines.wmsr(np.zeros((1, 3, 2)), np.zeros((1, 3, 2)), np.ones((1, 3, 3)), 1)
+        baselines.wmsr(np.zeros((1, 3, 2)), np.zeros((1, 3, 3, 2)), np.ones((1, 3)), to, 1)
     with pytest.raises(ValidationError, match="Incompatible dimensions of delivered"):
-        baselines.wmsr(np.zeros((1, 3, 2)), np.zeros((1, 3, 3, 2)), np.ones((3, 3)), 1)
+        baselines.wmsr(np.zeros((1, 3, 2)), np.zeros((1, 3, 2)), np.ones((3, 3)), to, 1)
+    with pytest.raises(ValidationError, match="receivers must be a non-decreasing"):
+        baselines.wmsr(np.zeros((1, 3, 2)), np.zeros((1, 3, 2)), np.ones((1, 3)), to[::-1], 1)
     with pytest.raises(ValidationError, match="trimmed"):
-        baselines.wmsr(np.zeros((1, 3, 2)), np.zeros((1, 3, 3, 2)), np.ones((1, 3, 3)), -1)
+        baselines.wmsr(np.zeros((1, 3, 2)), np.zeros((1, 3, 2)), np.ones((1, 3)), to, -1)

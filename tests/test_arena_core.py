@@ -9,6 +9,7 @@ import pytest
 
 from secest.arena import estimators, scenarios
 from secest.arena.estimators import METHODS, Estimate, Method, register
+from secest.core import graphs
 from secest.core.validation import ValidationError
 
 
@@ -51,17 +52,22 @@ def test_message_falsification_shifts_the_sent_estimate_in_physical_units() -> N
     sc = t.scenario
     m = np.random.default_rng(0).standard_normal((6, 5, sc.plant.n)) * 10
     out = t.received(3, m)
-    diff = out - np.broadcast_to(m[:, None], out.shape)
+    net = sc.network
+    diff = out - m[:, net.senders]
     sd = np.sqrt(np.diag(sc.steady_covariance))  # the oracle's steady-state error sd per component
     hit = t.hits[:, 3]
+    assert hit.shape == (6, net.E) and hit.any()
     assert np.allclose(np.abs(diff[hit]), sc.attack.magnitude * sd)  # exactly magnitude sd, any sign
-    assert not np.any(diff[~hit]) and not np.any(hit[:, ~(sc.network.adj > 0)])  # only on hit links
+    assert not np.any(diff[~hit])  # only on hit links
+    # one perturbation per sender and step: every hit edge of a sender carries the same shift
+    r, e = np.nonzero(hit)
+    assert np.allclose(diff[hit], t.message_delta[r, 3, net.senders[e]])
     # a method whose message is not its estimate maps the same shift by its own encoding
-    C = sc.C
+    Cj = sc.C[net.senders]
     y = t.y[:, 3]
-    relayed = t.received(3, y, lambda d: np.einsum("jyn,rijn->rijy", C, d))
-    shift = relayed - y[:, None]
-    assert np.allclose(shift, np.einsum("jyn,rijn->rijy", C, diff))
+    relayed = t.received(3, y, lambda d: np.einsum("eyn,ren->rey", Cj, d))
+    shift = relayed - y[:, net.senders]
+    assert np.allclose(shift, np.einsum("eyn,ren->rey", Cj, diff))
     with pytest.raises(ValidationError, match="encode: messages of 1 entries are not state estimates"):
         t.received(3, y)
     with pytest.raises(ValidationError, match="encode: expected perturbations of shape"):
@@ -136,7 +142,7 @@ def test_a_growing_error_is_diverged_not_a_ratio() -> None:
 def test_consensus_kf_on_a_complete_graph_is_the_centralised_kf() -> None:
     """One Metropolis round on a complete graph averages exactly: N x average = the sum."""
     sc = _scenario()
-    complete = replace(sc.network, adj=np.ones((5, 5)) - np.eye(5))
+    complete = replace(sc.network, edges=graphs.complete_edges(5))
     sc = replace(sc, network=complete)
     t = scenarios.simulate(sc)
     diff = METHODS["consensus-kf"].run(t).xhat - METHODS["oracle"].run(t).xhat
@@ -328,9 +334,12 @@ def test_a_failing_method_is_one_error_cell() -> None:
 def test_sizes_are_checked_before_allocation() -> None:
     from secest.core.validation import SizeLimitError
 
-    net = {"title": "t", "plant": "target", "N": 10**5, "graph": "ring", "measures": [[0]]}
-    with pytest.raises(SizeLimitError, match=r"network huge: N asks for 1e\+05 nodes of a dense network"):
+    net = {"title": "t", "plant": "target", "N": 10**5, "graph": "complete", "measures": [[0]]}
+    with pytest.raises(SizeLimitError, match=r"network huge: N \(N - 1\) asks for 1e\+10 edges"):
         scenarios.cards(extra={"network": {"huge": net}})
+    dense = {"title": "t", "plant": "target", "N": 1500, "graph": "complete", "measures": [[0]] * 1500}
+    with pytest.raises(SizeLimitError, match=r"runs x \(horizon \+ 1\) x edges asks for 2\.27e\+09"):
+        scenarios.scenario("dense", "none", runs=10, horizon=100, extra={"network": {"dense": dense}})
     with pytest.raises(SizeLimitError, match="horizon asks for 1e\\+09 steps"):
         _scenario(horizon=10**9)
     with pytest.raises(SizeLimitError, match="runs x \\(horizon \\+ 1\\) x nodes"):

@@ -139,10 +139,14 @@ def test_run_sweep_with_zero_workers_is_refused() -> None:
 
 
 def test_a_huge_network_is_refused_before_allocation() -> None:
-    extra = _card("network", {**RING, "N": 10**5, "measures": [[0]]})
+    """Networks are edge lists: 10^5 nodes on a ring are fine, 10^10 edges or 10^9 nodes are not."""
+    extra = _card("network", {**RING, "N": 10**5, "graph": "complete", "measures": [[0]]})
     _refused(lambda: scenarios.cards(extra=extra),
-             r"network mine: N asks for 1e\+05 nodes of a dense network, more than the limit .*",
-             SizeLimitError)
+             r"network mine: N \(N - 1\) asks for 1e\+10 edges of a complete network, more than the "
+             r"limit .*", SizeLimitError)
+    extra = _card("network", {**RING, "N": 10**9, "measures": [[0]]})
+    _refused(lambda: scenarios.cards(extra=extra),
+             r"network mine: N asks for 1e\+09 nodes of a network, more than the limit .*", SizeLimitError)
 
 
 def test_a_huge_horizon_is_refused_before_allocation() -> None:

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import scipy.sparse as sp
 
 from secest.arena import scenarios
 from secest.arena.estimators import METHODS
@@ -296,7 +297,7 @@ def test_a_lost_link_means_no_coupling() -> None:
     obs = method._design(sc)["observer"]
     down = np.zeros_like(trial.link)
     alone = L.run_sampled(obs, trial.y, trial.received, down)
-    garbage = L.run_sampled(obs, trial.y, lambda k, m: np.full((3, 12, 12, 4), 1e6), down)
+    garbage = L.run_sampled(obs, trial.y, lambda k, m: np.full((3, sc.network.E, 4), 1e6), down)
     assert np.array_equal(alone.xhat, garbage.xhat)
 
 
@@ -313,9 +314,8 @@ def test_a_failed_assumption_is_named_as_n_a_or_as_a_mark(change, condition) -> 
     sc = scenarios.scenario("inertia5", "bias", runs=2, horizon=5)
     net = sc.network
     if change == "graph":
-        adj = net.adj.copy()
-        adj[0, 1] = 0.0  # a directed edge
-        sc = replace(sc, network=replace(net, adj=adj))
+        edges = net.edges[~((net.receivers == 0) & (net.senders == 1))]  # a directed edge
+        sc = replace(sc, network=replace(net, edges=edges))
     elif change == "two attacked":
         sc = replace(sc, attack=replace(sc.attack, nodes=(0, 1)))
     elif change == "redundancy":  # banks theta2, theta2, theta2: alone they miss the (1, 0, -1) mode
@@ -343,6 +343,45 @@ def test_repeated_eigenvalues_use_the_intersection_basis() -> None:
 
 
 # ----------------------------------------------------------------------------- bad input
+
+
+@pytest.mark.parametrize("rows", [[0, 1, 2, 3, 4], [1, 1, 1, 3, 4], [0, 1, 2, 3, 4, 0, 1, 2, 3, 4, 2]])
+def test_redundancy_from_the_basis_is_the_enumeration(plant, rows) -> None:
+    """Assumption 2 by counting each coordinate's observers equals the subset enumeration, for
+    every admissible q, on Section IV's banks, a set without redundancy, and eleven banks."""
+    A, _, banks = plant
+    catalogue = np.vstack(banks)
+    chosen = [catalogue[r : r + 1] for r in rows]
+    b = L.assumption4_basis(A, chosen)
+    assert b.ok
+    for q in range((len(rows) - 1) // 2 + 1):
+        assert L.redundant_from_basis(b.S, q) == systems.redundant_observability(A, chosen, q).holds
+    assert not L.redundant_from_basis(b.S, len(rows))  # N - 2q < 1
+
+
+def test_sparse_coupling_with_per_edge_messages_is_the_dense_run() -> None:
+    """sampled_observer on the sparse adjacency and run_sampled with per-edge (falsified) messages
+    give the dense run on tank12's trial with falsified messages; nodes with equal banks share
+    one design (the per-node matrices are equal)."""
+    sc = scenarios.scenario("tank12", "message", runs=2, horizon=30)
+    trial = scenarios.simulate(sc)
+    d = METHODS["lee2020"]._design(sc)
+    net, obs = sc.network, d["observer"]
+    assert sp.issparse(obs.coupling) and obs.coupling.nnz == net.E
+    dense = obs._replace(coupling=obs.coupling.toarray())
+    rows, cols = net.receivers, net.senders
+
+    def per_link(k: int, m: np.ndarray) -> np.ndarray:
+        out = np.zeros((2, net.N, net.N, 4))
+        out[:, rows, cols] = trial.received(k, m)
+        return out
+
+    a = L.run_sampled(dense, trial.y, per_link, trial.link)
+    b = L.run_sampled(obs, trial.y, trial.received, trial.link)
+    assert np.abs(a.xhat - b.xhat).max() <= 1e-12 * np.abs(a.xhat).max()
+    assert np.array_equal(obs.P[:, 0], obs.P[:, 4]) and np.array_equal(obs.Y[1], obs.Y[5])
+    with pytest.raises(ValidationError, match="per-edge"):
+        L.run_sampled(obs, trial.y, lambda k, m: m, trial.link)
 
 
 def test_bad_input_is_refused_naming_the_argument(basis) -> None:
@@ -379,3 +418,10 @@ def test_bad_input_is_refused_naming_the_argument(basis) -> None:
         L.run_sampled(obs, np.zeros((2, 6, 5, 1)), lambda k, m: m, np.ones((2, 5)))
     with pytest.raises(ValidationError, match="m must be >= 1"):
         L.sampled_observer(sc.plant.Ac, obs.V, np.ones((5, 6)), [], sc.C, sc.network.adj, 0.5, 2.0, 0.02, 0)
+    with pytest.raises(ValidationError, match="adj must be a finite"):
+        L.sampled_observer(sc.plant.Ac, obs.V, np.ones((5, 6)), [np.zeros((6, 1))] * 5, sc.C,
+                           sp.eye_array(4), 0.5, 2.0, 0.02, 1)
+    with pytest.raises(ValidationError, match="S must hold 0/1"):
+        L.redundant_from_basis(np.full((5, 6), 0.5), 1)
+    with pytest.raises(ValidationError, match="q must be a non-negative integer"):
+        L.redundant_from_basis(np.ones((5, 6)), -1)

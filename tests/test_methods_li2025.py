@@ -19,7 +19,7 @@ import pytest
 from secest.arena import scenarios
 from secest.arena.estimators import METHODS
 from secest.arena.papers import li2025 as arena_li2025
-from secest.core import montecarlo, schedules
+from secest.core import graphs, montecarlo, schedules
 from secest.core.validation import ValidationError
 from secest.methods import li2025
 from secest.repro.results import repo_root
@@ -358,7 +358,7 @@ def _kalman(sc, y):
 def test_without_attack_on_a_complete_graph_it_is_the_centralised_kalman_filter() -> None:
     """psi_check = 1 and lambda -> 0: (17)-(18)-(28) is the Kalman recursion (notebook C6)."""
     sc = scenarios.scenario("inertia5", "none", runs=3, horizon=40)
-    sc = replace(sc, network=replace(sc.network, adj=np.ones((5, 5)) - np.eye(5)))
+    sc = replace(sc, network=replace(sc.network, edges=graphs.complete_edges(5)))
     t = scenarios.simulate(sc)
     est = arena_li2025.Li2025(weights=(1e-300, 1.0, 1e-2, 0.1, 0.1)).run(t)
     ref = _kalman(sc, t.y)

@@ -47,7 +47,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from secest.arena.estimators import Estimate, Method, metropolis_weights, register
-from secest.arena.scenarios import Scenario, Trial
+from secest.arena.scenarios import Network, Scenario, Trial
 from secest.core.tolerances import Tolerance
 from secest.core.validation import ValidationError, check_choice, check_int, check_real
 
@@ -72,7 +72,9 @@ def _sym(M: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 def _information(trial: Trial, k: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """``U_i`` (runs, N, n, n) and ``u_{i,k}`` (runs, N, n): node i's measurement information."""
+    """``U_i`` (runs, N, n, n) and ``u_{i,k}`` (runs, N, n): node i's measurement information.
+
+    O(N) per step; ``U_i`` is a broadcast view (one copy per node, not per run)."""
     sc = trial.scenario
     Rinv = np.linalg.inv(sc.R)
     U = np.einsum("iyn,iyz,izm->inm", sc.C, Rinv, sc.C)
@@ -116,42 +118,56 @@ def _predict(
     return _Prior(x @ A.T, P_prior, _sym(np.linalg.inv(P_prior)))
 
 
+class _Weights(NamedTuple):
+    """(M) weights of one step: ``edge`` (runs, E) on the delivered links (0 on a lost one) and
+    ``own`` (runs, N), ``w_ii = 1 - sum_j w_ij`` over the delivered links."""
+
+    edge: NDArray[np.float64]
+    own: NDArray[np.float64]
+
+
 def _delivered(trial: Trial, k: int) -> NDArray[np.float64]:
-    """``a[r, i, j] = 1`` where node i hears node j at step k and the link is up (runs, N, N)."""
-    return trial.scenario.network.adj[None] * trial.link[:, k].astype(float)[:, None, None]
+    """``a[r, e] = 1`` where edge ``e``'s message arrives at step k (its link is up): (runs, E)."""
+    E = trial.scenario.network.E
+    return np.broadcast_to(trial.link[:, k].astype(float)[:, None], (trial.link.shape[0], E))
 
 
-def _weights(W: NDArray[np.float64], delivered: NDArray[np.float64]) -> NDArray[np.float64]:
-    """(M): the weights ``W`` of the delivered links, each lost link's weight given to the node."""
-    off = (W - np.diag(np.diag(W)))[None] * delivered
-    return off + np.eye(W.shape[0])[None] * (1.0 - off.sum(axis=-1, keepdims=True))
+def _weights(net: Network, W: NDArray[np.float64], delivered: NDArray[np.float64]) -> _Weights:
+    """(M): the per-edge weights ``W`` (E,) of the delivered links, a lost link's weight given to
+    the node."""
+    edge = W[None] * delivered
+    return _Weights(edge, 1.0 - net.sum_in(edge))
 
 
-def _fuse(Wk: NDArray[np.float64], received: NDArray[np.float64]) -> NDArray[np.float64]:
-    """``sum_j w_ij m_ij`` of the vectors node i received from j (``m_ii`` its own): (runs, N, d)."""
-    return np.einsum("rij,rijn->rin", Wk, received)
+def _fuse(net: Network, Wk: _Weights, own: NDArray[np.float64],
+          received: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``w_ii m_i + sum_j w_ij m_ij`` of node i's own value (runs, N, ...) and those it received
+    (runs, E, ...): vectors or matrices, (runs, N, ...)."""
+    dims = (None,) * (own.ndim - 2)
+    return Wk.own[(..., *dims)] * own + net.sum_in(Wk.edge[(..., *dims)] * received)
 
 
 def _ci_round(
-    Wk: NDArray[np.float64], x: NDArray[np.float64], Y: NDArray[np.float64],
+    net: Network, Wk: _Weights, x: NDArray[np.float64], Y: NDArray[np.float64],
     received: NDArray[np.float64],
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """One CI round: ``Y_i <- sum_j w_ij Y_j``, ``q_i <- sum_j w_ij q_j`` with ``q_j = Y_j x_j``.
 
-    ``received[r, i, j]`` is the information vector ``q_j`` node i received from j. The new
-    estimate ``Y_i^{-1} q_i`` is computed as ``x_i + Y_i^{-1} sum_{j != i} w_ij (q_j - Y_j x_i)``
-    (the same, the weights summing to one), so that a node that received nothing keeps ``x_i``
-    to the last bit. Returns the new estimates and information matrices.
+    ``received[r, e]`` is the information vector ``q_j`` the receiver ``i`` of edge ``e`` got from
+    its sender ``j``. The new estimate ``Y_i^{-1} q_i`` is computed as
+    ``x_i + Y_i^{-1} sum_{j != i} w_ij (q_j - Y_j x_i)`` (the same, the weights summing to one),
+    so that a node that received nothing keeps ``x_i`` to the last bit. Returns the new
+    estimates and information matrices.
     """
-    off = Wk * (1.0 - np.eye(Wk.shape[-1]))[None]
-    pull = np.einsum("rij,rijn->rin", off, received - np.einsum("rjnm,rim->rijn", Y, x))
-    Y = np.einsum("rij,rjnm->rinm", Wk, Y)
+    Ys = Y[:, net.senders]
+    gap = received - np.einsum("renm,rem->ren", Ys, x[:, net.receivers])
+    pull = net.sum_in(Wk.edge[..., None] * gap)
+    Y = _fuse(net, Wk, Y, Ys)
     return x + np.linalg.solve(Y, pull[..., None])[..., 0], Y
 
 
 def _undirected(sc: Scenario) -> list[tuple[str, bool]]:
-    sym = bool(np.array_equal(sc.network.adj, sc.network.adj.T))
-    return [("the graph is undirected (Metropolis weights)", sym)]
+    return [("the graph is undirected (Metropolis weights)", sc.network.undirected)]
 
 
 # ---------------------------------------------------------------------------------- encodings
@@ -292,16 +308,17 @@ class ConsensusInformationKF(Method):
     def run(self, trial: Trial) -> Estimate:
         sc = trial.scenario
         A, Q = sc.plant.A, sc.plant.Q
-        W = metropolis_weights(sc.network.adj)
+        net = sc.network
+        W, _ = metropolis_weights(net)
         out = np.empty((*trial.y.shape[:3], sc.plant.n))
         prior = _start(trial)
         for k in range(trial.y.shape[1]):
             x, P, Y = _correct(prior, *_information(trial, k))  # (L1)
-            Wk = _weights(W, _delivered(trial, k))  # (M)
+            Wk = _weights(net, W, _delivered(trial, k))  # (M)
             for _ in range(self.rounds):  # CI: average the information pairs that arrived
                 sent = np.einsum("rinm,rim->rin", Y, x)  # q_i = Y_i xhat_i
-                x, Y = _ci_round(Wk, x, Y, trial.received(
-                    k, sent, lambda d, Y=Y: encode_consensus_kf_1(d, Y[:, None])))
+                x, Y = _ci_round(net, Wk, x, Y, trial.received(
+                    k, sent, lambda d, Y=Y: encode_consensus_kf_1(d, Y[:, net.senders])))
             P = _sym(np.linalg.inv(Y))
             out[:, k] = x
             prior = _predict(x, P, A, Q)  # (L2): the prior of step k + 1
@@ -341,18 +358,19 @@ class ConsensusKF(Method):
 
     def run(self, trial: Trial) -> Estimate:
         sc = trial.scenario
-        N = sc.network.N
+        net = sc.network
         A, Q = sc.plant.A, sc.plant.Q
-        W = metropolis_weights(sc.network.adj)
+        W, _ = metropolis_weights(net)
         out = np.empty((*trial.y.shape[:3], sc.plant.n))
         prior = _start(trial)
         for k in range(trial.y.shape[1]):
-            Wk = _weights(W, _delivered(trial, k))  # (M)
+            Wk = _weights(net, W, _delivered(trial, k))  # (M)
             U, u = _information(trial, k)
             for _ in range(self.rounds):  # CM: average the measurement information that arrived
-                u = _fuse(Wk, trial.received(k, u, lambda d, U=U: encode_consensus_kf(d, U[:, None])))
-                U = np.einsum("rij,rjnm->rinm", Wk, U)
-            f = np.where(trial.link[:, k] > 0, float(N), 1.0)[:, None, None]  # N x average, or own once
+                sent = U[:, net.senders]  # the senders' matrices, per edge
+                u = _fuse(net, Wk, u, trial.received(k, u, lambda d, M=sent: encode_consensus_kf(d, M)))
+                U = _fuse(net, Wk, U, sent)
+            f = np.where(trial.link[:, k] > 0, float(net.N), 1.0)[:, None, None]  # N x mean, or own once
             x, P, _ = _correct(prior, f[..., None] * U, f * u)  # (L1)
             out[:, k] = x
             prior = _predict(x, P, A, Q)  # (L2): the prior of step k + 1
@@ -391,12 +409,13 @@ class DiffusionKF(Method):
     def run(self, trial: Trial) -> Estimate:
         sc = trial.scenario
         A, Q = sc.plant.A, sc.plant.Q
-        W = metropolis_weights(sc.network.adj)
+        net = sc.network
+        W, _ = metropolis_weights(net)
         out = np.empty((*trial.y.shape[:3], sc.plant.n))
         prior = _start(trial)
         for k in range(trial.y.shape[1]):
             psi, P, _ = _correct(prior, *_information(trial, k))  # (L1)
-            x = _fuse(_weights(W, _delivered(trial, k)), trial.received(k, psi))
+            x = _fuse(net, _weights(net, W, _delivered(trial, k)), psi, trial.received(k, psi))
             out[:, k] = x
             prior = _predict(x, P, A, Q)  # (L2): the prior of step k + 1
         return Estimate(out)
@@ -433,13 +452,14 @@ class KalmanConsensusFilter(Method):
         self.epsilon = check_real("epsilon", epsilon, lower=0.0)
 
     def requirements(self, sc: Scenario) -> list[tuple[str, bool]]:
-        d_max = float(sc.network.adj.sum(axis=1).max())
+        d_max = float(sc.network.degree.max())
         return [(f"epsilon * max degree < 1 (epsilon = {self.epsilon:g}, max degree {d_max:g})",
                  self.epsilon * d_max < 1)]
 
     def run(self, trial: Trial) -> Estimate:
         sc = trial.scenario
-        d_max = float(sc.network.adj.sum(axis=1).max())
+        net = sc.network
+        d_max = float(net.degree.max())
         if self.epsilon * d_max >= 1:
             raise ValidationError(f"epsilon must be < 1 / max degree = {1 / d_max:g} on network "
                                   f"{sc.network.name!r}, found {self.epsilon!r}")
@@ -448,8 +468,8 @@ class KalmanConsensusFilter(Method):
         prior = _start(trial)
         for k in range(trial.y.shape[1]):
             received = trial.received(k, prior.x)
-            disagreement = np.einsum("rij,rijn->rin", _delivered(trial, k),
-                                     received - prior.x[:, :, None])
+            disagreement = net.sum_in(_delivered(trial, k)[..., None]
+                                      * (received - prior.x[:, net.receivers]))
             norm = np.sqrt(np.einsum("rinm,rinm->ri", prior.P, prior.P))[..., None, None]
             gain = self.epsilon * prior.P / (1.0 + norm)
             psi, P, _ = _correct(prior, *_information(trial, k))  # (L1)
@@ -461,26 +481,30 @@ class KalmanConsensusFilter(Method):
 
 def wmsr(
     own: NDArray[np.float64], received: NDArray[np.float64], delivered: NDArray[np.float64],
-    trimmed: int,
+    receivers: NDArray[np.intp], trimmed: int,
 ) -> NDArray[np.float64]:
     """One W-MSR step (LeBlanc et al. 2013) on every component of every node's value.
 
     For each component, node ``i`` takes the values it received from its neighbours (the
     delivered links); of those strictly larger than its own it removes the ``F = trimmed``
     largest (all of them if fewer than ``F``), of those strictly smaller the ``F`` smallest,
-    and averages its own value with the rest, with equal weights (ties ranked by sender index).
-    Among at most ``F`` faulty neighbours, every kept value lies within the range of the
-    normal ones; the resilience guarantee against ``F``-local malicious neighbours needs a
-    ``(2F + 1)``-robust graph (LeBlanc et al. 2013), which the arena does not check.
+    and averages its own value with the rest, with equal weights (ties ranked by edge order,
+    i.e. by sender index). Among at most ``F`` faulty neighbours, every kept value lies within
+    the range of the normal ones; the resilience guarantee against ``F``-local malicious
+    neighbours needs a ``(2F + 1)``-robust graph (LeBlanc et al. 2013), which the arena does not
+    check. The values are ranked per node in a (N, max in-degree) table: O(E) memory and
+    O(N d log d) work for in-degrees ``d``.
 
     Parameters
     ----------
     own : (runs, N, n) array
         Every node's own value.
-    received : (runs, N, N, n) array
-        ``received[r, i, j]``: the value node ``i`` received from ``j``.
-    delivered : (runs, N, N) array of 0 / 1
-        Where ``j``'s value reached ``i`` (the diagonal is ignored).
+    received : (runs, E, n) array
+        ``received[r, e]``: the value the receiver of edge ``e`` got from its sender.
+    delivered : (runs, E) array of 0 / 1
+        Where edge ``e``'s value arrived.
+    receivers : (E,) int array
+        The receiver of every edge, non-decreasing (:attr:`Network.receivers`), in ``range(N)``.
     trimmed : int
         ``F``, >= 0.
 
@@ -491,20 +515,30 @@ def wmsr(
     """
     F = check_int("trimmed", trimmed, minimum=0)
     runs, N, n = np.shape(own)
-    for name, value, want in (("received", received, (runs, N, N, n)),
-                              ("delivered", delivered, (runs, N, N))):
+    to = np.asarray(receivers)
+    if to.ndim != 1 or not np.issubdtype(to.dtype, np.integer) or np.any(np.diff(to) < 0) or (
+            to.size and (to.min() < 0 or to.max() >= N)):
+        raise ValidationError(f"receivers must be a non-decreasing 1-D integer array in range({N}), "
+                              f"found shape {to.shape} and dtype {to.dtype}")
+    E = to.size
+    for name, value, want in (("received", received, (runs, E, n)), ("delivered", delivered, (runs, E))):
         if np.shape(value) != want:
             raise ValidationError(f"Incompatible dimensions of {name}: expected {want}, "
                                   f"found {np.shape(value)}")
-    valid = ((delivered > 0) & ~np.eye(own.shape[1], dtype=bool)[None])[..., None]
-    above = valid & (received > own[:, :, None])
-    below = valid & (received < own[:, :, None])
+    degree = np.bincount(to, minlength=N)
+    slot = np.arange(E) - np.concatenate([[0], np.cumsum(degree)])[to]
+    table = np.zeros((runs, N, int(degree.max(initial=0)), n))
+    table[:, to, slot] = received
+    valid = np.zeros(table.shape, bool)
+    valid[:, to, slot] = (np.asarray(delivered) > 0)[..., None]
+    above = valid & (table > own[:, :, None])
+    below = valid & (table < own[:, :, None])
     drop = np.zeros_like(above)
-    for side, key in ((above, -received), (below, received)):  # rank 0 = most extreme
+    for side, key in ((above, -table), (below, table)):  # rank 0 = most extreme
         order = np.argsort(np.where(side, key, np.inf), axis=2, kind="stable")
         drop |= side & (np.argsort(order, axis=2, kind="stable") < F)
     keep = valid & ~drop
-    return (own + np.where(keep, received, 0.0).sum(axis=2)) / (1.0 + keep.sum(axis=2))
+    return (own + np.where(keep, table, 0.0).sum(axis=2)) / (1.0 + keep.sum(axis=2))
 
 
 @register
@@ -549,7 +583,7 @@ class WmsrKF(Method):
         for k in range(trial.y.shape[1]):
             psi, P, _ = _correct(prior, *_information(trial, k))  # (L1)
             received = trial.received(k, psi)
-            x = wmsr(psi, received, _delivered(trial, k), self.trimmed)
+            x = wmsr(psi, received, _delivered(trial, k), sc.network.receivers, self.trimmed)
             out[:, k] = x
             prior = _predict(x, P, A, Q)  # (L2): the prior of step k + 1
         return Estimate(out)

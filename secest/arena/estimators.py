@@ -34,7 +34,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import stats
 
-from secest.arena.scenarios import Scenario, Trial, check_scenario
+from secest.arena.scenarios import Network, Scenario, Trial, check_scenario
 from secest.core.tolerances import DETERMINISTIC, Tolerance
 from secest.core.validation import (
     ValidationError,
@@ -45,6 +45,7 @@ from secest.core.validation import (
 
 __all__ = [
     "BOOTSTRAP",
+    "CENTRAL_BLOCK",
     "CHI2_ALPHA",
     "EXTRAS",
     "GROWTH_LIMIT",
@@ -214,11 +215,19 @@ def register(method: Method | type[Method], *, replace: bool = False) -> Method 
 # ---------------------------------------------------------------------------------- Kalman filters
 
 
-def _stacked(sc: Scenario) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """All nodes' measurement matrices and noise covariances stacked: (N ny, n), (N ny, N ny)."""
-    C = sc.C.reshape(-1, sc.plant.n)
-    R = np.diag(np.concatenate([np.diag(r) for r in sc.R]))
-    return C, R
+CENTRAL_BLOCK = 20
+"""The centralised filters update with the nodes' measurements in blocks of this many nodes."""
+
+
+def _blocks(sc: Scenario) -> list[tuple[slice, NDArray[np.float64], NDArray[np.float64]]]:
+    """Per block of :data:`CENTRAL_BLOCK` nodes: its node slice, stacked ``C`` and diagonal ``R``."""
+    N, n = sc.network.N, sc.plant.n
+    r = np.diagonal(sc.R, axis1=1, axis2=2)  # (N, ny): the nodes' noise variances
+    out = []
+    for start in range(0, N, CENTRAL_BLOCK):
+        nodes = slice(start, min(start + CENTRAL_BLOCK, N))
+        out.append((nodes, sc.C[nodes].reshape(-1, n), np.diag(r[nodes].reshape(-1))))
+    return out
 
 
 def _prior(sc: Scenario, runs: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -231,24 +240,53 @@ def centralised_kf(
 ) -> NDArray[np.float64]:
     """Kalman filter on every node's measurements; ``use[r, k, i]`` False drops node i's rows.
 
-    Vectorised over runs; with ``use`` the covariance depends on the run and is carried
-    per run. Returns the filtered estimates, shape (runs, K + 1, n).
+    The measurement noises of different nodes are independent, so the update with all nodes'
+    rows is the same as updates with one block of nodes after the other (sequential processing):
+    blocks of :data:`CENTRAL_BLOCK` nodes, each a stacked Joseph-form update of O((B ny)^3),
+    so a step costs O(N) and never builds the (N ny) x (N ny) innovation covariance. A network
+    of at most :data:`CENTRAL_BLOCK` nodes is one block: the plain stacked update. Vectorised
+    over runs; with ``use`` the covariance depends on the run and is carried per run.
+
+    Parameters
+    ----------
+    sc : Scenario
+        The plant and the nodes' measurement matrices and noise covariances.
+    y : (runs, K + 1, N, ny) array
+        The measurements to filter.
+    use : (runs, K + 1, N) bool array, optional
+        Which nodes' measurements each step uses (default all).
+
+    Returns
+    -------
+    (runs, K + 1, n) array
+        The filtered estimates.
     """
     runs, K1 = y.shape[:2]
-    C, R = _stacked(sc)
     A, Q = sc.plant.A, sc.plant.Q
-    ny = sc.C.shape[1]
+    blocks = _blocks(sc)
     x, P = _prior(sc, runs)
     P = np.broadcast_to(P, (runs, *P.shape)).copy()
     out = np.empty((runs, K1, sc.plant.n))
     for k in range(K1):
         if k > 0:
-            x = x @ A.T
-            P = A @ P @ A.T + Q
-        rows = np.ones((runs, C.shape[0]), bool) if use is None else np.repeat(use[:, k], ny, axis=1)
-        x, P = _update(x, P, y[:, k].reshape(runs, -1), C, R, rows)
+            x, P = x @ A.T, A @ P @ A.T + Q
+        x, P = _blocked_update(blocks, x, P, y[:, k], None if use is None else use[:, k])
         out[:, k] = x
     return out
+
+
+def _blocked_update(
+    blocks: list[tuple[slice, NDArray[np.float64], NDArray[np.float64]]], x: NDArray[np.float64],
+    P: NDArray[np.float64], y: NDArray[np.float64], use: NDArray[np.bool_] | None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The update with every node's rows ``y`` (runs, N, ny), one block (:func:`_blocks`) after
+    another."""
+    runs, _, ny = y.shape
+    for nodes, C, R in blocks:
+        rows = (np.ones((runs, C.shape[0]), bool) if use is None
+                else np.repeat(use[:, nodes], ny, axis=1))
+        x, P = _update(x, P, y[:, nodes].reshape(runs, -1), C, R, rows)
+    return x, P
 
 
 def _update(
@@ -329,8 +367,8 @@ class Chi2KF(Method):
         sc = trial.scenario
         runs, K1, N, ny = trial.y.shape
         threshold = float(stats.chi2.ppf(1 - self.false_alarm, ny))
-        C, R = _stacked(sc)
         A, Q = sc.plant.A, sc.plant.Q
+        blocks = _blocks(sc)
         x, P0 = _prior(sc, runs)
         P = np.broadcast_to(P0, (runs, *P0.shape)).copy()
         out = np.empty((runs, K1, sc.plant.n))
@@ -342,18 +380,35 @@ class Chi2KF(Method):
             S = np.einsum("iyn,rnm,izm->riyz", sc.C, P, sc.C) + sc.R
             nis = np.einsum("riy,riy->ri", eta, np.linalg.solve(S, eta[..., None])[..., 0])
             alarms[:, k] = nis > threshold
-            x, P = _update(
-                x, P, trial.y[:, k].reshape(runs, -1), C, R, np.repeat(~alarms[:, k], ny, axis=1)
-            )
+            x, P = _blocked_update(blocks, x, P, trial.y[:, k], ~alarms[:, k])
             out[:, k] = x
         return Estimate(_every_node(out, N), alarms=alarms)
 
 
-def metropolis_weights(adj: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Metropolis-Hastings weights of an undirected graph: symmetric and doubly stochastic."""
-    deg = adj.sum(axis=1)
-    W = adj / (1.0 + np.maximum(deg[:, None], deg[None, :]))
-    return W + np.diag(1.0 - W.sum(axis=1))
+def metropolis_weights(network: Network) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Metropolis-Hastings weights of an undirected graph, per edge: symmetric, doubly stochastic.
+
+    ``w_ij = 1 / (1 + max(d_i, d_j))`` on every edge ``(i, j)`` of :attr:`Network.edges`
+    (``d`` the in-degree), and ``w_ii = 1 - sum_j w_ij``: O(E), no N x N matrix.
+
+    Parameters
+    ----------
+    network : Network
+        The graph (its edge list and degrees).
+
+    Returns
+    -------
+    edge : (E,) array
+        ``w_ij`` of every edge, in the order of ``network.edges``.
+    own : (N,) array
+        ``w_ii`` of every node.
+    """
+    if not isinstance(network, Network):
+        raise ValidationError(f"network must be a secest.arena.scenarios.Network, "
+                              f"found {type(network).__name__}")
+    d = network.degree
+    edge = 1.0 / (1.0 + np.maximum(d[network.receivers], d[network.senders]))
+    return edge, 1.0 - network.sum_in(edge[None])[0]
 
 
 # ---------------------------------------------------------------------------------- scoring

@@ -193,7 +193,7 @@ def attack_activity(trial: Trial) -> NDArray[np.float64]:
     if kind in ("bias", "replacement"):
         acting = trial.attacked.any(axis=2)
     elif kind == "message":
-        acting = trial.hits.any(axis=(2, 3))
+        acting = trial.hits.any(axis=2)
     elif kind == "dos":
         acting = trial.link == 0
     else:

@@ -39,6 +39,7 @@ from typing import Any
 import numpy as np
 import scipy.linalg as sla
 from numpy.typing import NDArray
+from scipy.sparse import csr_array
 
 from secest.core import validation
 from secest.core.validation import ValidationError, as_matrix, check_positive_int
@@ -46,6 +47,7 @@ from secest.core.validation import ValidationError, as_matrix, check_positive_in
 __all__ = [
     "ATTACK_KINDS",
     "CARD_KEYS",
+    "DENSE_NODES",
     "NOISE_CLIP",
     "Attack",
     "Network",
@@ -281,12 +283,20 @@ class Plant:
         return self.q_std**2 * np.eye(self.n)
 
 
+DENSE_NODES = 2000
+"""Largest network whose dense adjacency :attr:`Network.adj` is handed out (use the edge list above)."""
+
+
 @dataclass(frozen=True)
 class Network:
     """Sensor nodes, who hears whom, and which outputs each node measures.
 
     One ``[network.<name>]`` card of ``cards.toml`` (the graph built from ``graph``,
-    ``degree``, ``radius``, ``seed`` and checked connected).
+    ``degree``, ``radius``, ``seed`` as an edge list and checked connected). The graph is held as
+    an edge list, so that a network of constant degree costs O(N) memory: every per-link
+    quantity of the arena (:attr:`Trial.hits`, :meth:`Trial.received`, the weights of
+    :func:`secest.arena.estimators.metropolis_weights`) is an array over the ``E`` edges in
+    this order, and :meth:`sum_in` sums it over each node's in-edges.
 
     Attributes
     ----------
@@ -296,24 +306,107 @@ class Network:
         One line for tables and figures.
     plant : str
         Name of the :class:`Plant` card the nodes observe.
-    adj : (N, N) array of 0.0 / 1.0
-        Adjacency with zero diagonal: ``adj[i, j] = 1`` when node ``i`` receives node ``j``'s
-        messages (symmetric for the ring, complete and random geometric graphs of the cards).
+    edges : (E, 2) int array
+        The links as ``(receiver i, sender j)`` pairs: node ``i`` receives node ``j``'s messages.
+        Sorted by receiver then sender, unique, no self loop (symmetric for the ring, complete
+        and random geometric graphs of the cards).
     measures : (N, ny) int array
         ``measures[i]``: the rows of :attr:`Plant.outputs` node ``i`` measures (0-based, the
         same number ``ny`` per node), so ``C_i = outputs[measures[i]]`` (:attr:`Scenario.C`).
+        Its length is the number of nodes ``N``.
     """
 
     name: str
     title: str
     plant: str
-    adj: NDArray[np.float64]
+    edges: NDArray[np.intp]
     measures: NDArray[np.intp]
+
+    def __post_init__(self) -> None:
+        from secest.core import graphs
+
+        edges = np.asarray(self.edges)
+        if edges.ndim != 2 or edges.shape[1] != 2:
+            raise ValidationError(f"network {self.name}: edges must be an (E, 2) array of "
+                                  f"(receiver, sender) pairs, found shape {edges.shape}")
+        object.__setattr__(self, "edges", graphs.check_connected_edges(edges, self.N, strongly=False))
 
     @property
     def N(self) -> int:
         """Number of nodes."""
-        return self.adj.shape[0]
+        return int(np.shape(self.measures)[0])
+
+    @property
+    def E(self) -> int:
+        """Number of (directed) edges."""
+        return int(self.edges.shape[0])
+
+    @property
+    def receivers(self) -> NDArray[np.intp]:
+        """Receiver ``i`` of every edge, shape (E,), non-decreasing."""
+        return self.edges[:, 0]
+
+    @property
+    def senders(self) -> NDArray[np.intp]:
+        """Sender ``j`` of every edge, shape (E,)."""
+        return self.edges[:, 1]
+
+    @cached_property
+    def degree(self) -> NDArray[np.intp]:
+        """In-degree of every node (how many nodes it receives from), shape (N,)."""
+        return np.bincount(self.receivers, minlength=self.N)
+
+    @cached_property
+    def first_edge(self) -> NDArray[np.intp]:
+        """Index of node ``i``'s first in-edge, shape (N + 1,): its in-edges are
+        ``first_edge[i] .. first_edge[i + 1] - 1`` (the CSR row pointer)."""
+        return np.concatenate([[0], np.cumsum(self.degree)]).astype(np.intp)
+
+    @cached_property
+    def adjacency(self) -> csr_array:
+        """Sparse adjacency (N, N), ``1.0`` where node ``i`` receives node ``j``."""
+        return csr_array((np.ones(self.E), self.senders, self.first_edge), shape=(self.N, self.N))
+
+    @cached_property
+    def undirected(self) -> bool:
+        """Whether every link is two-way (``j`` hears ``i`` whenever ``i`` hears ``j``)."""
+        back = self.edges[np.lexsort((self.receivers, self.senders))][:, ::-1]
+        return bool(np.array_equal(back, self.edges))
+
+    @property
+    def adj(self) -> NDArray[np.float64]:
+        """Dense adjacency (N, N) of 0.0 / 1.0 (``adj[i, j] = 1``: ``i`` receives ``j``).
+
+        For small networks only (N <= :data:`DENSE_NODES`); use :attr:`edges` or
+        :attr:`adjacency` otherwise.
+        """
+        if self.N > DENSE_NODES:
+            raise ValidationError(f"network {self.name}: adj is dense, refused for N = {self.N} > "
+                                  f"{DENSE_NODES}; use network.edges or network.adjacency")
+        return self.adjacency.toarray()
+
+    def sum_in(self, values: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Sum per-edge values over each node's in-edges: ``out[r, i] = sum_{e -> i} values[r, e]``.
+
+        Parameters
+        ----------
+        values : (runs, E, ...) array
+            One value (scalar, vector or matrix) per run and edge, in the order of :attr:`edges`.
+
+        Returns
+        -------
+        (runs, N, ...) array
+            Zero for a node without in-edges.
+        """
+        v = np.asarray(values)
+        if v.ndim < 2 or v.shape[1] != self.E:
+            raise ValidationError(f"Incompatible dimensions of values: expected (runs, {self.E}, ...) "
+                                  f"(one per edge), found {v.shape}")
+        out = np.zeros((v.shape[0], self.N, *v.shape[2:]), dtype=np.result_type(v, float))
+        has = self.degree > 0
+        if has.any():
+            out[:, has] = np.add.reduceat(v, self.first_edge[:-1][has], axis=1)
+        return out
 
 
 @dataclass(frozen=True)
@@ -466,8 +559,9 @@ class Trial:
     link : (runs, K + 1) int8
         Shared channel state of every inter-node link (1 = up); all ones unless the attack is
         :attr:`Attack.lossy`.
-    hits : (runs, K + 1, N, N) bool
-        ``hits[r, k, i, j]``: the message node ``i`` receives from ``j`` at step ``k`` is falsified.
+    hits : (runs, K + 1, E) bool
+        ``hits[r, k, e]``: the message that the receiver of edge ``e`` (:attr:`Network.edges`)
+        gets from its sender at step ``k`` is falsified.
     message_delta : (runs, K + 1, N, n) array, optional
         The falsification of a ``"message"`` attack as a perturbation of the state estimate that
         node ``j`` sends at step ``k``, in the state's own units: ``magnitude`` times the oracle's
@@ -491,7 +585,7 @@ class Trial:
         messages: NDArray[np.float64],
         encode: Callable[[NDArray[np.float64]], NDArray[np.float64]] | None = None,
     ) -> NDArray[np.float64]:
-        """What every node receives from every other at step ``k``.
+        """What the receiver of every edge receives from its sender at step ``k``.
 
         Parameters
         ----------
@@ -501,28 +595,33 @@ class Trial:
             What each node sends (its estimate, innovation, information vector...).
         encode : callable, optional
             The method's encoding of a falsified state estimate: ``encode(delta)`` maps the
-            perturbations ``delta`` (runs, N, N, n) of the estimates the senders ``j`` send to
-            the receivers ``i`` into perturbations (runs, N, N, d) of their messages (e.g.
-            ``C_j delta`` for a sent measurement, ``Y_j delta`` for an information vector).
-            Default: the message is the state estimate itself (``d = n``).
+            perturbations ``delta`` (runs, E, n) of the estimates the sender of each edge sends
+            (zero on an edge that is not hit) into perturbations (runs, E, d) of its message (e.g.
+            ``C_j delta`` for a sent measurement, ``Y_j delta`` for an information vector, with
+            ``j = network.senders``). Default: the message is the state estimate itself (``d = n``).
 
         Returns
         -------
-        (runs, N, N, d) array
-            ``out[r, i, j]`` is what node ``i`` receives from ``j`` (before the channel: the
-            caller applies :attr:`link`, since what a lost packet means is method-specific).
+        (runs, E, d) array
+            ``out[r, e] = messages[r, senders[e]]`` plus the falsification where ``hits[r, k, e]``
+            (before the channel: the caller applies :attr:`link`, since what a lost packet means is
+            method-specific). :meth:`Network.sum_in` sums it over each node's in-edges.
 
         Raises
         ------
         ValidationError
-            If a message is not a state estimate and no ``encode`` is given, or ``encode``
-            returns another shape.
+            If ``messages`` is not one row per node, a message is not a state estimate and no
+            ``encode`` is given, or ``encode`` returns another shape.
         """
+        net = self.scenario.network
         m = np.asarray(messages, dtype=float)
-        out = np.broadcast_to(m[:, None, :, :], (m.shape[0], m.shape[1], *m.shape[1:])).copy()
+        if m.ndim != 3 or m.shape[:2] != self.x.shape[:1] + (net.N,):
+            raise ValidationError(f"Incompatible dimensions of messages: expected "
+                                  f"({self.x.shape[0]}, {net.N}, d) (runs, nodes, d), found {m.shape}")
+        out = m[:, net.senders]
         if self.message_delta is None:
             return out
-        delta = self.hits[:, k, :, :, None] * self.message_delta[:, k, None, :, :]
+        delta = self.hits[:, k, :, None] * self.message_delta[:, k, net.senders]
         if encode is None:
             if m.shape[-1] != delta.shape[-1]:
                 raise ValidationError(f"encode: messages of {m.shape[-1]} entries are not state "
@@ -698,33 +797,31 @@ def _plant(name: str, card: dict[str, Any]) -> Plant:
     )
 
 
-def _graph(name: str, card: dict[str, Any]) -> NDArray[np.float64]:
+def _graph(name: str, card: dict[str, Any]) -> NDArray[np.intp]:
+    """The card's graph as an edge list (never a dense N x N matrix), checked connected."""
     from secest.core import graphs
 
     N = check_positive_int(f"network {name}: N", card["N"], minimum=2)
-    validation.check_size(f"network {name}: N", N, validation.MAX_DENSE_NODES,
-                          "nodes of a dense network")
+    validation.check_size(f"network {name}: N", N, validation.MAX_ELEMENTS, "nodes of a network")
     kind = card["graph"]
     if kind == "complete":
-        adj = graphs.complete_graph(N)
+        validation.check_size(f"network {name}: N (N - 1)", N * (N - 1), validation.MAX_ELEMENTS,
+                              "edges of a complete network")
+        edges = graphs.complete_edges(N)
     elif kind == "ring":
         degree = validation.check_int(f"network {name}: degree", card.get("degree", 2), minimum=2)
         if degree % 2 or degree >= N:
             raise ValidationError(f"network {name}: degree must be even and below N = {N}, "
                                   f"found {degree}")
-        half = degree // 2
-        adj = np.zeros((N, N))
-        for s in range(1, half + 1):
-            adj += np.roll(np.eye(N), s, axis=1) + np.roll(np.eye(N), -s, axis=1)
-        adj = (adj > 0).astype(float)
+        edges = graphs.ring_edges(N, degree)
     elif kind == "rgg":
         radius = validation.check_real(f"network {name}: radius", card["radius"], lower=0.0,
                                        lower_open=True)
         seed = validation.check_int(f"network {name}: seed", card["seed"], minimum=0)
-        adj = graphs.random_geometric_graph(N, radius, seed)
+        edges = graphs.random_geometric_edges(N, radius, seed)
     else:
         raise ValidationError(f"network {name}: graph must be ring, complete or rgg, found {kind!r}")
-    return graphs.check_connected(adj)
+    return graphs.check_connected_edges(edges, N)
 
 
 def _network(name: str, card: dict[str, Any], plants: dict[str, Plant]) -> Network:
@@ -736,7 +833,8 @@ def _network(name: str, card: dict[str, Any], plants: dict[str, Plant]) -> Netwo
     _check_text(f"network {name}: title", card["title"])
     if not isinstance(card["plant"], str) or card["plant"] not in plants:
         raise ValidationError(f"network {name}: plant {card['plant']!r} has no card")
-    adj = _graph(name, card)
+    edges = _graph(name, card)
+    N = int(card["N"])
     rows = card["measures"]
     if not isinstance(rows, list) or not all(
             isinstance(r, list) and all(isinstance(i, int) and not isinstance(i, bool) for i in r)
@@ -745,14 +843,14 @@ def _network(name: str, card: dict[str, Any], plants: dict[str, Plant]) -> Netwo
                               f"output indices (integers), found {rows!r}")
     measures = np.asarray(rows, dtype=np.intp) if len({len(r) for r in rows}) == 1 else np.empty(0)
     n_out = plants[card["plant"]].outputs.shape[0]
-    if measures.ndim != 2 or measures.shape[0] != adj.shape[0] or measures.shape[1] == 0:
+    if measures.ndim != 2 or measures.shape[0] != N or measures.shape[1] == 0:
         raise ValidationError(
             f"network {name}: measures must list the same number (>= 1) of rows for each of "
-            f"the {adj.shape[0]} nodes"
+            f"the {N} nodes"
         )
     if measures.min() < 0 or measures.max() >= n_out:
         raise ValidationError(f"network {name}: measures must index the plant's {n_out} outputs")
-    return Network(name, card["title"], card["plant"], adj, measures)
+    return Network(name, card["title"], card["plant"], edges, measures)
 
 
 _ATTACK_RANGES = {"start": (0.0, 1.0, False, True), "prob": (0.0, 1.0, True, False),
@@ -939,8 +1037,10 @@ def scenario(
     widest = max(plant.n, net.measures.shape[1])  # a trial holds every node's output per step
     validation.check_size("runs x (horizon + 1) x nodes", R * (K + 1) * net.N * widest,
                           validation.MAX_ELEMENTS, "array entries of a trial")
-    validation.check_size("runs x nodes^2", R * net.N**2 * plant.n, validation.MAX_ELEMENTS,
-                          "entries of one step's messages (dense N x N)")
+    validation.check_size("runs x (horizon + 1) x edges", R * (K + 1) * net.E,
+                          validation.MAX_ELEMENTS, "falsification flags of a trial (one per edge)")
+    validation.check_size("runs x edges", R * net.E * widest, validation.MAX_ELEMENTS,
+                          "entries of one step's messages (one per edge)")
     return Scenario(
         name=name or f"{network}/{attack}",
         plant=plant,
@@ -1055,6 +1155,12 @@ def simulate(sc: Scenario) -> Trial:
     the attack leaves the truth and the noises unchanged (common random numbers across
     the attack column of the matrix).
 
+    The message stream draws one uniform per run, step and edge (in the order of
+    :attr:`Network.edges`) for the falsified links, then the signs of the perturbations. Before
+    the per-edge arrays (up to commit f6e10c9) it drew one per run, step and (receiver, sender)
+    pair of the dense N x N grid: the message-attack trials of that code differ from these
+    (same law, other draws); the noises, sensor attacks and channel are drawn as before.
+
     Parameters
     ----------
     sc : Scenario
@@ -1088,10 +1194,10 @@ def simulate(sc: Scenario) -> Trial:
         from secest.core import channels
 
         link = channels.gilbert_elliott(att.p, att.q, K + 1, channel_rng, size=R)
-    hits = np.zeros((R, K + 1, N, N), dtype=bool)
+    hits = np.zeros((R, K + 1, net.E), dtype=bool)
     delta = None
     if att.kind == "message":
-        hits = (message_rng.random((R, K + 1, N, N)) < att.prob) & (net.adj[None, None] > 0)
+        hits = message_rng.random((R, K + 1, net.E)) < att.prob
         signs = np.where(message_rng.random((R, K + 1, N, plant.n)) < 0.5, -1.0, 1.0)
         delta = att.magnitude * np.sqrt(np.diag(sc.steady_covariance)) * signs
     return Trial(sc, x, y, y_clean, attacked, link, hits, delta)

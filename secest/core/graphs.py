@@ -5,6 +5,11 @@ when node ``i`` receives from node ``j`` (``j`` is an in-neighbour of ``i``);
 the diagonal is zero, so a neighbourhood ``N_i`` never contains ``i`` itself
 (as in ding2020, Section II). networkx converts graphs, scipy checks connectivity.
 Dense ``N x N`` matrices are limited to ``N <= secest.core.validation.MAX_DENSE_NODES``.
+
+Large sparse networks are handled as **edge lists** instead: an ``(E, 2)`` int array of
+``(receiver i, sender j)`` pairs, sorted by receiver then sender, without self loops
+(:func:`edge_list`, :func:`ring_edges`, :func:`complete_edges`, :func:`random_geometric_edges`,
+:func:`check_connected_edges`); their size is bounded by ``MAX_ELEMENTS`` entries, not by ``N^2``.
 """
 
 from __future__ import annotations
@@ -12,7 +17,7 @@ from __future__ import annotations
 import networkx as nx
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.sparse import csgraph
+from scipy.sparse import csgraph, csr_array
 from scipy.spatial import cKDTree
 
 from secest.core import validation as V
@@ -22,11 +27,16 @@ __all__ = [
     "adjacency",
     "algebraic_connectivity",
     "check_connected",
+    "check_connected_edges",
     "check_row_stochastic",
+    "complete_edges",
     "complete_graph",
+    "edge_list",
     "laplacian",
     "neighbours",
+    "random_geometric_edges",
     "random_geometric_graph",
+    "ring_edges",
     "ring_graph",
     "row_stochastic_weights",
 ]
@@ -130,7 +140,8 @@ def random_geometric_graph(
 
     Nodes are placed uniformly at random and joined when at distance at most
     ``radius`` (as ``networkx.random_geometric_graph``); placements are redrawn
-    (deterministically from ``seed``) until the graph is connected.
+    (deterministically from ``seed``) until the graph is connected: the dense form of
+    :func:`random_geometric_edges` (the same draws, the same graph).
 
     Parameters
     ----------
@@ -159,22 +170,10 @@ def random_geometric_graph(
         (radius too small).
     """
     n = _check_nodes("n", n, 2)
-    radius = V.check_real("radius", radius, lower=0.0, lower_open=True)
-    rng = V.as_rng("seed", seed)
-    max_tries = V.check_int("max_tries", max_tries, minimum=1)
-    V.check_size("n * max_tries", n * max_tries, V.MAX_STEPS, "node placements")
-    return_positions = V.check_bool("return_positions", return_positions)
-    for _ in range(max_tries):
-        xy = rng.random((n, 2))
-        pairs = cKDTree(xy).query_pairs(radius, 2, output_type="ndarray")
-        a = np.zeros((n, n))
-        a[pairs[:, 0], pairs[:, 1]] = a[pairs[:, 1], pairs[:, 0]] = 1.0
-        if csgraph.connected_components(a, directed=False, return_labels=False) == 1:
-            return (a, xy) if return_positions else a
-    raise ValidationError(
-        f"radius = {radius:g} gave no connected graph on n = {n} nodes in max_tries = {max_tries} "
-        "draws: increase radius or max_tries"
-    )
+    edges, xy = random_geometric_edges(n, radius, seed, max_tries=max_tries, return_positions=True)
+    a = np.zeros((n, n))
+    a[edges[:, 0], edges[:, 1]] = 1.0
+    return (a, xy) if V.check_bool("return_positions", return_positions) else a
 
 
 def _components(a: NDArray[np.float64], strongly: bool) -> list[list[int]]:
@@ -333,3 +332,191 @@ def algebraic_connectivity(adj: ArrayLike) -> float:
         raise ValidationError("adj must be symmetric (undirected graph) for lambda_2")
     check_connected(a)
     return float(np.linalg.eigvalsh(laplacian(a))[1])
+
+
+# ---------------------------------------------------------------------------------- edge lists
+
+
+def _check_sparse_nodes(name: str, n: int, minimum: int) -> int:
+    n = V.check_int(name, n, minimum=minimum)
+    V.check_size(name, n, V.MAX_ELEMENTS, "nodes of an edge list")
+    return n
+
+
+def _sorted_edges(receivers: ArrayLike, senders: ArrayLike) -> NDArray[np.intp]:
+    """``(E, 2)`` of unique (receiver, sender) pairs, sorted by receiver then sender."""
+    e = np.column_stack([np.asarray(receivers, np.intp), np.asarray(senders, np.intp)])
+    return np.unique(e, axis=0) if e.size else e.reshape(0, 2)
+
+
+def edge_list(adj: ArrayLike) -> NDArray[np.intp]:
+    """Edge list of a dense 0/1 adjacency: its ``(receiver i, sender j)`` pairs.
+
+    Parameters
+    ----------
+    adj : array_like, shape (N, N)
+        0/1 adjacency with zero diagonal, ``adj[i, j] = 1`` if ``i`` receives from ``j``.
+
+    Returns
+    -------
+    (E, 2) int ndarray
+        The pairs ``(i, j)`` with ``adj[i, j] = 1``, sorted by receiver then sender.
+    """
+    a = _check_adjacency("adj", adj)
+    return np.argwhere(a > 0).astype(np.intp)
+
+
+def ring_edges(n: int, degree: int = 2) -> NDArray[np.intp]:
+    """Edge list of the undirected ring lattice: every node linked to ``degree / 2`` on each side.
+
+    Parameters
+    ----------
+    n : int
+        Number of nodes, ``>= 3`` and at most ``MAX_ELEMENTS``.
+    degree : int, default 2
+        Even degree of every node, ``2 <= degree < n``.
+
+    Returns
+    -------
+    (n degree, 2) int ndarray
+        Sorted by receiver then sender.
+    """
+    n = _check_sparse_nodes("n", n, 3)
+    degree = V.check_int("degree", degree, minimum=2)
+    if degree % 2 or degree >= n:
+        raise ValidationError(f"degree must be even and below n = {n}, found {degree}")
+    V.check_size("n * degree", n * degree, V.MAX_ELEMENTS, "edges of an edge list")
+    shifts = np.concatenate([np.arange(1, degree // 2 + 1), -np.arange(1, degree // 2 + 1)])
+    i = np.repeat(np.arange(n), shifts.size)
+    return _sorted_edges(i, (i + np.tile(shifts, n)) % n)
+
+
+def complete_edges(n: int) -> NDArray[np.intp]:
+    """Edge list of the all-to-all graph on ``n`` nodes.
+
+    Parameters
+    ----------
+    n : int
+        Number of nodes, ``>= 2``, with ``n (n - 1) <= MAX_ELEMENTS``.
+
+    Returns
+    -------
+    (n (n - 1), 2) int ndarray
+        Sorted by receiver then sender.
+    """
+    n = _check_sparse_nodes("n", n, 2)
+    V.check_size("n * (n - 1)", n * (n - 1), V.MAX_ELEMENTS, "edges of an edge list")
+    i, j = np.divmod(np.arange(n * n), n)
+    keep = i != j
+    return np.column_stack([i[keep], j[keep]]).astype(np.intp)
+
+
+def random_geometric_edges(
+    n: int,
+    radius: float,
+    seed: int | np.random.Generator,
+    *,
+    max_tries: int = 1000,
+    return_positions: bool = False,
+) -> NDArray[np.intp] | tuple[NDArray[np.intp], NDArray[np.float64]]:
+    """Edge list of a connected random geometric graph on the unit square (a KD-tree, no N x N).
+
+    Nodes are placed uniformly at random and joined when at distance at most ``radius``
+    (``scipy.spatial.cKDTree.query_pairs``); placements are redrawn (deterministically from
+    ``seed``) until the graph is connected (``scipy.sparse.csgraph``). The same draws and graph
+    as :func:`random_geometric_graph`.
+
+    Parameters
+    ----------
+    n : int
+        Number of nodes, ``2 <= n <= MAX_ELEMENTS``.
+    radius : float
+        Connection radius, positive; the expected number of edges ``n^2 min(1, pi radius^2)``
+        must not exceed ``MAX_ELEMENTS``.
+    seed : int or numpy.random.Generator
+        Seed (non-negative integer) or generator of the placements; ``None`` is refused.
+    max_tries : int, default 1000
+        Placements drawn before giving up; ``n * max_tries <= MAX_STEPS``.
+    return_positions : bool, default False
+        Also return the node positions.
+
+    Returns
+    -------
+    edges : (E, 2) int ndarray
+        Symmetric edge list sorted by receiver then sender.
+    positions : (n, 2) ndarray
+        Node positions, only if ``return_positions``.
+
+    Raises
+    ------
+    ValidationError
+        On bad arguments, or if no connected placement is found in ``max_tries`` draws.
+    """
+    n = _check_sparse_nodes("n", n, 2)
+    radius = V.check_real("radius", radius, lower=0.0, lower_open=True)
+    V.check_size("n^2 min(1, pi radius^2)", int(n * n * min(1.0, np.pi * radius**2)),
+                 V.MAX_ELEMENTS, "expected edges of a random geometric graph")
+    rng = V.as_rng("seed", seed)
+    max_tries = V.check_int("max_tries", max_tries, minimum=1)
+    V.check_size("n * max_tries", n * max_tries, V.MAX_STEPS, "node placements")
+    return_positions = V.check_bool("return_positions", return_positions)
+    for _ in range(max_tries):
+        xy = rng.random((n, 2))
+        pairs = cKDTree(xy).query_pairs(radius, 2, output_type="ndarray")
+        edges = _sorted_edges(np.concatenate([pairs[:, 0], pairs[:, 1]]),
+                              np.concatenate([pairs[:, 1], pairs[:, 0]]))
+        if _count_components(edges, n, strongly=False) == 1:
+            return (edges, xy) if return_positions else edges
+    raise ValidationError(
+        f"radius = {radius:g} gave no connected graph on n = {n} nodes in max_tries = {max_tries} "
+        "draws: increase radius or max_tries"
+    )
+
+
+def _count_components(edges: NDArray[np.intp], n: int, *, strongly: bool) -> int:
+    a = csr_array((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n))
+    return csgraph.connected_components(a, directed=True, connection="strong" if strongly else "weak",
+                                        return_labels=False)
+
+
+def check_connected_edges(edges: ArrayLike, n: int, *, strongly: bool = True) -> NDArray[np.intp]:
+    """Check an edge list: pairs of nodes in ``range(n)``, sorted, unique, no self loop, connected.
+
+    Parameters
+    ----------
+    edges : array_like, shape (E, 2)
+        ``(receiver i, sender j)`` pairs, sorted by receiver then sender.
+    n : int
+        Number of nodes, ``>= 1``.
+    strongly : bool, default True
+        Require strong connectivity (weak connectivity otherwise); for a symmetric edge list
+        the two coincide.
+
+    Returns
+    -------
+    (E, 2) int ndarray
+        The validated edge list.
+
+    Raises
+    ------
+    ValidationError
+        Naming what is wrong: shape, range, order, a self loop, or the number of components.
+    """
+    n = _check_sparse_nodes("n", n, 1)
+    strongly = V.check_bool("strongly", strongly)
+    e = np.asarray(edges)
+    if e.ndim != 2 or e.shape[1] != 2 or not (e.size == 0 or np.issubdtype(e.dtype, np.integer)):
+        raise ValidationError(f"edges must be an (E, 2) integer array of (receiver, sender) pairs, "
+                              f"found shape {e.shape} and dtype {e.dtype}")
+    e = e.astype(np.intp)
+    if e.size and (e.min() < 0 or e.max() >= n):
+        raise ValidationError(f"edges must name nodes in range({n}), found {e.min()} .. {e.max()}")
+    if np.any(e[:, 0] == e[:, 1]):
+        raise ValidationError("edges must have no self loop (receiver == sender)")
+    key = e[:, 0] * n + e[:, 1]
+    if np.any(np.diff(key) <= 0):
+        raise ValidationError("edges must be unique and sorted by receiver then sender")
+    count = _count_components(e, n, strongly=strongly) if n > 1 else 1
+    if count > 1:
+        raise ValidationError(f"edges describe a disconnected graph with {count} components")
+    return e

@@ -111,10 +111,10 @@ def _operator(name: str, W: ArrayLike, m: int) -> NDArray[np.float64] | sp.csr_a
 
 
 def _mix(W: NDArray[np.float64] | sp.csr_array, X: NDArray[np.float64], axis: int) -> NDArray:
-    """``sum_j W[i, j] X[..., j, ...]`` over the node axis ``axis`` of ``X``."""
+    """``sum_j W[i, j] X[..., j, ...]`` over the node (or edge) axis ``axis`` of ``X``."""
     Xm = np.moveaxis(X, axis, 0)
     out = W @ Xm.reshape(Xm.shape[0], -1)
-    return np.moveaxis(np.asarray(out).reshape(Xm.shape), 0, axis)
+    return np.moveaxis(np.asarray(out).reshape(W.shape[0], *Xm.shape[1:]), 0, axis)
 
 
 def _sym(X: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -254,7 +254,7 @@ def _check_states(x_post: ArrayLike, name: str = "x_post") -> NDArray[np.float64
 def _csr(name: str, W: ArrayLike, m: int) -> sp.csr_array:  # m: number of nodes of x_post
     """``W`` (dense or sparse) as a finite CSR array of shape (m, m) without explicit zeros."""
     if sp.issparse(W):
-        out = sp.csr_array(W, dtype=float)
+        out = sp.csr_array(W, dtype=float, copy=True)  # own contiguous index arrays (csgraph needs them)
         if not np.all(np.isfinite(out.data)):
             raise ValidationError(f"{name} contains NaN or infinite entries")
     else:
@@ -360,10 +360,12 @@ def consensus_prediction(
         System matrix.
     kappa : float
         Coupling strength, ``kappa >= 0``.
-    received : (..., m, m, n) array_like, optional
-        What node ``i`` receives from ``j`` before the channel, ``received[..., i, j, :]``
-        (the arena's falsified messages); by default ``x_{j,k}^+`` itself, as in (3).
-        Entries off the edges are ignored. Dense ``adj`` and ``weights`` are used then.
+    received : (..., m, m, n) or (..., E, n) array_like, optional
+        What node ``i`` receives from ``j`` before the channel (the arena's falsified
+        messages); by default ``x_{j,k}^+`` itself, as in (3). Per link,
+        ``received[..., i, j, :]`` (entries off the edges are ignored; ``O(m^2)``), or per
+        edge, one row for each stored entry of ``adj`` as a canonical CSR matrix (receiver by
+        receiver, senders increasing; ``O(E)``).
     validate : bool, default True
         Check shapes, values and the standing assumptions on the graph.
 
@@ -399,6 +401,8 @@ def _received_per_link(
     """``sum_j h_ij delta_k r_ij`` and the indicator (4) when each link carries its own message."""
     m = x.shape[-2]
     r = np.asarray(received, dtype=float)
+    if r.ndim == x.ndim:
+        return _received_per_edge(x, r, delta, adj, weights)
     if validate:
         r = as_matrix("received", r, (*x.shape[:-1], m, x.shape[-1]), note="to match x_post")
     d = np.asarray(delta, dtype=float)[..., None, None, None]
@@ -406,6 +410,27 @@ def _received_per_link(
     a, h = (W.toarray() if sp.issparse(W) else np.asarray(W, dtype=float) for W in (adj, weights))
     heard = np.einsum("ij,...ij->...i", a, np.linalg.norm(xr, axis=-1))
     return np.einsum("ij,...ijn->...in", h, xr), (heard > 0).astype(float)
+
+
+def _received_per_edge(
+    x: NDArray[np.float64], r: NDArray[np.float64], delta: ArrayLike, adj: ArrayLike, weights: ArrayLike
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """:func:`_received_per_link` with one message per edge (stored entry of ``adj``): ``O(E)``."""
+    a = sp.csr_array(adj, dtype=float) if sp.issparse(adj) else sp.csr_array(np.asarray(adj, float))
+    a.sum_duplicates()
+    a.sort_indices()
+    m, E = a.shape[0], a.nnz
+    if r.shape != (*x.shape[:-2], E, x.shape[-1]):
+        raise ValidationError(f"Incompatible dimensions of received: expected per-edge messages "
+                              f"{(*x.shape[:-2], E, x.shape[-1])} (one per edge of adj), "
+                              f"found {r.shape}")
+    rows = np.repeat(np.arange(m), np.diff(a.indptr))
+    h = weights[rows, a.indices] if sp.issparse(weights) else np.asarray(weights, float)[rows, a.indices]
+    xr = np.asarray(delta, dtype=float)[..., None, None] * r
+    per_node = sp.csr_array((np.ones(E), np.arange(E), a.indptr), shape=(m, E))  # sums in-edges
+    heard = _mix(per_node, np.linalg.norm(xr, axis=-1), -1)
+    mixed = _mix(per_node, np.asarray(h).ravel()[:, None] * xr, -2)
+    return mixed, (heard > 0).astype(float)
 
 
 class SecureStep(NamedTuple):
@@ -608,9 +633,10 @@ def secure_filter_step(
     lockout_steps : int, default 10
         A node is flagged (``locked_out``) and a :class:`FilterHealthWarning` is issued
         when it has rejected this many consecutive measurements.
-    received : (..., m, m, n) array_like, optional
-        Per-link messages ``received[..., i, j, :]`` replacing ``x_{j,k}^+`` in (3), e.g.
-        falsified in transit (see :func:`consensus_prediction`); by default (3) as printed.
+    received : (..., m, m, n) or (..., E, n) array_like, optional
+        Per-link messages ``received[..., i, j, :]``, or per-edge ones (one per stored entry of
+        ``adj`` as canonical CSR), replacing ``x_{j,k}^+`` in (3), e.g. falsified in transit
+        (see :func:`consensus_prediction`); by default (3) as printed.
     validate : bool, default True
         Check shapes, values and the standing assumptions (switch off inside tight loops;
         the health checks run at every step regardless).
@@ -631,7 +657,7 @@ def secure_filter_step(
                                                                 "joseph": joseph, "validate": validate})
         V.check_int("lockout_steps", lockout_steps, minimum=1)
         _validate_step(x_post, Pi_post, Gamma_post, delta, y, A, BBt, C, DDt, adj, weights, tol)
-        if received is not None:
+        if received is not None and np.ndim(received) != np.ndim(x_post):  # per edge: checked below
             shape = np.shape(x_post)
             as_matrix("received", received, (*shape[:-1], shape[-2], shape[-1]), note="to match x_post")
     x = np.asarray(x_post, dtype=float)
@@ -925,8 +951,10 @@ def secure_filter(
         Measurements ``y_{i,k}`` (``y[..., 0, :, :]`` is not used).
     A, BBt, C, DDt, adj, weights, kappa, threshold, inspect, inspection_cov, tol, strict, joseph
         As in :func:`secure_filter_step`.
-    received : callable ``(k, x_post) -> (..., m, m, n)``, optional
-        Per-link messages of step ``k`` (see :func:`secure_filter_step`); default (3) as printed.
+    received : callable ``(k, x_post) -> (..., m, m, n) or (..., E, n)``, optional
+        Per-link or per-edge messages of step ``k`` (see :func:`secure_filter_step`); default
+        (3) as printed. With sparse ``adj`` and ``weights`` and per-edge messages a step costs
+        ``O(E)``.
     keep : sequence of str, default ()
         Fields of :class:`SecureStep` to record at every step (e.g. ``("Pi_post", "gain")``).
     validate : bool, default True

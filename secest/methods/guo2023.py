@@ -43,11 +43,12 @@ from typing import Any, NamedTuple
 
 import numpy as np
 import scipy.linalg as sla
+import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from secest.core.covariance import symmetrize
 from secest.core.estimation import FeedthroughSVD, constrained_gain, feedthrough_decomposition
-from secest.core.validation import ValidationError, check_row_stochastic
+from secest.core.validation import RTOL, ValidationError, check_row_stochastic
 
 __all__ = [
     "GuoModel",
@@ -59,6 +60,7 @@ __all__ = [
     "decompositions",
     "error_covariance",
     "estimator_step",
+    "check_weights",
     "fuse",
     "initial_state",
     "input_one",
@@ -260,32 +262,44 @@ def local_estimate(
 
 
 def fuse(
-    P_loc: Array, weights: Array, received: Array, *, matrix_weights: bool = True
+    P_loc: Array, weights: Array | sp.sparray, received: Array, *, matrix_weights: bool = True,
+    up: Array | None = None,
 ) -> tuple[Array, Array | None, Array]:
     """Consensus-on-information fusion (19)-(21) of every node at once.
+
+    Dense ``weights`` cost ``O(N^2)`` per step (the notebook's form); a sparse ``weights`` matrix
+    makes every sum run over its stored entries (the closed neighbourhoods), ``O(E)``.
 
     Parameters
     ----------
     P_loc : (..., N, n, n) array
         Local bounds ``P_bar^{j,j}_k``.
-    weights : (..., N, N) array
-        ``pi_ij`` (row-stochastic; a row renormalised over the messages received).
-    received : (..., N, N, n) array
+    weights : (..., N, N) array or scipy.sparse (N, N) matrix
+        ``pi_ij`` (row-stochastic; a row renormalised over the messages received). Sparse: its
+        stored entries, row by row (CSR), are the pairs ``(i, j)`` of the closed neighbourhoods,
+        the diagonal included.
+    received : (..., N, N, n) array, or (..., nnz, n) with sparse ``weights``
         ``received[..., i, j]``: the estimate ``x_hat^{j,j}_k`` as node ``i`` received it
-        (``received[..., i, i]`` its own).
+        (``received[..., i, i]`` its own); with sparse ``weights`` one row per stored entry.
     matrix_weights : bool, default True
         Also return the matrix weights ``W`` (not needed for the estimates).
+    up : (runs,) array of 0 / 1, optional
+        Sparse ``weights`` only (dense ones carry it, :func:`link_weights`): where ``up[r]`` is
+        0 every link is down in run ``r`` and each node keeps its own estimate; where 1 the
+        rows of ``weights`` are renormalised as :func:`link_weights` does.
 
     Returns
     -------
     P : (..., N, n, n)
         Fused bounds ``P_bar^i_k = [sum_j pi_ij (P_bar^{j,j})^-1]^-1`` (19), symmetrised.
-    W : (..., N, N, n, n) or None
+    W : (..., N, N, n, n), or (..., nnz, n, n) with sparse ``weights``, or None
         Matrix weights ``W^{i,j} = pi_ij P_bar^i (P_bar^{j,j})^-1`` (20); ``sum_j W^{i,j} = I``.
     x : (..., N, n)
         Fused estimates ``x_hat^i_k = sum_j W^{i,j} x_hat^{j,j}_k`` (21), evaluated as
         ``P_bar^i sum_j pi_ij (P_bar^{j,j})^-1 x_hat^{j,j}``.
     """
+    if sp.issparse(weights):
+        return _fuse_sparse(P_loc, sp.csr_array(weights), received, matrix_weights, up)
     N, n = P_loc.shape[-3], P_loc.shape[-1]
     info = np.linalg.inv(P_loc)
     omega = weights @ info.reshape(*info.shape[:-3], N, n * n)
@@ -296,6 +310,78 @@ def fuse(
     info_x = (info[..., None, :, :, :] @ received[..., None])[..., 0]  # (P^{j,j})^-1 x^{j,j} as received
     x = _apply(P, np.sum(weights[..., None] * info_x, axis=-2))  # (20)-(21)
     return P, W, x
+
+
+def _entries(weights: sp.csr_array) -> tuple[NDArray[np.intp], NDArray[np.intp], sp.csr_array]:
+    """Rows and columns of the stored entries of a CSR matrix, and the (N, nnz) 0/1 matrix that
+    sums per-entry values over each row."""
+    N, nnz = weights.shape[0], weights.nnz
+    rows = np.repeat(np.arange(N), np.diff(weights.indptr))
+    summer = sp.csr_array((np.ones(nnz), np.arange(nnz), weights.indptr), shape=(N, nnz))
+    return rows, weights.indices, summer
+
+
+def _sum_rows(summer: sp.csr_array, values: Array, axis: int) -> Array:
+    """``values`` (per stored entry along ``axis``) summed over the entries of each row."""
+    v = np.moveaxis(values, axis, 0)
+    out = np.asarray(summer @ v.reshape(v.shape[0], -1))
+    return np.moveaxis(out.reshape(summer.shape[0], *v.shape[1:]), 0, axis)
+
+
+def _fuse_sparse(
+    P_loc: Array, weights: sp.csr_array, received: Array, matrix_weights: bool, up: Array | None
+) -> tuple[Array, Array | None, Array]:
+    """:func:`fuse` over the stored entries of sparse weights (``O(E)``)."""
+    rows, cols, summer = _entries(weights)
+    w = weights.data
+    if up is not None:  # link_weights: rows renormalised where up, the identity where down
+        w_up = w / (summer @ w)[rows]
+        w = np.where(np.asarray(up)[:, None] == 1, w_up, (rows == cols).astype(float))
+    info = np.linalg.inv(P_loc)
+    info_e = info[..., cols, :, :]  # (P_bar^{j,j})^-1 of every entry (i, j)
+    ww = w[..., None, None]
+    P = symmetrize(np.linalg.inv(_sum_rows(summer, ww * info_e, -3)))  # (19)
+    W = ww * (P[..., rows, :, :] @ info_e) if matrix_weights else None  # (20)
+    info_x = _apply(info_e, received)  # (P^{j,j})^-1 x^{j,j} as received
+    x = _apply(P, _sum_rows(summer, w[..., None] * info_x, -2))  # (20)-(21)
+    return P, W, x
+
+
+def check_weights(Pi: Array | sp.sparray) -> Array | sp.csr_array:
+    """Fusion weights ``pi_ij`` checked: row-stochastic, non-negative, ``pi_ii > 0``.
+
+    Parameters
+    ----------
+    Pi : (N, N) array or scipy.sparse matrix
+        The weights of (19)-(21); sparse ones are returned as canonical CSR (entries sorted
+        row by row), whose stored entries :func:`fuse` reads as the closed neighbourhoods.
+
+    Returns
+    -------
+    (N, N) array or scipy.sparse CSR array
+
+    Raises
+    ------
+    ValidationError
+        A negative or non-finite entry, a row not summing to one, or (sparse) a missing
+        diagonal entry.
+    """
+    if not sp.issparse(Pi):
+        return check_row_stochastic("Pi", Pi)
+    w = sp.csr_array(Pi, dtype=float)
+    w.sum_duplicates()
+    w.sort_indices()
+    N = w.shape[0]
+    if w.shape != (N, N) or not np.all(np.isfinite(w.data)) or np.any(w.data < 0):
+        raise ValidationError(f"Pi must be a square non-negative finite matrix, found shape {w.shape}")
+    sums = np.asarray(w.sum(axis=1)).ravel()
+    bad = np.flatnonzero(np.abs(sums - 1.0) > RTOL * np.maximum(1.0, sums))
+    if bad.size:
+        raise ValidationError(f"Pi must be row-stochastic, row {bad[0]} sums to {sums[bad[0]]:.6g}")
+    if np.any(w.diagonal() <= 0):
+        raise ValidationError("Pi must have pi_ii > 0 stored on its diagonal (a node keeps its own "
+                              "estimate)")
+    return w
 
 
 # ---------------------------------------------------------------------------------- driver
@@ -328,9 +414,11 @@ class GuoModel:
     Hbar : callable ``k -> sequence of N (n_y, n_u^i) arrays``
         ``H_bar^i_k = [0 H^i_k]`` of (3): how ``u_k`` enters node ``i``'s measurement
         (``H^i_k`` the attack channel of (2)).
-    Pi : (N, N) array
+    Pi : (N, N) array or scipy.sparse matrix
         Fusion weights ``pi_ij`` of (19)-(21): row-stochastic, ``pi_ij > 0`` exactly on the
-        closed neighbourhood ``N_i cup {i}``.
+        closed neighbourhood ``N_i cup {i}``. Sparse: every sum of the fusion runs over its
+        stored entries (``O(E)`` per step) and the exchanged estimates are per edge
+        (:func:`estimator_step`).
     x0_hat : (n_x,) array
         Initial estimate ``x_hat_0`` of every node (Algorithm 1 line 1).
     P0 : (n_x, n_x) array
@@ -621,6 +709,7 @@ def estimator_step(
     *,
     received: Array | Callable[[Array], Array] | None = None,
     weights: Array | None = None,
+    up: Array | None = None,
     matrix_weights: bool = True,
     keep_gains: bool = False,
     rtol: float = 1e-10,
@@ -640,9 +729,13 @@ def estimator_step(
         Attacked measurements at step ``k``.
     received : (runs, N, N, n_x) array or callable, optional
         Stage B: what node ``i`` receives from ``j``; a callable gets the local estimates
-        ``(runs, N, n_x)`` and returns it. Default: the local estimates as sent.
+        ``(runs, N, n_x)`` and returns it. Default: the local estimates as sent. With a sparse
+        ``mdl.Pi``: ``(runs, E, n_x)``, one row per off-diagonal stored entry of ``Pi`` (the
+        graph's edges, receiver by receiver), the own estimates being inserted here.
     weights : (N, N) or (runs, N, N) array, optional
         Fusion weights of this step; default ``mdl.Pi``.
+    up : (runs,) array of 0 / 1, optional
+        With a sparse ``mdl.Pi``: the state of every link per run (:func:`fuse`).
     matrix_weights : bool, default True
         Return the fusion weights (20) in the step record.
     keep_gains : bool, default False
@@ -683,12 +776,14 @@ def estimator_step(
                 gains[i] = LocalGains(*(f[..., n_, :, :] for f in g))
         for name, val in _checks(g, grp.dec.U1, len(idx)).items():
             checks[name][idx] = val
-    if received is None:  # stage B: exchange
-        received = np.broadcast_to(x_loc[:, None], (runs, N, N, nx))
-    elif callable(received):
-        received = received(x_loc)
     Pi = mdl.Pi if weights is None else weights
-    P, W, x = fuse(P_loc, Pi, received, matrix_weights=matrix_weights)  # stage C
+    if callable(received):  # stage B: exchange
+        received = received(x_loc)
+    if sp.issparse(Pi):
+        received = _closed(sp.csr_array(Pi), x_loc, received)
+    elif received is None:
+        received = np.broadcast_to(x_loc[:, None], (runs, N, N, nx))
+    P, W, x = fuse(P_loc, Pi, received, matrix_weights=matrix_weights, up=up)  # stage C
     u1, u_hat = [None] * N, [None] * N
     for grp, u2g, z1g in zip(plan.groups, u2, z1, strict=True):  # stage D
         idx = grp.idx
@@ -699,6 +794,21 @@ def estimator_step(
             u1[i], u_hat[i] = u1g[:, n_], uh[:, n_]
     step = GuoStep(K, J, W, P_loc, x_loc, u_hat, checks, gains if keep_gains else None)
     return GuoState(k, x, P, u1, struct, plan), step
+
+
+def _closed(Pi: sp.csr_array, x_loc: Array, received: Array | None) -> Array:
+    """Per stored entry of ``Pi``: the own local estimate on the diagonal, ``received`` (per
+    off-diagonal entry; default the estimates as sent) elsewhere."""
+    rows, cols, _ = _entries(Pi)
+    own = rows == cols
+    out = x_loc[:, cols]
+    if received is not None:
+        if np.shape(received) != (x_loc.shape[0], int((~own).sum()), x_loc.shape[-1]):
+            raise ValidationError(f"received: expected per-edge estimates of shape "
+                                  f"{(x_loc.shape[0], int((~own).sum()), x_loc.shape[-1])}, "
+                                  f"found {np.shape(received)}")
+        out[:, ~own] = received
+    return out
 
 
 def link_weights(Pi: Array, up: Array) -> Array:
@@ -744,7 +854,8 @@ def run_estimator(
         Attacked measurements ``y^{a,i}_k``.
     received : callable, optional
         ``received(k, x_loc) -> (runs, N, N, n_x)``: what node ``i`` receives from ``j`` at
-        step ``k`` (stage B); default: the estimates as sent.
+        step ``k`` (stage B); default: the estimates as sent. With a sparse ``mdl.Pi``
+        ``(runs, E, n_x)`` per edge (:func:`estimator_step`): every step then costs ``O(E)``.
     link : (runs, K + 1) array of 0/1, optional
         State of every link at step ``k`` (shared by all links); a lost message is left out
         of (19)-(21) and the weights renormalised (:func:`link_weights`). Default: always up.
@@ -777,7 +888,7 @@ def run_estimator(
             f"Incompatible dimensions of ya: expected (runs, K + 1, {N}, n_y), found {ya.shape}"
         )
     runs, K1 = ya.shape[:2]
-    Pi = check_row_stochastic("Pi", mdl.Pi)
+    Pi = check_weights(mdl.Pi)
     if link is not None and np.shape(link) != (runs, K1):
         raise ValidationError(
             f"Incompatible dimensions of link: expected {(runs, K1)}, found {np.shape(link)}"
@@ -787,8 +898,10 @@ def run_estimator(
     xs, Ps, u1s, steps = [state.x], [state.P], [state.u1], []
     for k in range(1, K1):
         recv = None if received is None else (lambda m, k=k: received(k, m))
-        weights = link_weights(Pi, link[:, k]) if per_run else None
+        sparse = sp.issparse(Pi)
+        weights = link_weights(Pi, link[:, k]) if per_run and not sparse else Pi
         state, step = estimator_step(mdl, state, ya[:, k], received=recv, weights=weights,
+                                     up=link[:, k] if per_run and sparse else None,
                                      matrix_weights=keep_steps, keep_gains=keep_steps, rtol=rtol,
                                      gain=gain)
         xs.append(state.x)
@@ -854,10 +967,14 @@ def error_covariance(mdl: Any, run: GuoRun, *, spread: float = 1.0) -> tuple[Arr
     Raises
     ------
     ValidationError
-        ``run`` without its steps (``keep_steps=False``) or with per-run gains (failing links).
+        ``run`` without its steps (``keep_steps=False``), with per-run gains (failing links), or
+        on a model with sparse ``Pi`` (its weights are kept per stored entry, not as ``W``).
     """
     if run.K is None or run.J is None or run.W is None:
         raise ValidationError("run must keep its steps (run_estimator(..., keep_steps=True))")
+    if sp.issparse(mdl.Pi):
+        raise ValidationError("mdl.Pi must be a dense (N, N) array: the joint covariance needs every "
+                              "W^{i,j}, which a run with sparse Pi keeps per stored entry only")
     if run.W.ndim != 5:
         raise ValidationError(f"run must have gains shared by its runs (no failing link), found W of "
                               f"shape {run.W.shape}")

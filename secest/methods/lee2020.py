@@ -63,7 +63,8 @@ from typing import NamedTuple
 
 import numpy as np
 import scipy.linalg as sla
-from numpy.typing import NDArray
+import scipy.sparse as sp
+from numpy.typing import ArrayLike, NDArray
 from scipy import stats
 
 from secest.core import graphs, systems
@@ -83,6 +84,7 @@ __all__ = [
     "alarm_rule",
     "assumption4_basis",
     "check_assumption4",
+    "redundant_from_basis",
     "common_basis",
     "euler_limit",
     "in_span",
@@ -115,6 +117,17 @@ FINEST_SUBSTEP = 1e-3
 """Finest sub-step [s]: the notebook's own step, validated by its integrator study."""
 
 Array = NDArray[np.float64]
+
+
+def _key(*arrays: ArrayLike) -> bytes:
+    """Bytes identifying a tuple of arrays (values and shapes): equal keys, equal per-node results.
+
+    The per-node designs below depend only on the node's own matrices, so nodes with equal ones
+    (a card's repeated sensor types) share one computation: the results are the same, the cost
+    grows with the number of distinct nodes instead of ``N``.
+    """
+    parts = (np.ascontiguousarray(a, dtype=float) for a in arrays)
+    return b"|".join(a.tobytes() + str(a.shape).encode() for a in parts)
 
 
 # ------------------------------------------------------------------------ Section II: (4)
@@ -489,6 +502,43 @@ def check_assumption4(V: Array, S: Array, U_sub: Sequence[Array]) -> tuple[bool,
     return bool(ok), resid
 
 
+def redundant_from_basis(S: Array, q: int) -> bool:
+    """2q-redundant observability (Assumption 2) read off the indicators of a basis of Assumption 4.
+
+    With a verified basis (:func:`check_assumption4`), bank ``i``'s unobservable subspace is
+    ``U_i = span{v_l : s_i^l = 0}``, so the unobservable subspace of a set ``J`` of banks is
+    ``cap_{i in J} U_i = span{v_l : s_i^l = 0 for every i in J}`` and ``J`` observes the plant
+    iff every coordinate ``l`` is seen by some bank of ``J``. Every set of ``N - 2q`` banks then
+    observes it iff every coordinate is seen by at least ``2q + 1`` banks: one count per
+    coordinate, ``O(N n)``, instead of the ``binom(N, 2q)`` subsets of
+    :func:`secest.core.systems.redundant_observability` (which needs no basis; the two agree
+    whenever the basis passes :func:`check_assumption4`, measured in the tests).
+
+    Parameters
+    ----------
+    S : (N, n) array of 0 / 1
+        Indicators ``s_i^l`` of a verified basis of Assumption 4 (:attr:`Basis.S` with ``ok``).
+    q : int
+        Number of banks that may be corrupted, ``q >= 0``.
+
+    Returns
+    -------
+    bool
+        True iff ``N - 2q >= 1`` and ``sum_i s_i^l >= 2q + 1`` for every ``l``.
+
+    Raises
+    ------
+    ValidationError
+        ``S`` not a 2-D 0/1 array, or ``q`` not a non-negative integer.
+    """
+    S = as_matrix("S", S, (None, None))
+    if not np.all((S == 0) | (S == 1)):
+        raise ValidationError("S must hold 0/1 indicators s_i^l")
+    if isinstance(q, bool) or not isinstance(q, int | np.integer) or q < 0:
+        raise ValidationError(f"q must be a non-negative integer, found {q!r}")
+    return bool(S.shape[0] - 2 * q >= 1 and np.all(S.sum(axis=0) >= 2 * q + 1))
+
+
 class Basis(NamedTuple):
     """A basis of Assumption 4 and what it was built from.
 
@@ -527,7 +577,13 @@ def assumption4_basis(A: Array, banks: Sequence[Array]) -> Basis:
         ``C_i`` of every bank.
     """
     A = as_matrix("A", A, square=True)
-    U_sub = [systems.unobservable_subspace(A, Ci) for Ci in banks]
+    seen: dict[bytes, Array] = {}
+    U_sub = []
+    for Ci in banks:  # one staircase per distinct bank
+        key = _key(Ci)
+        if key not in seen:
+            seen[key] = systems.unobservable_subspace(A, Ci)
+        U_sub.append(seen[key])
     try:
         modes = real_invariant_subspaces(A)
     except ValidationError:
@@ -633,8 +689,14 @@ def observer_gains(
 
     W = np.linalg.inv(V)
     gains, closed = [], []
+    seen: dict[bytes, tuple[Array, Array]] = {}
     for i, Ci in enumerate(banks):
         mask = S[i] == 1
+        key = _key(Ci, mask)
+        if key in seen:  # a bank already placed: the same gain (one placement per distinct bank)
+            gains.append(seen[key][0].copy())
+            closed.append(seen[key][1].copy())
+            continue
         f_i, h_i = W[mask] @ A @ V[:, mask], Ci @ V[:, mask]
         o_i = int(mask.sum())
         if poles == "near":
@@ -649,6 +711,7 @@ def observer_gains(
         gain = place_poles(f_i.T, h_i.T, np.atleast_1d(placed), method="YT").gain_matrix.T
         gains.append(gain)
         closed.append(f_i - gain @ h_i)  # F_i of (5), Hurwitz
+        seen[key] = (gain, closed[-1])
     return gains, closed
 
 
@@ -863,8 +926,10 @@ class SampledObserver(NamedTuple):
         ``[int_0^h exp(Fbar_i s) ds Lbar_i; 0]`` (the held measurement).
     H : (2, N, 2n, n) array
         ``[0; int_0^h exp(M_i s) ds]`` (the held neighbour estimates; 0 when down).
-    coupling : (N, N) array
-        ``kappa gamma`` times the adjacency.
+    coupling : (N, N) array or scipy.sparse CSR array
+        ``kappa gamma`` times the adjacency (CSR when :func:`sampled_observer` was given a
+        sparse one: its ``E`` stored entries, receiver by receiver, are the edges of the
+        per-edge messages of :func:`run_sampled`).
     substeps : int
         Sub-steps ``m`` per sampling period.
     """
@@ -905,8 +970,9 @@ def sampled_observer(
         ``L_i`` of (5).
     C : (N, m_i, n) array
         Sensor rows of every node.
-    adj : (N, N) array
-        Adjacency (``adj[i, j] = 1``: ``i`` receives from ``j``).
+    adj : (N, N) array or scipy.sparse matrix
+        Adjacency (``adj[i, j] = 1``: ``i`` receives from ``j``). Sparse: kept as CSR in
+        :attr:`SampledObserver.coupling`, and :func:`run_sampled` takes per-edge messages.
     kappa, gamma : float
         Gains of (6).
     dt : float
@@ -918,7 +984,7 @@ def sampled_observer(
     n = A.shape[0]
     N = len(gains)
     C = as_matrix("C", C, (N, None, n))
-    adj = as_matrix("adj", adj, (N, N))
+    adj = _adjacency(adj, N)
     ny = C.shape[1]
     h = dt / m
     W = np.linalg.inv(V)
@@ -927,9 +993,16 @@ def sampled_observer(
     G = np.zeros((2, N, 2 * n, n))
     Y = np.zeros((N, 2 * n, ny))
     H = np.zeros((2, N, 2 * n, n))
-    degree = adj.sum(axis=1)
+    degree = np.asarray(adj.sum(axis=1)).ravel()
+    seen: dict[bytes, int] = {}
     for i in range(N):
         mask = S[i] == 1
+        key = _key(mask, gains[i], C[i], degree[i])
+        if key in seen:  # a node like an earlier one: the same matrices
+            j = seen[key]
+            P[:, i], G[:, i], Y[i], H[:, i] = P[:, j], G[:, j], Y[j], H[:, j]
+            continue
+        seen[key] = i
         F_bar, L_bar = np.zeros((n, n)), np.zeros((n, ny))
         F_bar[np.ix_(mask, mask)] = A_bar[np.ix_(mask, mask)] - gains[i] @ C[i] @ V[:, mask]
         L_bar[mask] = gains[i]
@@ -941,6 +1014,18 @@ def sampled_observer(
             G[up, i, n:] = Gam * (kappa * mask)
             H[up, i, n:] = up * Gam  # links down: no neighbour input
     return SampledObserver(V, W, P, G, Y, H, kappa * gamma * adj, m)
+
+
+def _adjacency(adj: ArrayLike | sp.sparray, N: int) -> Array | sp.csr_array:
+    """``adj`` checked (N, N): a dense array, or a canonical CSR array if given sparse."""
+    if not sp.issparse(adj):
+        return as_matrix("adj", adj, (N, N))
+    out = sp.csr_array(adj, dtype=float)
+    if out.shape != (N, N) or not np.all(np.isfinite(out.data)):
+        raise ValidationError(f"adj must be a finite ({N}, {N}) matrix, found shape {out.shape}")
+    out.sum_duplicates()
+    out.sort_indices()
+    return out
 
 
 class SampledRun(NamedTuple):
@@ -970,10 +1055,12 @@ def run_sampled(
     """Run (5) and (6) on sampled measurements, every run and node at once.
 
     At ``t_k`` every node sends ``x_hat_i(t_k)``; ``exchange(k, x_hat)`` returns what every node
-    receives, ``(runs, N, N, n)``. Over ``(t_k, t_{k+1}]`` node ``i`` integrates (5) with
-    ``y_{k+1}`` held and (6) with ``kappa gamma sum_j a_ij (x_hat_j^recv - x_hat_i(t))`` when
-    ``link[r, k] = 1``, without the coupling term when it is 0. ``z_i(0) = 0`` and
-    ``x_hat_i(0) = 0`` (the prior mean).
+    receives: ``(runs, N, N, n)`` (``[r, i, j]`` from ``j`` to ``i``) or, with a sparse
+    :attr:`SampledObserver.coupling`, ``(runs, E, n)`` per edge in the order of its stored
+    entries (then a step costs ``O(E)``, not ``O(N^2)``). Over ``(t_k, t_{k+1}]`` node ``i``
+    integrates (5) with ``y_{k+1}`` held and (6) with
+    ``kappa gamma sum_j a_ij (x_hat_j^recv - x_hat_i(t))`` when ``link[r, k] = 1``, without the
+    coupling term when it is 0. ``z_i(0) = 0`` and ``x_hat_i(0) = 0`` (the prior mean).
 
     Parameters
     ----------
@@ -981,7 +1068,13 @@ def run_sampled(
     y : (runs, K + 1, N, m_i) array
         Measurements (``y[:, 0]`` is not used: the first interval ends at ``t_1``).
     exchange : callable ``(k, x_hat) -> received``
+        What every node receives at ``t_k`` (above).
     link : (runs, K + 1) array of 0 / 1
+        State of every link over ``(t_k, t_{k+1}]``.
+
+    Returns
+    -------
+    SampledRun
     """
     y = as_matrix("y", y, (None, None, obs.coupling.shape[0], obs.Y.shape[-1]))
     runs, K1, N, _ = y.shape
@@ -994,8 +1087,7 @@ def run_sampled(
     X = np.zeros((N, 2 * n, runs))
     out = np.zeros((3, runs, K1, N, n))
     for k in range(K1 - 1):
-        recv = exchange(k, out[0, :, k])
-        nb = np.einsum("ij,rijn,ln->ilr", obs.coupling, recv, obs.W)
+        nb = _neighbour_input(obs, exchange(k, out[0, :, k]))
         held_y = obs.Y @ np.transpose(y[:, k + 1], (1, 2, 0))
         for up in np.unique(link[:, k]):
             sel = link[:, k] == up
@@ -1005,6 +1097,20 @@ def run_sampled(
         out[1, :, k + 1] = np.transpose(X[:, :n], (2, 0, 1))
         out[2, :, k + 1] = np.transpose(X[:, n:], (2, 0, 1))
     return SampledRun(*out)
+
+
+def _neighbour_input(obs: SampledObserver, recv: Array) -> Array:
+    """``nb_i = kappa gamma sum_j a_ij W x_hat_j^recv`` as (N, n, runs), dense or per edge."""
+    if not sp.issparse(obs.coupling):
+        return np.einsum("ij,rijn,ln->ilr", obs.coupling, recv, obs.W)
+    c = obs.coupling
+    runs, n = recv.shape[0], recv.shape[-1]
+    if recv.shape[1:] != (c.nnz, n):
+        raise ValidationError(f"exchange: expected per-edge messages of shape {(runs, c.nnz, n)}, "
+                              f"found {recv.shape}")
+    per_node = sp.csr_array((c.data, np.arange(c.nnz), c.indptr), shape=(c.shape[0], c.nnz))
+    summed = per_node @ np.transpose(recv, (1, 0, 2)).reshape(c.nnz, -1)  # (N, runs n)
+    return np.einsum("irn,ln->ilr", summed.reshape(-1, runs, n), obs.W)
 
 
 def _interval(X: Array, P: Array, G: Array, held: Array, m: int) -> Array:
@@ -1080,8 +1186,14 @@ def alarm_rule(
     tau = np.full((N, n), np.inf)
     first = np.empty(N, dtype=np.intp)
     slew = int(np.ceil(3.0 * x0_std * np.linalg.norm(W, axis=1).max() / kappa / dt - 1e-9))
+    seen: dict[bytes, int] = {}
     for i in range(N):
         mask = S[i] == 1
+        key = _key(mask, gains[i], C[i], R[i])
+        if key in seen:  # a node like an earlier one: the same rule
+            tau[i], first[i] = tau[seen[key]], first[seen[key]]
+            continue
+        seen[key] = i
         W_i, V_i = W[mask], V[:, mask]
         F = W_i @ A @ V_i - gains[i] @ C[i] @ V_i
         Phi, Psi = systems.discretize_zoh(F, gains[i], dt)

@@ -79,6 +79,7 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy import sparse
 
 from secest.core import covariance
 from secest.core.validation import (
@@ -638,6 +639,7 @@ def estimator_update(
     W_hat: ArrayLike | None = None,
     phi_own: ArrayLike | None = None,
     alpha_bar: float = 0.0,
+    edges: ArrayLike | None = None,
 ) -> Array:
     """One step of (8) (with ``W_hat``) or of the conventional (3) (without), every node.
 
@@ -668,12 +670,19 @@ def estimator_update(
         ``phi(z_{i,k})``, the network input of node ``i`` (Remark 2); required with ``W_hat``.
     alpha_bar : float, default 0
         ``Prob{alpha_k = 1}``.
+    edges : (E, 2) int array_like, optional
+        The links as ``(receiver i, sender j)`` pairs. Given, every per-link argument is per
+        edge instead of ``(N, N)``: ``H`` (E, n, n_y), ``z_recv`` (..., E, n_y), ``theta``
+        (..., E), ``W_hat`` (E, n_y, n_phi), and a step costs ``O(E)`` instead of ``O(N^2)``.
 
     Returns
     -------
     (..., N, n) ndarray
         ``x^_{i,k+1}``.
     """
+    if edges is not None:
+        return _update_per_edge(F, G, H, xhat, z, z_recv, theta, np.asarray(edges),
+                                W_hat, phi_own, alpha_bar)
     if W_hat is not None and phi_own is None:
         raise ValidationError("phi_own is required with W_hat (the compensation of (8))")
     F, G, H, theta = (np.asarray(a, float) for a in (F, G, H, theta))
@@ -685,6 +694,29 @@ def estimator_update(
             inc = inc - _matvec(alpha_bar * np.asarray(W_hat, float)[:, j], phi_own)
         upd = upd + _matvec(theta[..., j, None, None] * H[:, j], inc)
     return upd
+
+
+def _update_per_edge(F: ArrayLike, G: ArrayLike, H: ArrayLike, xhat: ArrayLike, z: ArrayLike,
+                     z_recv: ArrayLike, theta: ArrayLike, edges: NDArray[np.intp],
+                     W_hat: ArrayLike | None, phi_own: ArrayLike | None, alpha_bar: float) -> Array:
+    """:func:`estimator_update` with one ``H``, ``z_recv``, ``theta`` (and ``W_hat``) per edge."""
+    if W_hat is not None and phi_own is None:
+        raise ValidationError("phi_own is required with W_hat (the compensation of (8))")
+    F, G, H, theta = (np.asarray(a, float) for a in (F, G, H, theta))
+    N, E = F.shape[0], H.shape[0]
+    if edges.shape != (E, 2) or theta.shape[-1] != E or np.shape(z_recv)[-2] != E:
+        raise ValidationError(f"edges: expected ({E}, 2) (receiver, sender) pairs matching H, theta "
+                              f"and z_recv per edge, found edges {edges.shape}, theta {theta.shape}, "
+                              f"z_recv {np.shape(z_recv)}")
+    inc = np.asarray(z_recv, float)
+    if W_hat is not None:
+        own = np.asarray(phi_own)[..., edges[:, 0], :]  # phi(z_i) of every edge's receiver
+        inc = inc - _matvec(alpha_bar * np.asarray(W_hat, float), own)
+    terms = _matvec(theta[..., None, None] * H, inc)  # (..., E, n)
+    per_node = sparse.csr_array((np.ones(E), (edges[:, 0], np.arange(E))), shape=(N, E))
+    summed = per_node @ np.moveaxis(terms, -2, 0).reshape(E, -1)  # sum over each node's in-edges
+    neighbours = np.moveaxis(summed.reshape(N, *terms.shape[:-2], -1), 0, -2)
+    return _matvec(F, xhat) + _matvec(G, z) + neighbours
 
 
 def _matvec(M: Array, v: ArrayLike) -> Array:

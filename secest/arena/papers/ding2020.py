@@ -14,6 +14,7 @@ carries an upper and a lower bound of its error covariance (35)/(18). On a share
 from __future__ import annotations
 
 import numpy as np
+import scipy.sparse as sp
 
 from secest.arena.estimators import Estimate, Method, register
 from secest.arena.scenarios import Scenario, Trial
@@ -69,7 +70,7 @@ class Ding2020(Method):
         same_R = bool(np.allclose(sc.R, sc.R[0]))
         connected = True
         try:
-            graphs.check_connected(sc.network.adj)
+            graphs.check_connected_edges(sc.network.edges, sc.network.N, strongly=True)
         except ValueError:
             connected = False
         return [
@@ -83,7 +84,10 @@ class Ding2020(Method):
         sc = trial.scenario
         runs, _, N, _ = trial.y.shape
         n = sc.plant.n
-        adj = sc.network.adj
+        net = sc.network
+        adj = net.adjacency  # sparse, with the per-edge messages of trial.received: O(E) a step
+        weights = sp.csr_array((1.0 / net.degree[net.receivers], np.ascontiguousarray(net.senders),
+                                net.first_edge), shape=(N, N))  # h_ij = 1/|N_i|
         Pi0 = np.broadcast_to(sc.plant.x0_std**2 * np.eye(n), (runs, N, n, n)).copy()
         res = ding2020.secure_filter(
             np.zeros((runs, N, n)),
@@ -96,7 +100,7 @@ class Ding2020(Method):
             C=sc.C,
             DDt=sc.R[0],
             adj=adj,
-            weights=graphs.row_stochastic_weights(adj, self_weight=False),
+            weights=weights,
             kappa=self.kappa,
             threshold=self.threshold,
             received=trial.received,  # it sends its state estimate

@@ -36,10 +36,21 @@ ARENA_WEIGHTS = (1e-3, 1.0, 1e-2, 0.1, 0.1)
 def _packets(sc: Scenario) -> tuple[list[list[int]], list[list[int]]]:
     """Per node: the clean and the attacked sensors of its closed neighbourhood (the card's)."""
     attacked = set(sc.attacked_nodes) if sc.attack.kind == "replacement" else set()
-    adj = sc.network.adj + np.eye(sc.network.N)
-    nbhd = [np.flatnonzero(row).tolist() for row in adj]
+    net = sc.network
+    senders = net.senders.tolist()
+    nbhd = [sorted([i, *senders[net.first_edge[i]:net.first_edge[i + 1]]]) for i in range(net.N)]
     clean = [[j for j in nb if j not in attacked] for nb in nbhd]
     return clean, [[j for j in nb if j in attacked] for nb in nbhd]
+
+
+def _packet_index(sc: Scenario, src: NDArray[np.intp]) -> NDArray[np.intp]:
+    """Where node ``i``'s packet from ``src[i, s]`` sits in ``[received per edge, own]``: the edge
+    ``(i, src)`` (index < E), or ``E + i`` for its own measurement; 0 for an empty slot (-1)."""
+    net = sc.network
+    keys = net.receivers.astype(np.int64) * net.N + net.senders  # increasing (edges sorted)
+    rows = np.broadcast_to(np.arange(net.N)[:, None], src.shape)
+    edge = np.searchsorted(keys, rows.astype(np.int64) * net.N + np.maximum(src, 0))
+    return np.where(src == rows, net.E + rows, np.where(src >= 0, edge, 0))
 
 
 def _clean_layout(sc: Scenario, clean: list[list[int]]) -> tuple[Array, Array, Array]:
@@ -112,9 +123,10 @@ class Li2025(Method):
 
     def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
         A = sc.plant.A
-        nbhd = sc.network.adj + np.eye(sc.network.N)
+        clean, attacked = _packets(sc)
         observable = all(
-            systems.is_observable(A, sc.C[np.flatnonzero(row)].reshape(-1, sc.plant.n)) for row in nbhd
+            systems.is_observable(A, sc.C[sorted(c + a)].reshape(-1, sc.plant.n))
+            for c, a in zip(clean, attacked, strict=True)
         )
         return [
             ("the plant is an SPDSS (1), read with no fast part (n_f = 0, H_eps = I)", True),
@@ -139,6 +151,7 @@ class Li2025(Method):
         clean, attacked = _packets(sc)
         src, G_clean, var_clean = _clean_layout(sc, clean)
         slot_own = src == np.arange(N)[:, None]
+        slot_packet = _packet_index(sc, src)  # (N, slots) into [received per edge, own]
         att = sc.attack
         psi_att = 1.0 - att.prob
         x = np.zeros((runs, N, n))
@@ -146,14 +159,19 @@ class Li2025(Method):
         xs, Ss = np.empty((runs, K1, N, n)), np.empty((runs, K1, N, n, n))
         xs[:, 0], Ss[:, 0] = x, S
         coef_clean = bound_coefficients(1.0, a2, a3, a4, self.variant)
-        C = sc.C
+        C_sender = sc.C[sc.network.senders]
 
         def encode(delta: Array) -> Array:  # a node relays C_j x: a shifted state moves it by C_j delta
-            return np.einsum("jyn,rijn->rijy", C, delta)
+            return np.einsum("eyn,ren->rey", C_sender, delta)
 
         coef_att = bound_coefficients(psi_att, a2, a3, a4, self.variant)
+        hearing = {}  # each attacked packet a: the nodes that use it and where their copy sits
+        for a in sorted({j for js in attacked for j in js}):
+            nodes = [i for i in range(N) if a in attacked[i]]
+            hearing[a] = (nodes, _packet_index(sc, np.full((N, 1), a))[nodes, 0])
         for k in range(1, K1):
-            recv = trial.received(k, trial.y[:, k], encode)  # (runs, N, N, ny): i receives from j
+            # (runs, E + N, ny): the packets of every edge, then every node's own measurement
+            recv = np.concatenate([trial.received(k, trial.y[:, k], encode), trial.y[:, k]], axis=1)
             up = trial.link[:, k].astype(bool)
             x = predict(x, [], A, [])  # (7), K_i empty
             S = predicted_bound(S, [], A, [], lam, Q)  # (17)
@@ -162,18 +180,16 @@ class Li2025(Method):
             rows = np.repeat(got, ny, axis=-1)
             G = G_clean[None] * rows[..., None]
             V = np.einsum("rim,mn->rimn", np.where(rows, var_clean[None], 1.0), np.eye(rows.shape[-1]))
-            y_rows = np.take_along_axis(recv, np.maximum(src, 0)[None, :, :, None], axis=2)
-            y_rows = np.where(rows, y_rows.reshape(runs, N, -1), 0.0)
+            y_rows = np.where(rows, recv[:, slot_packet].reshape(runs, N, -1), 0.0)
             X_hat = x[..., :, None] * x[..., None, :]
             L, S, _ = gain_and_bound(S, X_hat, G, coef_clean, a1, 0.0, V)  # (28), (18)
             x = x + np.einsum("rinc,ric->rin", L, y_rows - np.einsum("ricn,rin->ric", G, x))  # (8)
-            for a in sorted({j for js in attacked for j in js}):  # each attacked packet
-                nodes = [i for i in range(N) if a in attacked[i]]
+            for a, (nodes, where) in hearing.items():  # each attacked packet
                 xi_star = float(np.sum((att.magnitude * sc.plant.r_std[sc.network.measures[a]]) ** 2))
                 xa, Sa = x[:, nodes], S[:, nodes]
                 L, S_new, _ = gain_and_bound(Sa, xa[..., :, None] * xa[..., None, :], sc.C[a], coef_att,
                                              a1, xi_star, sc.R[a])  # (28), (18)
-                x_new = xa + np.einsum("rinc,ric->rin", L, recv[:, nodes, a] - xa @ sc.C[a].T)  # (8)
+                x_new = xa + np.einsum("rinc,ric->rin", L, recv[:, where] - xa @ sc.C[a].T)  # (8)
                 use = (np.array(nodes) == a)[None] | up[:, None]  # a lost packet is not used
                 x[:, nodes] = np.where(use[..., None], x_new, xa)
                 S[:, nodes] = np.where(use[..., None, None], S_new, Sa)

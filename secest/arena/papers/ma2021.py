@@ -144,18 +144,21 @@ class Ma2021(Method):
         d = self.design(sc)
         runs, K1, N, ny = trial.y.shape
         n, A, C = sc.plant.n, sc.plant.A, sc.C
+        net = sc.network
         F = np.broadcast_to(A, (N, n, n))
-        H = np.zeros((N, N, n, ny))  # optimal for OP2 (module docstring)
+        H = np.zeros((net.E, n, ny))  # optimal for OP2 (module docstring); per edge: O(E) a step
+        C_sender = C[net.senders]
 
         def encode(delta: Array) -> Array:  # z_j = y_j - C_j x_j: a shifted x_j moves it by -C_j delta
-            return -np.einsum("jyn,rijn->rijy", C, delta)
+            return -np.einsum("eyn,ren->rey", C_sender, delta)
 
         xhat = np.zeros((runs, K1, N, n))
         for k in range(K1 - 1):
             z = trial.y[:, k] - np.einsum("iyn,rin->riy", C, xhat[:, k])
             recv = trial.received(k, z, encode)
-            theta = sc.network.adj[None] * trial.link[:, k, None, None]  # a lost message is not used
-            xhat[:, k + 1] = estimator_update(F, d.G[k], H, xhat[:, k], z, recv, theta)
+            theta = np.broadcast_to(trial.link[:, k, None], (runs, net.E))  # a lost message: unused
+            xhat[:, k + 1] = estimator_update(F, d.G[k], H, xhat[:, k], z, recv, theta,
+                                              edges=net.edges)
         Bell = d.P / (1.0 - self.p)
         return Estimate(xhat, bound=Bell[None, :, None], notes=self._notes(trial, xhat, d))
 
