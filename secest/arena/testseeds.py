@@ -522,24 +522,46 @@ def _rows(job: Job, choice: dict[str, Any] | None, pooled: dict[str, Any],
     return out
 
 
-def _plant_record(tuned: dict[str, Any], plant: str, attacks: list[str], seeds: list[int],
-                  found: dict[tuple[str, str], list[dict[str, Any]]], plan: dict[str, Any],
-                  short: bool) -> dict[str, Any]:
-    """One plant's rows under every attack, pooled over the seeds."""
+def _attack_rows(tuned: dict[str, Any], plant: str, attack: str, seeds: list[int],
+                 found: dict[tuple[str, str], list[dict[str, Any]]], plan: dict[str, Any],
+                 short: bool) -> list[dict[str, Any]]:
+    """Every method's rows on one plant under one attack, pooled over the seeds."""
     sc, js = plan[plant]
     choices = tuned["tuned"][plant]
-    cells = {}
-    for attack in attacks:
-        results = found[(plant, attack)]
-        oracle = [r["cells"]["oracle/reference"] for r in results]
-        rows = []
-        for job in js:
-            pooled = pool(oracle, [r["cells"][job.key] for r in results], seeds, short=short)
-            rows += _rows(job, choices.get(job.method), pooled, len(seeds) * sc.runs)
-        cells[attack] = rows
+    results = found[(plant, attack)]
+    oracle = [r["cells"]["oracle/reference"] for r in results]
+    rows = []
+    for job in js:
+        pooled = pool(oracle, [r["cells"][job.key] for r in results], seeds, short=short)
+        rows += _rows(job, choices.get(job.method), pooled, len(seeds) * sc.runs)
+    return rows
+
+
+def _plant_record(tuned: dict[str, Any], plant: str, attacks: list[str], homes: dict[str, str],
+                  seeds: list[int], found: dict[tuple[str, str], list[dict[str, Any]]],
+                  plan: dict[str, Any], short: bool) -> dict[str, Any]:
+    """One plant's rows under every attack and on every home ground of it, pooled over the seeds."""
+    sc, _ = plan[plant]
+    args = (tuned, plant)
     return {"plant": sc.plant.name, "network": plant, "horizon": sc.horizon,
             "settle": estimators.settle_steps(sc, short=short), "tau": sc.time_constant,
-            "home": [n for n in choices if METHODS[n].home == plant], "cells": cells}
+            "home": [n for n in tuned["tuned"][plant] if METHODS[n].home == plant],
+            "cells": {a: _attack_rows(*args, a, seeds, found, plan, short) for a in attacks},
+            "homes": {name: {"attack": a,
+                             "rows": _attack_rows(*args, a, seeds, found, plan, short)}
+                      for name, a in homes.items()}}
+
+
+def home_grounds(plants: list[str], attacks: list[str]) -> dict[str, dict[str, str]]:
+    """Per plant, the named scenarios of the cards on it (the papers' home grounds): name -> attack.
+
+    They run on the test seeds at the test stage's runs and horizon like every cell (the tuned
+    constants are the plant's); their own ``runs``/``seed`` keys are not used. A named scenario
+    whose attack is already a column of the cross is not repeated.
+    """
+    named = scenarios.cards()["scenario"]
+    return {p: {name: c["attack"] for name, c in named.items()
+                if c["network"] == p and c["attack"] not in attacks} for p in plants}
 
 
 def run(
@@ -582,8 +604,9 @@ def run(
     dict
         ``protocol`` (file, SHA-256, commit), ``tuned`` (file, commit, SHA-256), ``seeds``,
         ``runs_per_seed``, ``horizon``, ``short``, ``attacks``, ``choices`` (plant -> method ->
-        the committed choice) and ``plants`` (plant -> horizon, windows, home methods and, per
-        attack, the rows): JSON-ready, deterministic.
+        the committed choice) and ``plants`` (plant -> horizon, windows, home methods, per
+        attack the rows, and per home ground on it (:func:`home_grounds`) its attack and rows):
+        JSON-ready, deterministic.
     """
     seeds, runs, horizon, short = _options(seeds, runs, horizon, short, workers, scheduler)
     tuned = load_tuned(tuned_path, short=short)
@@ -594,7 +617,9 @@ def run(
         sc = scenarios.scenario(plant, attacks[0], horizon=horizon, runs=runs, seed=seeds[0])
         estimators.settle_steps(sc, short=short)  # every horizon checked before any work starts
         plan[plant] = (sc, jobs(tuned, plant, sc.C.shape[1]))
-    keys = [(p, a, s) for p in plants for a in attacks for s in seeds]
+    homes = home_grounds(plants, attacks)
+    keys = [(p, a, s) for p in plants for a in attacks + sorted(set(homes[p].values()))
+            for s in seeds]
     tasks = [(scenarios.scenario(p, a, horizon=horizon, runs=runs, seed=s), plan[p][1])
              for p, a, s in keys]
     results = _execute(tasks, short, workers, scheduler)
@@ -608,7 +633,8 @@ def run(
         "short": short, "attacks": attacks,
         "choices": {p: {m: {k: c[k] for k in ("point", "constants", "rule", "mark")}
                         for m, c in tuned["tuned"][p].items()} for p in plants},
-        "plants": {p: _plant_record(tuned, p, attacks, seeds, found, plan, short) for p in plants},
+        "plants": {p: _plant_record(tuned, p, attacks, homes[p], seeds, found, plan, short)
+                   for p in plants},
     }
 
 
