@@ -602,14 +602,11 @@ SCALING_CALL_BUDGET_S = 30.0
 cost extrapolated with the growth exponent measured between the two previous sizes, at least 1)."""
 SCALING_DESIGN_BUDGET_S = 300.0
 """... or conditions and design (once per network) longer than this (extrapolated like N^2)."""
+SCALING_ENUMERATIONS: dict[str, Callable[[object, int], tuple[int, str]]] = {}
+"""Methods whose design enumerates sets of nodes: (count, what) at N nodes; none since lee2020's
+Assumption 2 is checked from its Assumption-4 basis in O(N n) (``redundant_from_basis``)."""
 SCALING_MAX_SUBSETS = 100_000
 """Designs that enumerate subsets of sensor banks are not run beyond this many subsets."""
-SCALING_ENUMERATIONS = {
-    "lee2020": lambda m, N: (math.comb(N, 2 * m.q),
-                             f"C(N, 2q) = C({N}, {2 * m.q}) bank subsets, each an observability "
-                             "rank test (2q-redundant observability, Assumption 2)"),
-}
-"""Methods whose design enumerates sets of nodes: (count, what) at N nodes."""
 
 
 def _scaling_ring(N: int) -> object:

@@ -365,7 +365,8 @@ class Network:
     @cached_property
     def adjacency(self) -> csr_array:
         """Sparse adjacency (N, N), ``1.0`` where node ``i`` receives node ``j``."""
-        return csr_array((np.ones(self.E), self.senders, self.first_edge), shape=(self.N, self.N))
+        return csr_array((np.ones(self.E), np.ascontiguousarray(self.senders), self.first_edge),
+                         shape=(self.N, self.N))  # contiguous indices: csgraph needs them
 
     @cached_property
     def undirected(self) -> bool:
