@@ -425,8 +425,7 @@ def _received_cases() -> Iterator[Case]:
         ("messages of 4 nodes", 0, m[:, :4]),
         ("messages of 3 runs", 0, np.zeros((3, 5, 6))),
         ("messages 2-D", 0, m[0]),
-        ("messages NaN", 0, m + NAN),
-    ):
+    ):  # non-finite messages are valid: a diverging method's, passed on (its cell: diverged)
         word = "k" if label.startswith("k") else "messages"
         yield Case(f"Trial.received({label})", (word,), lambda k=k, msgs=msgs: trial.received(k, msgs))
     yield Case("Trial.received(encode=3)", ("encode",), lambda: trial.received(0, m, 3))

@@ -42,7 +42,7 @@ from numpy.typing import NDArray
 from scipy.sparse import csr_array
 
 from secest.core import validation
-from secest.core.validation import ValidationError, as_matrix, check_positive_int
+from secest.core.validation import ValidationError, as_matrix, check_callable, check_positive_int
 
 __all__ = [
     "ATTACK_KINDS",
@@ -611,10 +611,17 @@ class Trial:
         Raises
         ------
         ValidationError
-            If ``messages`` is not one row per node, a message is not a state estimate and no
-            ``encode`` is given, or ``encode`` returns another shape.
+            If ``k`` is not a step of the trial, ``encode`` is not callable, ``messages`` is not
+            one row per node, a message is not a state estimate and no ``encode`` is given, or
+            ``encode`` returns another shape. Non-finite messages are passed on (a diverging
+            method's; the growth rule marks its cell ``diverged``).
         """
         net = self.scenario.network
+        K = self.x.shape[1] - 1
+        if isinstance(k, bool) or not isinstance(k, int | np.integer) or not 0 <= k <= K:
+            raise ValidationError(f"k must be a step index, an integer in [0, {K}], found {k!r}")
+        if encode is not None:
+            check_callable("encode", encode)
         m = np.asarray(messages, dtype=float)
         if m.ndim != 3 or m.shape[:2] != self.x.shape[:1] + (net.N,):
             raise ValidationError(f"Incompatible dimensions of messages: expected "
