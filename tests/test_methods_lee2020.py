@@ -388,7 +388,7 @@ def test_bad_input_is_refused_naming_the_argument(basis) -> None:
     cls = type(METHODS["lee2020"])  # register() returns the instance
     with pytest.raises(ValidationError, match="poles must be"):
         cls(poles="far")
-    with pytest.raises(ValidationError, match="kappa must be a positive number"):
+    with pytest.raises(ValidationError, match="kappa must be > 0"):
         cls(kappa=0.0)
     with pytest.raises(ValidationError, match="indicators must mark"):
         L.median_set(np.array([1.0, 2.0]), np.zeros(2))
