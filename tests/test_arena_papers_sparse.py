@@ -22,7 +22,23 @@ CELLS = [(net, att) for net in ("target20", "inertia5", "tank12")
          for att in ("none", "bias", "replacement", "message", "dos")]
 RTOL = 1e-10
 """Relative deviation allowed from the dense code: the per-edge sums add the same terms in
-another order (measured at most 2e-12, guo2023's fusion)."""
+another order (measured at most 2e-12, guo2023's fusion). A method whose declared tolerance is
+looser (ma2021: gains from CLARABEL's interior-point iterates, `Method.tolerance`) is held to that
+one: the reference was written on Python 3.11, and another Python's solver and BLAS builds give
+other iterates (measured on 3.13: 1.1 % relative on tank12)."""
+
+
+SOLVER_DRIVEN = ("ma2021",)
+"""Methods held to their declared tolerance instead of RTOL (their numbers come from a solver's
+iterates); the others passed at RTOL on Python 3.11 and 3.13 and stay at it."""
+
+
+def _bound(name: str, scale: float) -> float:
+    """The deviation allowed from the frozen reference at a quantity of size ``scale``."""
+    if name not in SOLVER_DRIVEN:
+        return RTOL * scale
+    tol = METHODS[name].tolerance
+    return max(RTOL * scale, tol.atol + tol.rtol * scale)
 
 
 @pytest.fixture(scope="module", params=CELLS, ids=["/".join(c) for c in CELLS])
@@ -36,9 +52,9 @@ def test_per_edge_estimates_are_the_dense_ones(trial, name) -> None:
     est = METHODS[name].run(trial)
     key = f"{trial.scenario.name}/{name}"
     last, sse = REF[f"{key}/last"], REF[f"{key}/sse"]
-    assert np.abs(est.xhat[:, -1] - last).max() <= RTOL * np.abs(last).max()
+    assert np.abs(est.xhat[:, -1] - last).max() <= _bound(name, np.abs(last).max())
     new_sse = ((est.xhat - trial.x[:, :, None]) ** 2).sum(axis=(0, 2, 3))
-    assert np.abs(new_sse - sse).max() <= RTOL * sse.max()
+    assert np.abs(new_sse - sse).max() <= _bound(name, sse.max())
     if f"{key}/alarms" in REF:
         assert np.array_equal(est.alarms.sum(axis=(0, 2)), REF[f"{key}/alarms"])
 

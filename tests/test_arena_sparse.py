@@ -19,6 +19,7 @@ import pytest
 from secest.arena import baselines, estimators, scenarios
 from secest.arena.estimators import METHODS
 from secest.core import graphs
+from secest.core.tolerances import SIGN_DRIVEN
 from secest.core.validation import ValidationError
 
 REFERENCE = Path(__file__).parent / "data" / "arena_dense_reference.npz"
@@ -30,8 +31,22 @@ ROUNDING = {"consensus-kf": 1e-9, "consensus-kf-1": 1e-11, "diffusion-kf": 1e-11
 order (two nearly collinear output rows of precision 0.05): adding the per-edge sums in reverse
 order moves the last estimate by 1.6e-10 (consensus-kf: the information counted N = 20 times),
 1.3e-12 (consensus-kf-1), 1.0e-12 (diffusion-kf), 1.6e-12 (kcf), relative (measured); against the
-dense code 2.3e-10, 1.1e-12, 1.7e-12, 2.5e-12. Every other cell: 1e-12 (measured at most 5.1e-14
-on inertia5 and tank12; 0 for the centralised filters and local-kf, bit-identical)."""
+dense code 2.3e-10, 1.1e-12, 1.7e-12, 2.5e-12. Every other cell: 1e-11 (measured at most 5.1e-14
+on inertia5 and tank12 on Python 3.11, where the reference was written; 1.7e-12 on 3.13, whose
+numpy sums in another order; 0 for the centralised filters and local-kf on 3.11)."""
+
+
+COMPARISON_DRIVEN = {"wmsr-kf": SIGN_DRIVEN}
+"""W-MSR keeps or drops a value by comparing it with the node's own (:func:`baselines.wmsr`): a
+round-off difference between two numpy builds flips a near-tie and the trajectories part by the
+size of one trimmed value (measured on Python 3.13 against the reference written on 3.11: 2.3e-3 on
+tank12 under DoS; equal on 3.11). Held to a sign-driven tolerance, like lee2020's."""
+
+
+def _bound(name: str, rtol: float, scale: float) -> float:
+    """The deviation allowed from the frozen reference at a quantity of size ``scale``."""
+    tol = COMPARISON_DRIVEN.get(name)
+    return rtol * scale if tol is None else max(rtol * scale, tol.atol + tol.rtol * scale)
 
 
 @pytest.mark.parametrize("network", ["target20", "inertia5", "tank12"])
@@ -44,9 +59,10 @@ def test_per_edge_baselines_reproduce_the_dense_code(network: str, attack: str) 
     for name in NAMES:
         xhat = TUNED.get(name, METHODS[name]).run(t).xhat
         last, sse = ref[f"{network}/{attack}/{name}/last"], ref[f"{network}/{attack}/{name}/sse"]
-        tol = ROUNDING.get(name, 1e-12) if network == "target20" else 1e-12
-        assert np.abs(xhat[:, -1] - last).max() <= tol * np.abs(last).max(), name
-        assert np.abs(((xhat - t.x[:, :, None]) ** 2).sum(axis=(0, 2, 3)) - sse).max() <= tol * sse.max(), name
+        tol = ROUNDING.get(name, 1e-11) if network == "target20" else 1e-11
+        assert np.abs(xhat[:, -1] - last).max() <= _bound(name, tol, np.abs(last).max()), name
+        err = np.abs(((xhat - t.x[:, :, None]) ** 2).sum(axis=(0, 2, 3)) - sse).max()
+        assert err <= _bound(name, tol, sse.max()), name
 
 
 def _ring(N: int, degree: int = 2) -> scenarios.Network:
