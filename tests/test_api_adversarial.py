@@ -331,6 +331,12 @@ SPECS: dict[str, Spec] = {
         mention={"value": "mode"}),
     "validation.check_callable": Spec(lambda: dict(name="f", value=len), dict(name=_name, value=_callable),
                                       mention={"value": "f"}),
+    "validation.check_instance": Spec(
+        lambda: dict(name="x", value=3, cls=int, made_by="int()"),
+        dict(name=_name, value=_custom(("str", "a"), ("None", None)),
+             cls=_custom(("not a class", 3), ("None", None)),
+             made_by=_custom(("None", None), ("empty", ""), ("int", 3))),
+        mention={"value": "x"}),
     "validation.as_rng": Spec(lambda: dict(name="rng", rng=0), dict(name=_name, rng=_seed)),
     "validation.check_size": Spec(
         lambda: dict(name="n", value=3, limit=10, what="entries"),

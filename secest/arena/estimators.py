@@ -40,6 +40,7 @@ from secest.core.validation import (
     ValidationError,
     check_bool,
     check_callable,
+    check_instance,
     check_probability,
 )
 
@@ -689,10 +690,7 @@ def check_trial(label: str, value: object) -> Trial:
     ValidationError
         If ``value`` is not a Trial.
     """
-    if not isinstance(value, Trial):
-        raise ValidationError(f"{label} must be a Trial (secest.arena.scenarios.simulate), "
-                              f"found {type(value).__name__}")
-    return value
+    return check_instance(label, value, Trial, "secest.arena.scenarios.simulate")
 
 
 def check_names(label: str, names: object) -> list[str]:

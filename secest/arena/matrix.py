@@ -30,7 +30,7 @@ from numpy.typing import NDArray
 from secest.arena import estimators
 from secest.arena.estimators import METHODS, Estimate, Score
 from secest.arena.scenarios import Scenario, Trial, check_scenario, simulate
-from secest.core.validation import ValidationError, check_bool
+from secest.core.validation import ValidationError, check_bool, check_instance
 
 __all__ = [
     "CELL_FIELDS",
@@ -135,10 +135,7 @@ def check_matrix(label: str, value: object) -> Matrix:
     ValidationError
         If ``value`` is not a Matrix.
     """
-    if not isinstance(value, Matrix):
-        raise ValidationError(f"{label} must be a Matrix (secest.arena.matrix.run_matrix), found "
-                              f"{type(value).__name__}")
-    return value
+    return check_instance(label, value, Matrix, "secest.arena.matrix.run_matrix")
 
 
 def scaled(sc: Scenario, factor: float) -> Scenario:

@@ -42,7 +42,13 @@ from numpy.typing import NDArray
 from scipy.sparse import csr_array
 
 from secest.core import validation
-from secest.core.validation import ValidationError, as_matrix, check_callable, check_positive_int
+from secest.core.validation import (
+    ValidationError,
+    as_matrix,
+    check_callable,
+    check_instance,
+    check_positive_int,
+)
 
 __all__ = [
     "ATTACK_KINDS",
@@ -673,10 +679,7 @@ def check_scenario(label: str, value: object) -> Scenario:
     ValidationError
         If ``value`` is not a Scenario.
     """
-    if not isinstance(value, Scenario):
-        raise ValidationError(f"{label} must be a Scenario (secest.arena.scenarios.scenario), "
-                              f"found {type(value).__name__}")
-    return value
+    return check_instance(label, value, Scenario, "secest.arena.scenarios.scenario")
 
 
 def steady_state(plant: Plant, network: Network) -> tuple[NDArray[np.float64], float]:

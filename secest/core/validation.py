@@ -59,6 +59,7 @@ __all__ = [
     "as_rng",
     "check_bool",
     "check_callable",
+    "check_instance",
     "check_choice",
     "check_int",
     "check_loewner_order",
@@ -338,6 +339,41 @@ def check_callable(name: str, value: object) -> Callable[..., Any]:
     _check_name(name)
     if not callable(value):
         raise ValidationError(f"{name} must be callable, found {_show(value)}")
+    return value
+
+
+def check_instance(name: str, value: object, cls: type, made_by: str) -> Any:
+    """Check that ``value`` is an instance of ``cls``.
+
+    Parameters
+    ----------
+    name : str
+        Argument name used in error messages.
+    value : object
+        The value to check.
+    cls : type
+        The class it must be an instance of.
+    made_by : str
+        What makes such objects (e.g. ``"secest.arena.scenarios.simulate"``), named in the message.
+
+    Returns
+    -------
+    object
+        ``value``.
+
+    Raises
+    ------
+    ValidationError
+        If ``value`` is not an instance of ``cls``.
+    """
+    _check_name(name)
+    if not isinstance(cls, type):
+        raise ValidationError(f"cls must be a class, found {_show(cls)}")
+    if not isinstance(made_by, str) or not made_by.strip():
+        raise ValidationError(f"made_by must be a non-empty string, found {_show(made_by)}")
+    if not isinstance(value, cls):
+        raise ValidationError(f"{name} must be a {cls.__name__} ({made_by}), "
+                              f"found {type(value).__name__}")
     return value
 
 
