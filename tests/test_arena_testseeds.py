@@ -181,6 +181,56 @@ def test_a_diverged_row_reports_its_growth_and_no_score() -> None:
     assert testseeds._written_growth(pooled | {"status": "ok", "growth": 1.23456})["growth"] == 1.23456
 
 
+def frozen_blow_up(trial: Trial, oracle: Estimate) -> Estimate:
+    """One run of each trial jumps to 1e6 times the data-free error early in the steady window and stays there.
+
+    The pooled late / mid factor stays near 1 (the first design's miss: ding2020 tuned on
+    inertia5 under replacement scored 1.59e29 as a ratio); the run escapes (Amendment 2).
+    """
+    xhat = oracle.xhat.copy()
+    settle = estimators.settle_steps(trial.scenario)
+    free = estimators.data_free_moment(trial.scenario, settle, trial.x.shape[1])
+    level = 1e6 * np.sqrt(np.trace(free) / (trial.x.shape[1] - settle))
+    xhat[0, settle + 5:] += level
+    return Estimate(xhat)
+
+
+def test_a_run_that_escaped_is_diverged_whatever_its_growth() -> None:
+    pooled, whole = pooled_and_score([201, 202], frozen_blow_up)
+    assert whole.growth < estimators.GROWTH_LIMIT and pooled["growth"] < estimators.GROWTH_LIMIT
+    assert pooled["status"] == whole.status == "diverged" and pooled["steady"] is None
+    # one run of each seed escaped: 2 of the 6 pooled runs, the same count as on the runs joined
+    assert pooled["reason"].startswith("2 of 6 runs escaped") and whole.reason.startswith("2 of 6 runs")
+    short, _ = pooled_and_score([201], frozen_blow_up, short=True)
+    assert short["status"] == "ok"  # a smoke test reports, it does not rule
+
+
+def test_the_escape_rule_is_per_run_and_its_factor_the_protocols() -> None:
+    assert estimators.ESCAPE_FACTOR == protocol.load()["divergence"]["escape_factor"]
+    assert estimators.GROWTH_LIMIT == protocol.load()["divergence"]["growth_factor"]
+    q = np.array([1.0, 2.0, 1e4 * 3.0 + 1.0])
+    assert estimators.escaped(q, 3.0).tolist() == [False, False, True]
+    # the same run among more runs is the same verdict: a per-run rule, not a pooled one
+    assert estimators.escaped(np.concatenate([q, np.ones(1000)]), 3.0).sum() == 1
+    for bad in (np.array([-1.0]), np.ones((2, 2))):
+        with pytest.raises(ValidationError, match="per_run"):
+            estimators.escaped(bad, 1.0)
+    with pytest.raises(ValidationError, match="free"):
+        estimators.escaped(q, 0.0)
+
+
+def test_the_data_free_moment_is_the_prior_propagated() -> None:
+    sc = scenarios.scenario("tank12", "none", horizon="auto", runs=2, seed=201)
+    A, Q, n = sc.plant.A, sc.plant.Q, sc.plant.n
+    P0 = sc.plant.x0_std**2 * np.eye(n)
+    assert np.allclose(estimators.data_free_moment(sc, 0, 1), P0)
+    assert np.allclose(estimators.data_free_moment(sc, 1, 3), A @ P0 @ A.T + Q
+                       + A @ (A @ P0 @ A.T + Q) @ A.T + Q)
+    for start, stop in ((0, 0), (-1, 2), (0, sc.horizon + 2), (0.5, 2)):
+        with pytest.raises(ValidationError, match="start, stop"):
+            estimators.data_free_moment(sc, start, stop)
+
+
 def test_a_short_run_reports_growth_without_ruling_on_it() -> None:
     pooled, whole = pooled_and_score([201], growing, short=True)
     assert pooled["status"] == whole.status == "ok" and pooled["growth"] > 4

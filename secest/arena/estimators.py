@@ -48,6 +48,7 @@ __all__ = [
     "BOOTSTRAP",
     "CENTRAL_BLOCK",
     "CHI2_ALPHA",
+    "ESCAPE_FACTOR",
     "EXTRAS",
     "GROWTH_LIMIT",
     "METHODS",
@@ -58,6 +59,9 @@ __all__ = [
     "Score",
     "check_names",
     "check_trial",
+    "data_free_moment",
+    "escape_reason",
+    "escaped",
     "evaluate",
     "growth",
     "normalised_errors",
@@ -420,6 +424,9 @@ SETTLE_TAU = 5
 GROWTH_LIMIT = 4.0
 """A cell is diverged when its late mean squared normalised error exceeds this many times its
 mid-window one (``protocol.toml`` [divergence])."""
+ESCAPE_FACTOR = 100.0
+"""A run has escaped (its cell is diverged) when its steady-window RMS error exceeds this many
+times the data-free estimate's (``protocol.toml`` [divergence], Amendment 2: :func:`escaped`)."""
 BOOTSTRAP = 2000
 """Percentile-bootstrap resamples of the runs for every score interval (seed 0)."""
 
@@ -438,8 +445,8 @@ class Score:
     ----------
     status : {"ok", "n/a", "diverged", "error"}
         ``"ok"``: scored; ``"n/a"``: the method cannot run on the scenario (a requirement
-        fails, :meth:`Method.requirements`); ``"diverged"``: an estimate is not finite, or its
-        error grows (:data:`GROWTH_LIMIT`): it shows no score; ``"error"``: it raised (its
+        fails, :meth:`Method.requirements`); ``"diverged"``: an estimate is not finite, its
+        error grows (:data:`GROWTH_LIMIT`) or a run escaped (:func:`escaped`): it shows no score; ``"error"``: it raised (its
         message, or ``needs extra: lmi``). The other cells are not affected.
     reason : str
         Why the status is not ``"ok"``; empty otherwise.
@@ -531,10 +538,83 @@ def normalised_errors(
         raise ValidationError(f"Incompatible dimensions of xhat, x and oracle: expected (runs, k, N, "
                               f"n), (runs, k, n) and (runs, k, n), found {xhat.shape}, {x.shape} "
                               f"and {oracle.shape}")
-    eo = (oracle - x).reshape(-1, x.shape[-1])
     e = xhat - x[:, :, None, :]
-    white = e @ whitening(eo.T @ eo / eo.shape[0])
+    white = e @ whitening(oracle_moment(x, oracle))
     return np.sum(white**2, axis=-1) / x.shape[-1]
+
+
+def data_free_moment(sc: Scenario, start: int, stop: int) -> NDArray[np.float64]:
+    """``sum over k in [start, stop) of P_k``: the error covariances of the estimate that uses no data.
+
+    Without measurements or messages the best estimate of ``x_k`` is its prior mean, 0
+    (``x_0 ~ N(0, x0_std^2 I)``, zero-mean noise), whose error covariance follows
+    ``P_0 = x0_std^2 I``, ``P_{k+1} = A P_k A^T + Q``. It is the same for every method, attack
+    and seed: the reference of the escape rule (:func:`escaped`).
+
+    Parameters
+    ----------
+    sc : Scenario
+    start, stop : int
+        The window's steps, ``0 <= start < stop <= K + 1``.
+
+    Returns
+    -------
+    (n, n) array
+    """
+    sc = check_scenario("sc", sc)
+    if not (isinstance(start, (int, np.integer)) and isinstance(stop, (int, np.integer))
+            and 0 <= start < stop <= sc.horizon + 1):
+        raise ValidationError(f"start, stop must be steps with 0 <= start < stop <= K + 1 = "
+                              f"{sc.horizon + 1}, found {start!r}, {stop!r}")
+    A, Q = sc.plant.A, sc.plant.Q
+    P = sc.plant.x0_std**2 * np.eye(sc.plant.n)
+    total = np.zeros_like(P)
+    for k in range(stop):
+        if k >= start:
+            total += P
+        P = A @ P @ A.T + Q
+    return total
+
+
+def escaped(per_run: NDArray[np.float64], free: float) -> NDArray[np.bool_]:
+    """The runs whose error escaped: mean ``q`` above ``ESCAPE_FACTOR^2`` times the data-free one.
+
+    A run whose RMS error on the steady window exceeds :data:`ESCAPE_FACTOR` times that of the
+    estimate that uses no data (:func:`data_free_moment`) has left every bounded regime of the
+    arena's attacks; its cell is diverged even when its error stopped growing inside the window
+    (an early blow-up, frozen by a detector that then rejects everything). A property of each
+    run, so its meaning does not change with the number of runs (``protocol.toml``, Amendment 2).
+
+    Parameters
+    ----------
+    per_run : (runs,) array
+        Mean unit-free squared error ``q`` of each run over the steady window's steps and nodes.
+    free : float
+        The data-free estimate's mean ``q`` over the same steps, in the same unit.
+
+    Returns
+    -------
+    (runs,) bool array
+    """
+    per_run = np.asarray(per_run, dtype=float)
+    if per_run.ndim != 1 or not np.all(per_run >= 0):
+        raise ValidationError("per_run must be a 1-d array of non-negative mean squared errors")
+    if not (np.isfinite(free) and free > 0):
+        raise ValidationError(f"free must be a finite positive mean squared error, found {free!r}")
+    return per_run > ESCAPE_FACTOR**2 * free
+
+
+def escape_reason(hits: NDArray[np.bool_], per_run: NDArray[np.float64], free: float) -> str:
+    """``"k of R runs escaped: ..."`` for a diverged cell's reason (:func:`escaped`)."""
+    worst = float(np.sqrt(per_run.max() / free))
+    return (f"{int(hits.sum())} of {hits.size} runs escaped: RMS error > {ESCAPE_FACTOR:g} x the "
+            f"data-free estimate's (the worst {worst:.2g} x)")
+
+
+def oracle_moment(x: NDArray[np.float64], oracle: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``Sigma_o``: the oracle's error second moment over the runs and steps given (uncentred)."""
+    eo = (oracle - x).reshape(-1, x.shape[-1])
+    return eo.T @ eo / eo.shape[0]
 
 
 def whitening(sigma: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -637,7 +717,7 @@ def score(trial: Trial, estimate: Estimate, oracle: Estimate, *, short: bool = F
     -------
     Score
         ``"ok"`` with the scores (and rates when the method raises alarms), or ``"diverged"``
-        with the reason (not finite, or the growth factor).
+        with the reason (not finite, the growth factor, or the runs that escaped).
     """
     trial = check_trial("trial", trial)
     _check_estimate("estimate", estimate, trial)
@@ -652,6 +732,13 @@ def score(trial: Trial, estimate: Estimate, oracle: Estimate, *, short: bool = F
     if not short and not g <= GROWTH_LIMIT:  # a short horizon has no steady window to grow in
         return Score("diverged", f"its error grows: late / mid mean squared error {g:.3g} > "
                      f"{GROWTH_LIMIT:g}", growth=g)
+    per_run = q_steady.mean(axis=(1, 2))
+    W = whitening(oracle_moment(x[:, settle:], xo[:, settle:]))
+    free = data_free_moment(trial.scenario, settle, x.shape[1])
+    free_q = float(np.trace(W.T @ free @ W)) / (W.shape[0] * (x.shape[1] - settle))
+    hits = escaped(per_run, free_q)
+    if not short and hits.any():
+        return Score("diverged", escape_reason(hits, per_run, free_q), growth=g)
     steady, worst = _scores(q_steady)
     transient = _scores(normalised_errors(estimate.xhat[:, :settle], x[:, :settle], xo[:, :settle]))[0]
     result = Score("ok", steady=steady, steady_worst=worst, transient=transient, growth=g,

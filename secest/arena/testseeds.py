@@ -273,8 +273,10 @@ def summary(trial: Trial, est: Estimate, settle: int) -> dict[str, Any]:
         ``status`` (``"ok"``, or ``"not finite"`` with nothing else); ``transient`` and
         ``steady``: per run and node ``sum e e^T`` over the window (runs, N, n, n) and ``steps``;
         ``mid`` and ``late``: per run ``sum e e^T`` over the nodes and steps of the steady
-        window's second and last quarters (runs, n, n); with alarms, their counts per run on the
-        steady window (attacked and clean samples).
+        window's second and last quarters (runs, n, n); ``free``: the data-free estimate's
+        ``sum P_k`` over the steady window (:func:`~secest.arena.estimators.data_free_moment`, the
+        escape rule's reference); with alarms, their counts per run on the steady window
+        (attacked and clean samples).
     """
     if not np.all(np.isfinite(est.xhat)):
         return {"status": "not finite"}
@@ -287,6 +289,7 @@ def summary(trial: Trial, est: Estimate, settle: int) -> dict[str, Any]:
         "mid": _moments(steady[:, mid]).sum(axis=1), "late": _moments(steady[:, late]).sum(axis=1),
         "quarter_steps": (len(range(*mid.indices(steady.shape[1]))),
                           len(range(*late.indices(steady.shape[1])))),
+        "free": estimators.data_free_moment(trial.scenario, settle, e.shape[1]),
     }
     if est.alarms is not None:
         out["alarms"] = _alarm_counts(est.alarms[:, settle:], trial.attacked[:, settle:])
@@ -409,7 +412,8 @@ def pool(oracle: list[dict[str, Any]], parts: list[dict[str, Any]], seeds: list[
     dict
         ``status`` (``ok``, ``diverged``, ``n/a``, ``error``), ``reason``, ``outside``, and for a
         scored row ``steady``, ``worst``, ``transient`` (value, low, high), ``growth``,
-        ``detection`` and ``false_alarm`` (or None); a diverged row carries its growth, no score.
+        ``detection`` and ``false_alarm`` (or None); a diverged row (growth rule, or a run that
+        escaped: :func:`~secest.arena.estimators.escaped`) carries its growth, no score.
     """
     if not (len(oracle) == len(parts) == len(seeds)) or not parts:
         raise ValidationError(f"Incompatible lengths of oracle, parts and seeds: expected one "
@@ -428,8 +432,13 @@ def pool(oracle: list[dict[str, Any]], parts: list[dict[str, Any]], seeds: list[
         return empty | {"status": "diverged", "growth": g,
                         "reason": f"its error grows: late / mid mean squared error > "
                                   f"{estimators.GROWTH_LIMIT:g}"}
-    steady, worst = estimators.scores_of_runs(np.concatenate(
-        [_per_run(p["steady"], W, p["steps"][1]) for p in parts]))
+    per_run = np.concatenate([_per_run(p["steady"], W, p["steps"][1]) for p in parts])
+    free = _per_run(oracle[0]["free"][None, None], W, oracle[0]["steps"][1])[0, 0]
+    hits = estimators.escaped(per_run.mean(axis=1), free)
+    if not short and hits.any():
+        return empty | {"status": "diverged", "growth": g,
+                        "reason": estimators.escape_reason(hits, per_run.mean(axis=1), free)}
+    steady, worst = estimators.scores_of_runs(per_run)
     Wt = _metric(oracle, "transient")
     transient = estimators.scores_of_runs(np.concatenate(
         [_per_run(p["transient"], Wt, p["steps"][0]) for p in parts]))[0]
