@@ -30,7 +30,9 @@
 # and the seed split were committed before any validation or test run, the tuned constants
 # (`figures/arena/tuned.json`) before the test seeds 201–208 ran (`figures/arena/test.json`
 # records both commits; the test stage refuses to run on a tuned file git has not committed
-# unmodified). This notebook runs no matrix: it reads those two committed files and regenerates
+# unmodified). One amendment of the divergence and applicability rules came **after** a first test
+# stage had been looked at; the validation and the test stage then ran again in full under it
+# (deviation A13 below, with the first stage's numbers in ERRATA.md). This notebook runs no matrix: it reads those two committed files and regenerates
 # every table, figure and finding from them (`make robustness NB=arena`, then `make arena-test`,
 # then `make figures NB=arena`).
 #
@@ -176,10 +178,18 @@ display(Markdown("\n".join(
 # $[0,5\tau)$, the steady window $[5\tau,K]$, and the horizon is $K=20\tau$ (rounded up to ten
 # steps): each plant runs as long as it needs. Findings cite the steady window.
 #
-# **Divergence by growth.** A cell is `diverged` when its mean $q$ over the last quarter of the
-# steady window exceeds 4 times that of its second quarter (its RMS error doubled), or when an
-# estimate is not finite: it shows the growth factor, never a score (to 2 significant digits,
-# above $10^6$ written `>1e6`: amplified round-off differs between machines).
+# **Divergence by growth, or by escape.** A cell is `diverged` when its mean $q$ over the last
+# quarter of the steady window exceeds 4 times that of its second quarter (its RMS error doubled),
+# when an estimate is not finite, or (Amendment 2 of the protocol) when any one run *escapes*: its
+# RMS error on the steady window exceeds 100 times that of the estimate that uses no data at all
+# ($\hat x_k=0$, the prior mean, whose error covariance $P_{k+1}=AP_kA^\top+Q$ from
+# $P_0=\sigma_0^2I$ the code computes exactly: `secest.arena.estimators.data_free_moment`), in the
+# same unit. The growth rule alone missed a run that blew up and then froze (its detector rejecting
+# every measurement afterwards): its pooled error did not grow, and the cell read $1.6\cdot10^{29}$
+# as a score in the first test stage. The escape rule is a property of each run, so its meaning
+# does not change with the number of runs. A diverged row shows the growth factor and the reason,
+# never a score (the factor to 2 significant digits, above $10^6$ written `>1e6`: amplified
+# round-off differs between machines).
 #
 # **One attack for all.** Sensor attacks are in units of the attacked sensor's noise; a falsified
 # message shifts the state estimate a node sends by `magnitude` oracle steady-state standard
@@ -194,7 +204,9 @@ display(Markdown("\n".join(
 #
 # **Marks and N/A.** A cell outside a method's theory (`Method.conditions`) is scored and marked
 # with the failed conditions; `N/A` names the requirement without which the method cannot run
-# (`Method.requirements`), the same rule for every method.
+# (`Method.requirements`), the same rule for every method. A stability condition is a condition of
+# the theory, not a requirement: `kcf` with $\epsilon\,d_{\max}\ge1$ runs, marked (the first test
+# stage had it N/A on target20).
 
 # %% [markdown]
 # ## Parameter provenance
@@ -455,7 +467,7 @@ for name, s in live_cells.items():
 # | X5 | applicability: every paper method runs (is not N/A) in every cell; the cells outside each method's theory are counted beside it |
 # | X6 | every method with a detector keeps its false-alarm rate's upper bound at most 1 % in every cell where it runs |
 # | X7 | every method with a detector sees every sensor attack on every plant where the attack degrades `kf`: lower bound of its detection rate $\ge50$ % |
-# | X8 | no method diverges (growth rule or a non-finite estimate) in any cell |
+# | X8 | no method diverges (growth rule, a run that escaped, or a non-finite estimate) in any cell |
 
 # %%
 FACTOR, FA_MAX, DET_MIN = 2.0, 0.01, 0.5
@@ -679,9 +691,10 @@ claims["X7"] = decided(
 claims["X8"] = decided(
     x8, "diverged", threshold=0,
     paper="(ours) no method diverges on the shared scenarios",
-    check="number of cells that are diverged: an estimate not finite, or the mean squared "
+    check="number of cells that are diverged: an estimate not finite, the mean squared "
     "normalised error of the last quarter of the steady window above 4 times that of its second "
-    "quarter, on the pooled runs of the test seeds; holds when 0." + RULE)
+    "quarter, on the pooled runs of the test seeds, or a run whose steady-window RMS error exceeds "
+    "100 times the data-free estimate's (protocol.toml, Amendment 2); holds when 0." + RULE)
 
 written = json.loads(results.write_claims(results_path, claims).read_text())
 for cid, c in written.items():
@@ -766,7 +779,8 @@ display(Markdown("\n".join(
 # | A9 | what a method is told | guo2023 is told which sensor the attack card names (its $H^i$: the paper assumes the attack channels known); li2025 the replacement card's probability and magnitude ($\check\psi$, $\xi^*$: its paper assumes them known); the others nothing about the attack | each paper's own assumption, kept; an advantage under the sensor attacks that the tables do not separate from the method itself |
 # | A10 | settings | every method twice: as its paper printed it (ding2020's $\kappa$ and threshold, lee2020's $\kappa,\gamma$, li2025's weights, ma2021's $p$; the baselines at their textbook defaults) and tuned by the registered rule of `protocol.toml` on the validation seeds; ma2021's recursion (30) holds its gains once $P_k$ settles (relative change $\le10^{-6}$ on ten steps) | issue #28: tuning matters as much as the method, so both rows are reported; the rule, search sets and seed split were committed before the test seeds ran |
 # | A11 | falsified messages | a shift of 20 oracle steady-state sd of the state estimate a node sends, mapped into each method's message by its own encoding | one attack for every method, in physical units (the first design added a bounded injection in each method's own message units, which made the columns incomparable) |
-# | A12 | seeds | the test seeds 201–204, the first four of the eight (201–208) `protocol.toml` registers, 40 runs each (160 pooled, not 320): a deviation decided before any test-seed result, for the CPU budget of the machine that ran it (2 CPUs; ERRATA.md, arena); their runs pooled (one $\Sigma_o$, one bootstrap, one growth rule over all of them); the cards' seed 2026 only in the live cell | a finding does not hinge on one draw of the runs; the validation seeds 101–104 only chose the tuned constants |
+# | A12 | seeds | the eight test seeds 201–208 `protocol.toml` registers, 40 runs each (320 pooled), their runs pooled (one $\Sigma_o$, one bootstrap, one growth rule over all of them); the first test stage ran only 201–204 (a declared deviation, for CPU; ERRATA.md, arena); the cards' seed 2026 only in the live cell | a finding does not hinge on one draw of the runs; the validation seeds 101–104 only chose the tuned constants |
+# | A13 | Amendment 2 of the protocol | made **after** the first test stage (`figures/arena/test.json` at commit 367ae54, tuned constants a141056) was looked at: a run that escapes (RMS error above 100 times the data-free estimate's) makes its cell diverged; `kcf`'s $\epsilon\,d_{\max}<1$ is a condition, not a requirement; ding2020's overflowing bounds give non-finite estimates (diverged), not an error; then the validation re-ran in full and this test stage on all eight seeds | three defects of the first stage that a fairness review found (a ratio of $1.6\cdot10^{29}$ scored, an N/A that was a stability condition, a divergence reported as an error); ERRATA.md gives the first stage's results beside these |
 
 # %%
 manifest_path = run.finish(extra={"tuned": TEST["tuned"], "protocol": TEST["protocol"]})
