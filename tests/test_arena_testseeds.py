@@ -219,6 +219,24 @@ def test_the_escape_rule_is_per_run_and_its_factor_the_protocols() -> None:
         estimators.escaped(q, 0.0)
 
 
+def test_the_data_free_score_is_what_the_zero_estimate_scores() -> None:
+    """:func:`testseeds.data_free_score` is the expected score of x_hat = 0: its sample matches."""
+    seeds = [201, 202, 203, 204]
+    oparts, parts = [], []
+    for s in seeds:
+        sc = scenarios.scenario("tank12", "none", horizon="auto", runs=10, seed=s)
+        trial = scenarios.simulate(sc)
+        settle = estimators.settle_steps(sc)
+        oracle = METHODS["oracle"].run(trial)
+        oparts.append(testseeds.summary(trial, oracle, settle))
+        parts.append(testseeds.summary(trial, Estimate(np.zeros_like(oracle.xhat)), settle))
+    free = testseeds.data_free_score(oparts)
+    zero = testseeds.pool(oparts, parts, seeds)
+    # 40 runs of a stationary plant (tau = 90 steps, 1358 steady steps): a few % of sampling error
+    assert zero["status"] == "ok" and zero["steady"][0] == pytest.approx(free, rel=0.1)
+    assert testseeds.data_free_score(oparts[:1] + [{"status": "error"}]) is None
+
+
 def test_the_data_free_moment_is_the_prior_propagated() -> None:
     sc = scenarios.scenario("tank12", "none", horizon="auto", runs=2, seed=201)
     A, Q, n = sc.plant.A, sc.plant.Q, sc.plant.n

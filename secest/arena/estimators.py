@@ -446,8 +446,9 @@ class Score:
     status : {"ok", "n/a", "diverged", "error"}
         ``"ok"``: scored; ``"n/a"``: the method cannot run on the scenario (a requirement
         fails, :meth:`Method.requirements`); ``"diverged"``: an estimate is not finite, its
-        error grows (:data:`GROWTH_LIMIT`) or a run escaped (:func:`escaped`): it shows no score; ``"error"``: it raised (its
-        message, or ``needs extra: lmi``). The other cells are not affected.
+        error grows (:data:`GROWTH_LIMIT`) or a run escaped (:func:`escaped`): it shows no
+        score; ``"error"``: it raised (its message, or ``needs extra: lmi``). The other cells
+        are not affected.
     reason : str
         Why the status is not ``"ok"``; empty otherwise.
     outside : tuple of str

@@ -433,7 +433,7 @@ def pool(oracle: list[dict[str, Any]], parts: list[dict[str, Any]], seeds: list[
                         "reason": f"its error grows: late / mid mean squared error > "
                                   f"{estimators.GROWTH_LIMIT:g}"}
     per_run = np.concatenate([_per_run(p["steady"], W, p["steps"][1]) for p in parts])
-    free = _per_run(oracle[0]["free"][None, None], W, oracle[0]["steps"][1])[0, 0]
+    free = data_free_score(oracle) ** 2
     hits = estimators.escaped(per_run.mean(axis=1), free)
     if not short and hits.any():
         return empty | {"status": "diverged", "growth": g,
@@ -444,6 +444,28 @@ def pool(oracle: list[dict[str, Any]], parts: list[dict[str, Any]], seeds: list[
         [_per_run(p["transient"], Wt, p["steps"][0]) for p in parts]))[0]
     return empty | {"status": "ok", "steady": steady, "worst": worst, "transient": transient,
                     "growth": g} | _rates(parts)
+
+
+def data_free_score(oracle: list[dict[str, Any]]) -> float | None:
+    """The steady-window score of the estimate that uses no data (``x_hat = 0``), in the pooled unit.
+
+    The scale of a plant's scores: a method near it has learnt little from its data, and the
+    escape rule (:func:`~secest.arena.estimators.escaped`) diverges a run 100 times above it.
+
+    Parameters
+    ----------
+    oracle : list of dict
+        The oracle's :func:`summary` on each seed's trial of one scenario.
+
+    Returns
+    -------
+    float or None
+        ``sqrt(trace(W^T sum P_k W) / (n steps))``; None when the oracle did not run on a seed.
+    """
+    if not oracle or any(o["status"] != "ok" for o in oracle):
+        return None
+    W = _metric(oracle, "steady")
+    return float(np.sqrt(_per_run(oracle[0]["free"][None, None], W, oracle[0]["steps"][1])[0, 0]))
 
 
 def _written_growth(row: dict[str, Any]) -> dict[str, Any]:
@@ -554,6 +576,8 @@ def _plant_record(tuned: dict[str, Any], plant: str, attacks: list[str], homes: 
     args = (tuned, plant)
     return {"plant": sc.plant.name, "network": plant, "horizon": sc.horizon,
             "settle": estimators.settle_steps(sc, short=short), "tau": sc.time_constant,
+            "data_free": data_free_score([r["cells"]["oracle/reference"]
+                                          for r in found[(plant, attacks[0])]]),
             "home": [n for n in tuned["tuned"][plant] if METHODS[n].home == plant],
             "cells": {a: _attack_rows(*args, a, seeds, found, plan, short) for a in attacks},
             "homes": {name: {"attack": a,
@@ -613,9 +637,9 @@ def run(
     dict
         ``protocol`` (file, SHA-256, commit), ``tuned`` (file, commit, SHA-256), ``seeds``,
         ``runs_per_seed``, ``horizon``, ``short``, ``attacks``, ``choices`` (plant -> method ->
-        the committed choice) and ``plants`` (plant -> horizon, windows, home methods, per
-        attack the rows, and per home ground on it (:func:`home_grounds`) its attack and rows):
-        JSON-ready, deterministic.
+        the committed choice) and ``plants`` (plant -> horizon, windows, the data-free score
+        (:func:`data_free_score`), home methods, per attack the rows, and per home ground on it
+        (:func:`home_grounds`) its attack and rows): JSON-ready, deterministic.
     """
     seeds, runs, horizon, short = _options(seeds, runs, horizon, short, workers, scheduler)
     tuned = load_tuned(tuned_path, short=short)

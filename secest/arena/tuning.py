@@ -54,8 +54,8 @@ local-kf        (none)        (none)             no free constant: one point
 consensus-kf-1  rounds        ``rounds``         ``1`` only
 consensus-kf    rounds        ``rounds``
 diffusion-kf    combination   ``combination``    ``"metropolis"`` only
-kcf             epsilon       ``epsilon``        ``epsilon * max degree >= 1`` is outside its theory: the
-                                                 point runs, marked (Amendment 2); excluded only if diverged
+kcf             epsilon       ``epsilon``        ``epsilon * max degree >= 1``: outside its theory, the
+                                                 point runs, marked (Amendment 2); out only if diverged
 wmsr-kf         trimmed       ``trimmed``
 oracle          (no entry)    (none)             the reference of every score: never tuned (refused)
 ==============  ============  =================  ========================================================
