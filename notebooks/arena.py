@@ -226,7 +226,10 @@ display(Markdown(spaces.provenance_markdown("arena")))
 # in units of the attacked output's noise standard deviation (bias, replacement) or of the oracle's
 # steady-state error standard deviation of each state component (messages), so one card means the
 # same on every plant and for every method; the table shows them, and each plant's time constant,
-# horizon and first steady step as the test stage ran them (`test.json`).
+# horizon and first steady step as the test stage ran them (`test.json`). The *data-free score* is
+# the steady-window score of the estimate that uses no data at all ($\hat x_k=0$, the prior mean):
+# the scale of the plant's scores (a method near it has learnt little from its data; a run 100
+# times above it has escaped and its cell is diverged).
 
 
 # %%
@@ -252,11 +255,13 @@ def attack_parameters(att: scenarios.Attack) -> str:
 
 
 rows = ["| scenario | plant | n | dt [s] | τ [steps] | horizon [steps] | steady from [step] | "
-        "network | N | attack | kind: parameters |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+        "data-free score | network | N | attack | kind: parameters |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|"]
 for sc in SCENARIOS + HOME_SCENARIOS:
     rows.append(f"| `{sc.name}` | {md(sc.plant.name)} | {sc.plant.n} | {sc.plant.dt:g} | "
                 f"{TEST['plants'][sc.network.name]['tau']:.3g} | {sc.horizon} | "
                 f"{TEST['plants'][sc.network.name]['settle']} | "
+                f"{matrix._sig(TEST['plants'][sc.network.name]['data_free'])} | "
                 f"{md(sc.network.name)} | {sc.network.N} | {md(sc.attack.name)} | "
                 f"{sc.attack.kind}: {md(attack_parameters(sc.attack))} |")
 display(Markdown("\n".join(rows)))
