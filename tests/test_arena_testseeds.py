@@ -182,16 +182,17 @@ def test_a_diverged_row_reports_its_growth_and_no_score() -> None:
 
 
 def frozen_blow_up(trial: Trial, oracle: Estimate) -> Estimate:
-    """One run of each trial jumps to 1e6 times the data-free error early in the steady window and stays there.
+    """One run of each trial jumps to 1e5 times the oracle's error early in the steady window and
+    stays there.
 
     The pooled late / mid factor stays near 1 (the first design's miss: ding2020 tuned on
     inertia5 under replacement scored 1.59e29 as a ratio); the run escapes (Amendment 2).
     """
     xhat = oracle.xhat.copy()
     settle = estimators.settle_steps(trial.scenario)
-    free = estimators.data_free_moment(trial.scenario, settle, trial.x.shape[1])
-    level = 1e6 * np.sqrt(np.trace(free) / (trial.x.shape[1] - settle))
-    xhat[0, settle + 5:] += level
+    e = oracle.xhat[:, settle:, 0] - trial.x[:, settle:]
+    level = 1e5 * np.sqrt(np.mean(e**2))
+    xhat[0, settle + 5:] += level * np.sqrt(trial.x.shape[-1])
     return Estimate(xhat)
 
 
@@ -205,18 +206,31 @@ def test_a_run_that_escaped_is_diverged_whatever_its_growth() -> None:
     assert short["status"] == "ok"  # a smoke test reports, it does not rule
 
 
-def test_the_escape_rule_is_per_run_and_its_factor_the_protocols() -> None:
-    assert estimators.ESCAPE_FACTOR == protocol.load()["divergence"]["escape_factor"]
-    assert estimators.GROWTH_LIMIT == protocol.load()["divergence"]["growth_factor"]
-    q = np.array([1.0, 2.0, 1e4 * 3.0 + 1.0])
-    assert estimators.escaped(q, 3.0).tolist() == [False, False, True]
-    # the same run among more runs is the same verdict: a per-run rule, not a pooled one
-    assert estimators.escaped(np.concatenate([q, np.ones(1000)]), 3.0).sum() == 1
+def linear(trial: Trial, oracle: Estimate) -> Estimate:
+    """The oracle's estimate plus an error growing linearly in k: unbounded, factor 2.9."""
+    k = np.arange(trial.x.shape[1], dtype=float)
+    drift = (k / k[-1])[:, None] * 30.0 * trial.scenario.steady_covariance.diagonal() ** 0.5
+    return Estimate(oracle.xhat + drift[None, :, None, :])
+
+
+def test_an_error_growing_linearly_is_diverged() -> None:
+    """Amendment 2 (b): the first limit, 4, read this error (factor about 2.9) as a score."""
+    pooled, whole = pooled_and_score([201, 202], linear)
+    assert 2.5 < whole.growth < 3.2 and pooled["growth"] == pytest.approx(whole.growth, rel=1e-10)
+    assert pooled["status"] == whole.status == "diverged"
+
+
+def test_the_divergence_constants_are_the_protocols_and_escape_is_per_run() -> None:
+    div = protocol.load()["divergence"]
+    assert (estimators.ESCAPE_LIMIT, estimators.GROWTH_LIMIT) == (div["escape_limit"],
+                                                                   div["growth_factor"])
+    q = np.array([1.0, 2.0, 1e8 + 1.0])
+    assert estimators.escaped(q).tolist() == [False, False, True]
+    # the same run among more runs is the same verdict on it: a per-run rule, not a pooled one
+    assert estimators.escaped(np.concatenate([q, np.ones(1000)])).sum() == 1
     for bad in (np.array([-1.0]), np.ones((2, 2))):
         with pytest.raises(ValidationError, match="per_run"):
-            estimators.escaped(bad, 1.0)
-    with pytest.raises(ValidationError, match="free"):
-        estimators.escaped(q, 0.0)
+            estimators.escaped(bad)
 
 
 def test_the_data_free_score_is_what_the_zero_estimate_scores() -> None:

@@ -46,7 +46,13 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from secest.arena.estimators import Estimate, Method, metropolis_weights, register
+from secest.arena.estimators import (
+    Estimate,
+    Method,
+    metropolis_weights,
+    no_attack_conditions,
+    register,
+)
 from secest.arena.scenarios import Network, Scenario, Trial
 from secest.core.tolerances import Tolerance
 from secest.core.validation import ValidationError, check_choice, check_int, check_real
@@ -167,7 +173,9 @@ def _ci_round(
 
 
 def _undirected(sc: Scenario) -> list[tuple[str, bool]]:
-    return [("the graph is undirected (Metropolis weights)", sc.network.undirected)]
+    """A Metropolis-weighted filter's theory: an undirected graph, and no attack of any kind."""
+    return ([("the graph is undirected (Metropolis weights)", sc.network.undirected)]
+            + no_attack_conditions(sc, links=True))
 
 
 # ---------------------------------------------------------------------------------- encodings
@@ -252,6 +260,9 @@ class LocalKF(Method):
     title = "local KF at every node, no communication"
     kind = "baseline"
     reading = "no inter-node links: message and DoS attacks do not reach it"
+
+    def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
+        return no_attack_conditions(sc, links=False)
 
     def run(self, trial: Trial) -> Estimate:
         sc = trial.scenario
@@ -455,7 +466,8 @@ class KalmanConsensusFilter(Method):
     def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
         d_max = float(sc.network.degree.max())
         return [(f"epsilon * max degree < 1 (epsilon = {self.epsilon:g}, max degree {d_max:g}): "
-                 "the consensus step is a convex combination", self.epsilon * d_max < 1)]
+                 "the consensus step is a convex combination", self.epsilon * d_max < 1),
+                *no_attack_conditions(sc, links=True)]
 
     def run(self, trial: Trial) -> Estimate:
         sc = trial.scenario
@@ -571,6 +583,20 @@ class WmsrKF(Method):
 
     def __init__(self, trimmed: int = 1) -> None:
         self.trimmed = check_int("trimmed", trimmed, minimum=0)
+
+    def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
+        """Its guarantee's graph condition (a necessary part of it), and reliable links.
+
+        W-MSR tolerates ``F``-local faulty neighbours (falsified messages, and a node whose own
+        sensor is attacked) on a ``(2F + 1)``-robust graph; robustness is not checked (coNP-hard
+        in general), its necessary condition, every in-degree at least ``2F + 1``, is.
+        """
+        d_min = int(sc.network.degree.min())
+        need = 2 * self.trimmed + 1
+        return [(f"every in-degree >= 2F + 1 = {need} (necessary for the (2F + 1)-robust graph "
+                 f"of its guarantee; smallest in-degree {d_min})", d_min >= need),
+                ("its model: every link delivers (no losses, no DoS)",
+                 sc.attack.kind != "dos" and not sc.attack.lossy)]
 
     def run(self, trial: Trial) -> Estimate:
         sc = trial.scenario

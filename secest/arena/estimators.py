@@ -48,7 +48,7 @@ __all__ = [
     "BOOTSTRAP",
     "CENTRAL_BLOCK",
     "CHI2_ALPHA",
-    "ESCAPE_FACTOR",
+    "ESCAPE_LIMIT",
     "EXTRAS",
     "GROWTH_LIMIT",
     "METHODS",
@@ -64,6 +64,7 @@ __all__ = [
     "escaped",
     "evaluate",
     "growth",
+    "no_attack_conditions",
     "normalised_errors",
     "rate",
     "rate_of_counts",
@@ -334,6 +335,30 @@ class Oracle(Method):
         return Estimate(_every_node(centralised_kf(sc, trial.y_clean), sc.network.N))
 
 
+def no_attack_conditions(sc: Scenario, *, links: bool) -> list[tuple[str, bool]]:
+    """The attack model of a textbook filter: none. (statement, holds) pairs on ``sc``.
+
+    The baselines' counterpart of the papers' attack models (:meth:`Method.conditions`): a
+    Kalman filter's optimality assumes the measurements are its model's, and a distributed
+    filter's (``links``) that every message is true and delivered; each attack outside that
+    marks the cell, as a paper method's attack model marks its cells.
+
+    Parameters
+    ----------
+    sc : Scenario
+    links : bool
+        The filter exchanges messages (falsified messages and lost links are then in its scope).
+    """
+    att = sc.attack
+    out = [("its model: no attack on the measurements (a textbook Kalman filter)",
+            att.kind not in ("bias", "replacement"))]
+    if links:
+        out += [("its model: every message true (no falsified messages)", att.kind != "message"),
+                ("its model: every link delivers (no losses, no DoS)",
+                 att.kind != "dos" and not att.lossy)]
+    return out
+
+
 @register
 class UndefendedKF(Method):
     """Centralised Kalman filter on the delivered (attacked) measurements, no defence."""
@@ -342,6 +367,9 @@ class UndefendedKF(Method):
     name = "kf"
     title = "centralised KF, no defence"
     reading = "no inter-node links: message and DoS attacks do not reach it"
+
+    def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
+        return no_attack_conditions(sc, links=False)
 
     def run(self, trial: Trial) -> Estimate:
         sc = trial.scenario
@@ -421,12 +449,13 @@ def metropolis_weights(network: Network) -> tuple[NDArray[np.float64], NDArray[n
 
 SETTLE_TAU = 5
 """The transient window is the first ``SETTLE_TAU tau`` steps (``protocol.toml`` [score])."""
-GROWTH_LIMIT = 4.0
+GROWTH_LIMIT = 2.0
 """A cell is diverged when its late mean squared normalised error exceeds this many times its
-mid-window one (``protocol.toml`` [divergence])."""
-ESCAPE_FACTOR = 100.0
+mid-window one (``protocol.toml`` [divergence]; 4 before Amendment 2, which missed an error growing
+linearly in time: its factor is 2.9 on the steady window)."""
+ESCAPE_LIMIT = 1e4
 """A run has escaped (its cell is diverged) when its steady-window RMS error exceeds this many
-times the data-free estimate's (``protocol.toml`` [divergence], Amendment 2: :func:`escaped`)."""
+times the oracle's (``protocol.toml`` [divergence], Amendment 2: :func:`escaped`)."""
 BOOTSTRAP = 2000
 """Percentile-bootstrap resamples of the runs for every score interval (seed 0)."""
 
@@ -550,7 +579,7 @@ def data_free_moment(sc: Scenario, start: int, stop: int) -> NDArray[np.float64]
     Without measurements or messages the best estimate of ``x_k`` is its prior mean, 0
     (``x_0 ~ N(0, x0_std^2 I)``, zero-mean noise), whose error covariance follows
     ``P_0 = x0_std^2 I``, ``P_{k+1} = A P_k A^T + Q``. It is the same for every method, attack
-    and seed: the reference of the escape rule (:func:`escaped`).
+    and seed: the scale of a plant's scores (:func:`secest.arena.testseeds.data_free_score`).
 
     Parameters
     ----------
@@ -577,21 +606,21 @@ def data_free_moment(sc: Scenario, start: int, stop: int) -> NDArray[np.float64]
     return total
 
 
-def escaped(per_run: NDArray[np.float64], free: float) -> NDArray[np.bool_]:
-    """The runs whose error escaped: mean ``q`` above ``ESCAPE_FACTOR^2`` times the data-free one.
+def escaped(per_run: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """The runs whose error escaped: mean ``q`` above ``ESCAPE_LIMIT^2`` (RMS 10^4 x the oracle's).
 
-    A run whose RMS error on the steady window exceeds :data:`ESCAPE_FACTOR` times that of the
-    estimate that uses no data (:func:`data_free_moment`) has left every bounded regime of the
-    arena's attacks; its cell is diverged even when its error stopped growing inside the window
-    (an early blow-up, frozen by a detector that then rejects everything). A property of each
-    run, so its meaning does not change with the number of runs (``protocol.toml``, Amendment 2).
+    A run whose RMS error on the steady window exceeds :data:`ESCAPE_LIMIT` times the oracle's has
+    left every bounded regime of the arena (its largest bounded cell read 1.0e3 in the first test
+    stage); its cell is diverged even when its error stopped growing inside the window (an early
+    blow-up, frozen by a detector that then rejects everything). In the score's own unit, so it
+    means the same on every plant and horizon; a property of each run, and the cell is diverged
+    when any run escaped (``protocol.toml``, Amendment 2): more runs see a rare escape more
+    often, as any test gains power, but what is tested does not change.
 
     Parameters
     ----------
     per_run : (runs,) array
         Mean unit-free squared error ``q`` of each run over the steady window's steps and nodes.
-    free : float
-        The data-free estimate's mean ``q`` over the same steps, in the same unit.
 
     Returns
     -------
@@ -600,16 +629,21 @@ def escaped(per_run: NDArray[np.float64], free: float) -> NDArray[np.bool_]:
     per_run = np.asarray(per_run, dtype=float)
     if per_run.ndim != 1 or not np.all(per_run >= 0):
         raise ValidationError("per_run must be a 1-d array of non-negative mean squared errors")
-    if not (np.isfinite(free) and free > 0):
-        raise ValidationError(f"free must be a finite positive mean squared error, found {free!r}")
-    return per_run > ESCAPE_FACTOR**2 * free
+    return per_run > ESCAPE_LIMIT**2
 
 
-def escape_reason(hits: NDArray[np.bool_], per_run: NDArray[np.float64], free: float) -> str:
-    """``"k of R runs escaped: ..."`` for a diverged cell's reason (:func:`escaped`)."""
-    worst = float(np.sqrt(per_run.max() / free))
-    return (f"{int(hits.sum())} of {hits.size} runs escaped: RMS error > {ESCAPE_FACTOR:g} x the "
-            f"data-free estimate's (the worst {worst:.2g} x)")
+def escape_reason(hits: NDArray[np.bool_], per_run: NDArray[np.float64]) -> str:
+    """``"k of R runs escaped: ..."`` for a diverged cell's reason (:func:`escaped`).
+
+    Parameters
+    ----------
+    hits : (runs,) bool array
+        :func:`escaped`'s answer.
+    per_run : (runs,) array
+        The runs' mean ``q`` it was given.
+    """
+    return (f"{int(hits.sum())} of {hits.size} runs escaped: RMS error > {ESCAPE_LIMIT:.0e} x the "
+            f"oracle's (the worst {np.sqrt(per_run.max()):.2g} x)").replace("e+0", "e")
 
 
 def oracle_moment(x: NDArray[np.float64], oracle: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -734,12 +768,9 @@ def score(trial: Trial, estimate: Estimate, oracle: Estimate, *, short: bool = F
         return Score("diverged", f"its error grows: late / mid mean squared error {g:.3g} > "
                      f"{GROWTH_LIMIT:g}", growth=g)
     per_run = q_steady.mean(axis=(1, 2))
-    W = whitening(oracle_moment(x[:, settle:], xo[:, settle:]))
-    free = data_free_moment(trial.scenario, settle, x.shape[1])
-    free_q = float(np.trace(W.T @ free @ W)) / (W.shape[0] * (x.shape[1] - settle))
-    hits = escaped(per_run, free_q)
+    hits = escaped(per_run)
     if not short and hits.any():
-        return Score("diverged", escape_reason(hits, per_run, free_q), growth=g)
+        return Score("diverged", escape_reason(hits, per_run), growth=g)
     steady, worst = _scores(q_steady)
     transient = _scores(normalised_errors(estimate.xhat[:, :settle], x[:, :settle], xo[:, :settle]))[0]
     result = Score("ok", steady=steady, steady_worst=worst, transient=transient, growth=g,

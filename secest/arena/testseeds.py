@@ -274,8 +274,8 @@ def summary(trial: Trial, est: Estimate, settle: int) -> dict[str, Any]:
         ``steady``: per run and node ``sum e e^T`` over the window (runs, N, n, n) and ``steps``;
         ``mid`` and ``late``: per run ``sum e e^T`` over the nodes and steps of the steady
         window's second and last quarters (runs, n, n); ``free``: the data-free estimate's
-        ``sum P_k`` over the steady window (:func:`~secest.arena.estimators.data_free_moment`, the
-        escape rule's reference); with alarms, their counts per run on the steady window
+        ``sum P_k`` over the steady window (:func:`~secest.arena.estimators.data_free_moment`:
+        the scale of the plant's scores); with alarms, their counts per run on the steady window
         (attacked and clean samples).
     """
     if not np.all(np.isfinite(est.xhat)):
@@ -433,11 +433,10 @@ def pool(oracle: list[dict[str, Any]], parts: list[dict[str, Any]], seeds: list[
                         "reason": f"its error grows: late / mid mean squared error > "
                                   f"{estimators.GROWTH_LIMIT:g}"}
     per_run = np.concatenate([_per_run(p["steady"], W, p["steps"][1]) for p in parts])
-    free = data_free_score(oracle) ** 2
-    hits = estimators.escaped(per_run.mean(axis=1), free)
+    hits = estimators.escaped(per_run.mean(axis=1))
     if not short and hits.any():
         return empty | {"status": "diverged", "growth": g,
-                        "reason": estimators.escape_reason(hits, per_run.mean(axis=1), free)}
+                        "reason": estimators.escape_reason(hits, per_run.mean(axis=1))}
     steady, worst = estimators.scores_of_runs(per_run)
     Wt = _metric(oracle, "transient")
     transient = estimators.scores_of_runs(np.concatenate(
@@ -449,8 +448,7 @@ def pool(oracle: list[dict[str, Any]], parts: list[dict[str, Any]], seeds: list[
 def data_free_score(oracle: list[dict[str, Any]]) -> float | None:
     """The steady-window score of the estimate that uses no data (``x_hat = 0``), in the pooled unit.
 
-    The scale of a plant's scores: a method near it has learnt little from its data, and the
-    escape rule (:func:`~secest.arena.estimators.escaped`) diverges a run 100 times above it.
+    The scale of a plant's scores: a method near it has learnt little from its data.
 
     Parameters
     ----------

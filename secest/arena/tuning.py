@@ -635,11 +635,14 @@ def choose(records: list[dict[str, Any]], *, cap: float | None = None) -> dict[s
                 + ("the printed point" if pick["printed"] else "the point listed first"))
     else:
         mark = NO_ADMISSIBLE
-        bounded = [r for r in records if r["false_alarm"] is not None]
-        if bounded:
-            low = min(r["false_alarm"][2] for r in bounded)
-            pick = _preferred([r for r in bounded if r["false_alarm"][2] == low])
-            rule = "lowest false-alarm upper bound"
+        rated = [r for r in records if r["false_alarm"] is not None]
+        bounded = [r for r in rated if r["status"] == "ok"]  # Amendment 2: never a diverged point
+        if bounded or rated:
+            among = bounded or rated
+            low = min(r["false_alarm"][2] for r in among)
+            pick = _preferred([r for r in among if r["false_alarm"][2] == low])
+            rule = ("lowest false-alarm upper bound" + ("" if bounded else
+                    " (every point with a false-alarm rate diverged)"))
         else:
             pick = next(r for r in records if r["printed"])
             rule = "no false-alarm bound (no detector, or none ran): the printed point"
