@@ -150,6 +150,16 @@ class Method:
         """
         return []
 
+    def told(self, sc: Scenario) -> str:
+        """What the method is told about ``sc``'s attack from its card; ``""``: nothing.
+
+        Some papers assume parts of the attack known (its channels, its probability): the
+        arena gives them from the card, as the paper does. A told method does not find the
+        attack by itself, so the findings on the attacks decide on the methods told nothing
+        and report the told ones beside them.
+        """
+        return ""
+
     def requirements(self, sc: Scenario) -> list[tuple[str, bool]]:
         """What the method needs to run at all on ``sc``: (statement, holds) pairs.
 
