@@ -66,7 +66,9 @@ import hashlib
 import json
 import re
 import warnings
+from dataclasses import replace
 
+import numpy as np
 from IPython.display import Markdown, display
 
 from secest.arena import estimators, matrix, protocol, report, scenarios
@@ -407,6 +409,39 @@ def plant_table(net: str) -> str:
 
 for net in PLANTS:
     display(Markdown(plant_table(net)))
+
+# %% [markdown]
+# **Where the home grounds' attacks act.** The papers' own attacks act early in their examples; the
+# arena's windows come from the plant's time scale, so an attack may act only in the transient
+# window, whose score is the *transient* column above (the steady column then measures the channel
+# and the aftermath). From one run of each home card:
+
+
+# %%
+def attacked_steps(sc: scenarios.Scenario) -> np.ndarray:
+    """The steps at which any sensor of ``sc`` is attacked, from one simulated run."""
+    return np.flatnonzero(scenarios.simulate(replace(sc, runs=1)).attacked[0].any(axis=-1))
+
+
+def ranges(hit: np.ndarray) -> str:
+    """Sorted steps as ranges: ``50–55, 90–95``."""
+    if not hit.size:
+        return "none"
+    breaks = np.flatnonzero(np.diff(hit) > 1)
+    starts, ends = np.r_[hit[0], hit[breaks + 1]], np.r_[hit[breaks], hit[-1]]
+    return ", ".join(f"{a}–{b}" if b > a else f"{a}" for a, b in zip(starts, ends, strict=True))
+
+
+home_lines = ["| home ground | plant | attacked steps | transient window | the attack is scored in |",
+              "|---|---|---|---|---|"]
+for sc in HOME_SCENARIOS:
+    settle = TEST["plants"][sc.network.name]["settle"]
+    hit = attacked_steps(sc)
+    where = ("no step" if not hit.size else "the transient column" if hit.max() < settle
+             else "the steady column" if hit.min() >= settle else "both columns")
+    home_lines.append(f"| `{sc.name}` | `{sc.network.name}` | {ranges(hit)} | [0, {settle}) | "
+                      f"{where} |")
+display(Markdown("\n".join(home_lines)))
 
 # %% [markdown]
 # ## Heatmaps, one per row kind
