@@ -1,11 +1,13 @@
 """The arena's estimators behind one interface, and how they are scored.
 
-Every estimator, the five papers' and the baselines', is a :class:`Method`: it names the
-conditions its theory needs (:meth:`Method.conditions`), checked on a scenario before it
-runs, and :meth:`Method.run` turns one :class:`secest.arena.scenarios.Trial` (all Monte Carlo runs
-at once) into an :class:`Estimate`: every node's estimate at every step, and the method's
-alarms and covariance bounds where it has them. A method whose condition fails on a
-scenario does not run there; the arena reports "not applicable: <condition>".
+Every estimator, the five papers' and the baselines', is a :class:`Method`: it names what
+it needs to run at all (:meth:`Method.requirements`) and the conditions of its theory
+(:meth:`Method.conditions`), both checked on a scenario before it runs, and :meth:`Method.run`
+turns one :class:`secest.arena.scenarios.Trial` (all Monte Carlo runs at once) into an
+:class:`Estimate`: every node's estimate at every step, and the method's alarms and covariance
+bounds where it has them. A method whose requirement fails on a scenario does not run there
+(the arena reports "N/A: <requirement>"); a failed condition of its theory marks the cell,
+which is scored all the same.
 
 Register a new method with :func:`register` (a test registers a toy method and finds it in
 the matrix). :func:`score` compares an estimate with the oracle's on the same runs.
