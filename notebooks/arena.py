@@ -30,7 +30,9 @@
 # and the seed split were committed before any validation or test run, the tuned constants
 # (`figures/arena/tuned.json`) before the test seeds 201–208 ran (`figures/arena/test.json`
 # records both commits; the test stage refuses to run on a tuned file git has not committed
-# unmodified). This notebook runs no matrix: it reads those two committed files and regenerates
+# unmodified). One amendment of the divergence and applicability rules came **after** a first test
+# stage had been looked at; the validation and the test stage then ran again in full under it
+# (deviation A13 below, with the first stage's numbers in ERRATA.md). This notebook runs no matrix: it reads those two committed files and regenerates
 # every table, figure and finding from them (`make robustness NB=arena`, then `make arena-test`,
 # then `make figures NB=arena`).
 #
@@ -64,7 +66,9 @@ import hashlib
 import json
 import re
 import warnings
+from dataclasses import replace
 
+import numpy as np
 from IPython.display import Markdown, display
 
 from secest.arena import estimators, matrix, protocol, report, scenarios
@@ -176,10 +180,17 @@ display(Markdown("\n".join(
 # $[0,5\tau)$, the steady window $[5\tau,K]$, and the horizon is $K=20\tau$ (rounded up to ten
 # steps): each plant runs as long as it needs. Findings cite the steady window.
 #
-# **Divergence by growth.** A cell is `diverged` when its mean $q$ over the last quarter of the
-# steady window exceeds 4 times that of its second quarter (its RMS error doubled), or when an
-# estimate is not finite: it shows the growth factor, never a score (to 2 significant digits,
-# above $10^6$ written `>1e6`: amplified round-off differs between machines).
+# **Divergence by growth, or by escape.** A cell is `diverged` when its mean $q$ over the last
+# quarter of the steady window exceeds 2 times that of its second quarter (its RMS error grew by
+# 41 % over half the window; an error growing linearly in time gives 2.9), when an estimate is not
+# finite, or when any one run *escapes*: its RMS error on the steady window exceeds $10^4$ times the
+# oracle's (Amendment 2 of the protocol; the first stage's limit was 4 and had no escape rule: a
+# run that blew up and then froze, its detector rejecting every measurement afterwards, did not
+# grow in the pooled error, and the cell read $1.6\cdot10^{29}$ as a score). Escape is judged per
+# run: more runs see a rare escape more often, as any test gains power, but what is tested does not
+# change with their number. A diverged row shows the growth factor and the reason, never a score
+# (the factor to 2 significant digits, above $10^6$ written `>1e6`: amplified round-off differs
+# between machines).
 #
 # **One attack for all.** Sensor attacks are in units of the attacked sensor's noise; a falsified
 # message shifts the state estimate a node sends by `magnitude` oracle steady-state standard
@@ -194,7 +205,9 @@ display(Markdown("\n".join(
 #
 # **Marks and N/A.** A cell outside a method's theory (`Method.conditions`) is scored and marked
 # with the failed conditions; `N/A` names the requirement without which the method cannot run
-# (`Method.requirements`), the same rule for every method.
+# (`Method.requirements`), the same rule for every method. A stability condition is a condition of
+# the theory, not a requirement: `kcf` with $\epsilon\,d_{\max}\ge1$ runs, marked (the first test
+# stage had it N/A on target20).
 
 # %% [markdown]
 # ## Parameter provenance
@@ -214,7 +227,12 @@ display(Markdown(spaces.provenance_markdown("arena")))
 # in units of the attacked output's noise standard deviation (bias, replacement) or of the oracle's
 # steady-state error standard deviation of each state component (messages), so one card means the
 # same on every plant and for every method; the table shows them, and each plant's time constant,
-# horizon and first steady step as the test stage ran them (`test.json`).
+# horizon and first steady step as the test stage ran them (`test.json`). The *data-free score* is
+# the steady-window score of the estimate that uses no data at all ($\hat x_k=0$, the prior mean,
+# whose error covariance $P_{k+1}=AP_kA^\top+Q$ from $P_0=\sigma_0^2I$ the code computes exactly:
+# `secest.arena.estimators.data_free_moment`): the scale of the plant's scores; a method near it
+# has learnt little from its data. It grows with the horizon where the plant has modes that do not
+# decay (the target's), so it is a scale, not a rule.
 
 
 # %%
@@ -240,11 +258,13 @@ def attack_parameters(att: scenarios.Attack) -> str:
 
 
 rows = ["| scenario | plant | n | dt [s] | τ [steps] | horizon [steps] | steady from [step] | "
-        "network | N | attack | kind: parameters |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+        "data-free score | network | N | attack | kind: parameters |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|"]
 for sc in SCENARIOS + HOME_SCENARIOS:
     rows.append(f"| `{sc.name}` | {md(sc.plant.name)} | {sc.plant.n} | {sc.plant.dt:g} | "
                 f"{TEST['plants'][sc.network.name]['tau']:.3g} | {sc.horizon} | "
                 f"{TEST['plants'][sc.network.name]['settle']} | "
+                f"{matrix._sig(TEST['plants'][sc.network.name]['data_free'])} | "
                 f"{md(sc.network.name)} | {sc.network.N} | {md(sc.attack.name)} | "
                 f"{sc.attack.kind}: {md(attack_parameters(sc.attack))} |")
 display(Markdown("\n".join(rows)))
@@ -266,20 +286,25 @@ display(Markdown("\n".join(
 # imported): a new method is one `Method` subclass passed to `register`, and it appears here and in
 # every table and figure below. The *reading* says how a method is applied where its paper's
 # setting differs (`Method.reading`); *home* is the card of its paper's own example where the
-# arena hosts it (and why not elsewhere); *requirements* are what it needs to run at all, and
-# *theory* the conditions whose failure marks a cell (the texts are the methods' own). The readings
+# arena hosts it (and why not elsewhere); *told* what it is given about the attack from the card
+# (its paper's assumption: `Method.told`); *requirements* are what it needs to run at all, and
+# *theory* the conditions whose failure marks a cell (the texts are the methods' own; every
+# baseline declares its attack model too, so the marks are one rule for all). The readings
 # describe each method at its printed constants; the tuned rows change only the constants of the
 # tuning table below.
 
 # %%
-rows = ["| method | kind | title | our reading on the shared scenarios | home | requirements | "
-        "conditions of its theory |", "|---|---|---|---|---|---|---|"]
+rows = ["| method | kind | title | our reading on the shared scenarios | told about the attack | home | "
+        "requirements | conditions of its theory |", "|---|---|---|---|---|---|---|---|"]
 for name in method_names:
     m = METHODS[name]
     reqs = list(dict.fromkeys(text for sc in SCENARIOS + HOME_SCENARIOS for text, _ in m.requirements(sc)))
     conds = list(dict.fromkeys(text for sc in SCENARIOS + HOME_SCENARIOS for text, _ in m.conditions(sc)))
     home = f"`{m.home}`: {m.home_note}" if m.home else (m.home_note or "–")
-    rows.append(f"| `{name}` | {m.kind} | {md(m.title)} | {md(m.reading or '–')} | {md(home)} | "
+    told = list(dict.fromkeys(f"{sc.attack.name}: {t}" for sc in SCENARIOS + HOME_SCENARIOS
+                              if (t := m.told(sc))))
+    rows.append(f"| `{name}` | {m.kind} | {md(m.title)} | {md(m.reading or '–')} | "
+                f"{md('; '.join(told)) if told else 'nothing'} | {md(home)} | "
                 f"{md('; '.join(reqs)) if reqs else '–'} | {md('; '.join(conds)) if conds else '–'} |")
 display(Markdown("\n".join(rows)))
 
@@ -386,6 +411,39 @@ for net in PLANTS:
     display(Markdown(plant_table(net)))
 
 # %% [markdown]
+# **Where the home grounds' attacks act.** The papers' own attacks act early in their examples; the
+# arena's windows come from the plant's time scale, so an attack may act only in the transient
+# window, whose score is the *transient* column above (the steady column then measures the channel
+# and the aftermath). From one run of each home card:
+
+
+# %%
+def attacked_steps(sc: scenarios.Scenario) -> np.ndarray:
+    """The steps at which any sensor of ``sc`` is attacked, from one simulated run."""
+    return np.flatnonzero(scenarios.simulate(replace(sc, runs=1)).attacked[0].any(axis=-1))
+
+
+def ranges(hit: np.ndarray) -> str:
+    """Sorted steps as ranges: ``50–55, 90–95``."""
+    if not hit.size:
+        return "none"
+    breaks = np.flatnonzero(np.diff(hit) > 1)
+    starts, ends = np.r_[hit[0], hit[breaks + 1]], np.r_[hit[breaks], hit[-1]]
+    return ", ".join(f"{a}–{b}" if b > a else f"{a}" for a, b in zip(starts, ends, strict=True))
+
+
+home_lines = ["| home ground | plant | attacked steps | transient window | the attack is scored in |",
+              "|---|---|---|---|---|"]
+for sc in HOME_SCENARIOS:
+    settle = TEST["plants"][sc.network.name]["settle"]
+    hit = attacked_steps(sc)
+    where = ("no step" if not hit.size else "the transient column" if hit.max() < settle
+             else "the steady column" if hit.min() >= settle else "both columns")
+    home_lines.append(f"| `{sc.name}` | `{sc.network.name}` | {ranges(hit)} | [0, {settle}) | "
+                      f"{where} |")
+display(Markdown("\n".join(home_lines)))
+
+# %% [markdown]
 # ## Heatmaps, one per row kind
 #
 # Every cell's steady-window score on a logarithmic colour scale (1 = the oracle; colours saturate
@@ -448,14 +506,14 @@ for name, s in live_cells.items():
 #
 # | id | what is measured, and the rule |
 # |---|---|
-# | X1 | consistency: no *distributed* method (every method but the oracle and the centralised `kf`, `chi2-kf`, which equal or bound the oracle by construction) scores below the oracle beyond its interval (smallest upper bound $\ge1$), per plant |
+# | X1 | consistency (a sanity check of the scores, not a finding): no *distributed* method (every method but the oracle and the centralised `kf`, `chi2-kf`, which equal or bound the oracle by construction) scores below the oracle beyond its interval (smallest upper bound $\ge1$), per plant |
 # | X2 | without attack, every paper method stays within a factor 2 on every plant (listed per plant, home marked) |
 # | X3 | premise of the attack columns: every attack card degrades, on every plant, the undefended baseline it reaches (`kf` under sensor attacks, `consensus-kf` under message and link attacks): lower bound of its score $>1$ and above its no-attack upper bound |
-# | X4_&lt;attack&gt; | per attack: the methods within a factor 2 on every plant where the attack degrades its baseline (X3), among the methods the attack can reach (message and DoS: only methods whose nodes exchange messages); holds when a paper method is; `fails-premise` when the attack degrades its baseline on no plant |
-# | X5 | applicability: every paper method runs (is not N/A) in every cell; the cells outside each method's theory are counted beside it |
+# | X4_&lt;attack&gt; | per attack: the methods within a factor 2 on every plant where the attack degrades its baseline (X3), among the methods the attack can reach (message and DoS: only methods whose nodes exchange messages); holds when a paper method is that is told nothing about the attack and whose estimate the attack touches (the told and the untouched listed beside); `fails-premise` when the attack degrades its baseline on no plant |
+# | X5 | applicability: every paper method runs (is not N/A) in every cell; the cells outside each method's theory are counted beside it (a restatement of the one applicability rule on these cards) |
 # | X6 | every method with a detector keeps its false-alarm rate's upper bound at most 1 % in every cell where it runs |
-# | X7 | every method with a detector sees every sensor attack on every plant where the attack degrades `kf`: lower bound of its detection rate $\ge50$ % |
-# | X8 | no method diverges (growth rule or a non-finite estimate) in any cell |
+# | X7 | every method with a detector, told nothing about the attack, sees every sensor attack on every plant where the attack degrades `kf`: lower bound of its detection rate $\ge50$ % (the told ones beside) |
+# | X8 | no method diverges (growth rule, a run that escaped, or a non-finite estimate) in any cell |
 
 # %%
 FACTOR, FA_MAX, DET_MIN = 2.0, 0.01, 0.5
@@ -543,12 +601,27 @@ def x3(kind: str) -> tuple[dict, bool, None]:
     return m, m["n_not_degraded"] == 0, None
 
 
+def told(name: str, att: str) -> bool:
+    """Whether the method is told about ``att`` from its card on some plant (`Method.told`)."""
+    return any(METHODS[name].told(sc) for sc in SCENARIOS if sc.attack.name == att)
+
+
+def untouched(name: str, att: str, kind: str) -> bool:
+    """Its scores under ``att`` are its no-attack scores to the last digit on every plant: the
+    messages the attack falsifies or drops do not enter its estimate (ma2021's zero gain on them,
+    W-MSR trimming every neighbour)."""
+    pairs = [(cell(net, att, name, kind), cell(net, none_atts[0], name, kind)) for net in PLANTS]
+    return all(a.status == b.status == "ok" and a.steady == b.steady for a, b in pairs)
+
+
 def x4(att: str, kind: str) -> tuple[dict, bool, tuple[str, bool]]:
     """Under ``att``: per reachable method, its largest upper bound over the plants where it bites."""
     sensor = CARDS["attack"][att].kind in SENSOR
     bites = [net for net in PLANTS if felt(net, att, kind)]
     reach = [n for n in others if sensor or METHODS[n].exchanges]
-    m = {"plants": bites, "upper": {}, "upper_per_plant": {}, "within": [], "not_scored": []}
+    m = {"plants": bites, "upper": {}, "upper_per_plant": {}, "within": [], "not_scored": [],
+         "told": [n for n in reach if told(n, att)],
+         "untouched": [n for n in reach if not sensor and untouched(n, att, kind)]}
     for name in reach:
         cs = {net: cell(net, att, name, kind) for net in bites}
         if not cs:
@@ -560,7 +633,7 @@ def x4(att: str, kind: str) -> tuple[dict, bool, tuple[str, bool]]:
         m["upper"][name] = max(c.steady[2] for c in cs.values())
         if m["upper"][name] <= FACTOR:
             m["within"].append(name)
-    m["paper_within"] = sum(n in paper for n in m["within"])
+    m["paper_within"] = sum(n in paper and n not in m["told"] + m["untouched"] for n in m["within"])
     premise = ("(X3) the attack degrades the undefended baseline on at least one plant", bool(bites))
     return m, bool(m["paper_within"] >= 1), premise
 
@@ -592,11 +665,13 @@ def x6(kind: str) -> tuple[dict, bool, None]:
 def x7(kind: str) -> tuple[dict, bool, tuple[str, bool]]:
     sensor_cells = [(att, net) for att in ATTACKS if CARDS["attack"][att].kind in SENSOR
                     for net in PLANTS if felt(net, att, kind)]
-    m = {"lower": {}, "cell": {}}
+    m = {"lower": {}, "cell": {}, "told": {}}
     for name in detectors(kind):
         det = [(c.detection[1], f"{net}/{att}") for att, net in sensor_cells
                if (c := cell(net, att, name, kind)).status == "ok" and c.detection is not None]
-        if det:
+        if det and any(told(name, att) for att, _ in sensor_cells):
+            m["told"][name] = min(det)[0]  # reported beside, not deciding
+        elif det:
             m["lower"][name], m["cell"][name] = min(det)
     m["worst_lower"] = min(m["lower"].values(), default=0.0)
     premise = ("(X3) a sensor attack degrades kf on at least one plant", bool(sensor_cells))
@@ -627,7 +702,9 @@ claims["X1"] = decided(
     "the oracle (the centralised Kalman filter on clean data) beyond the uncertainty of its score",
     check="per plant, the smallest upper 95 % bootstrap bound of a steady-window network score over "
     "every scored cell, every method except the oracle, kf and chi2-kf (centralised: kf equals the "
-    "oracle without a sensor attack by construction); holds when >= 1 on every plant." + RULE)
+    "oracle without a sensor attack by construction); holds when >= 1 on every plant. A sanity "
+    "check of the scores (consensus with many rounds tends to the oracle), not a finding about "
+    "the methods: it fails only through an error of the scoring or by chance." + RULE)
 claims["X2"] = decided(
     x2, "n_outside", threshold=FACTOR, tolerance=tolerance_of(paper),
     paper="(ours) without attack, the papers' defences cost little accuracy: every paper method "
@@ -654,15 +731,20 @@ for att in ATTACKS:
         check="per method the attack reaches (message and DoS: methods whose nodes exchange "
         "messages), the upper 95 % bound of its steady-window score per plant where X3 finds the "
         "attack felt, and the largest; 'within' lists those <= 2, 'not_scored' those N/A, diverged "
-        "or failing on one of them; holds when a paper method is within; fails-premise when the "
-        "attack is felt on no plant." + RULE)
+        "or failing on one of them; holds when a paper method is within that is told nothing "
+        "about the attack ('told': Method.told, from the card, its paper's assumption) and whose "
+        "estimate the attack touches ('untouched': scores equal to its no-attack scores on every "
+        "plant, the falsified or lost messages not entering it); both listed, not deciding; "
+        "fails-premise when the attack is felt on no plant." + RULE)
 claims["X5"] = decided(
     x5, "n_na", threshold=0,
     paper="(ours) applicability: every paper method runs in every cell of the cross (N/A only "
     "where a method cannot run at all; cells outside its theory are scored and marked)",
     check="per paper method, the cells where a requirement fails (Method.requirements, N/A) and "
     "the number of scored cells outside its theory (Method.conditions); holds when no paper "
-    "method is N/A anywhere." + RULE)
+    "method is N/A anywhere. It restates the applicability rule on these cards: it fails only "
+    "where a paper method's design does not exist on a card (a rank condition, an infeasible "
+    "LMI, no Hurwitz gain), which none of these cards meets." + RULE)
 claims["X6"] = decided(
     x6, "worst_upper", threshold=FA_MAX, tolerance=tolerance_of(detectors("tuned")),
     paper="(ours) the detectors rarely raise false alarms: every method with a detector keeps its "
@@ -674,14 +756,17 @@ claims["X7"] = decided(
     x7, "worst_lower", threshold=DET_MIN, tolerance=tolerance_of(detectors("tuned")),
     paper="(ours) every method with a detector sees the sensor attacks: it flags at least half of "
     "the attacked samples under the bias and the replacement on every plant where they degrade kf",
-    check="per method with alarms, the smallest lower 95 % bound of its detection rate over the "
-    "sensor-attack cells where X3 finds the attack felt; holds when every one is >= 50 %." + RULE)
+    check="per method with alarms told nothing about the sensor attacks (Method.told), the "
+    "smallest lower 95 % bound of its detection rate over the sensor-attack cells where X3 finds "
+    "the attack felt ('told': the same for the told ones, not deciding); holds when every one "
+    "is >= 50 %." + RULE)
 claims["X8"] = decided(
     x8, "diverged", threshold=0,
     paper="(ours) no method diverges on the shared scenarios",
-    check="number of cells that are diverged: an estimate not finite, or the mean squared "
-    "normalised error of the last quarter of the steady window above 4 times that of its second "
-    "quarter, on the pooled runs of the test seeds; holds when 0." + RULE)
+    check="number of cells that are diverged: an estimate not finite, the mean squared "
+    "normalised error of the last quarter of the steady window above 2 times that of its second "
+    "quarter, on the pooled runs of the test seeds, or a run whose steady-window RMS error exceeds "
+    "1e4 times the oracle's (protocol.toml, Amendment 2); holds when 0." + RULE)
 
 written = json.loads(results.write_claims(results_path, claims).read_text())
 for cid, c in written.items():
@@ -764,9 +849,11 @@ display(Markdown("\n".join(
 # | A7 | intervals | bootstrap over runs (scores); union of Wilson and a bootstrap over runs (rates) | runs are independent, (run, step, node) samples are not |
 # | A8 | methods without links | the oracle, `kf`, `chi2-kf` and `local-kf` exchange no messages | on the message and DoS columns they are references, not competitors (X4 leaves them out there) |
 # | A9 | what a method is told | guo2023 is told which sensor the attack card names (its $H^i$: the paper assumes the attack channels known); li2025 the replacement card's probability and magnitude ($\check\psi$, $\xi^*$: its paper assumes them known); the others nothing about the attack | each paper's own assumption, kept; an advantage under the sensor attacks that the tables do not separate from the method itself |
-# | A10 | settings | every method twice: as its paper printed it (ding2020's $\kappa$ and threshold, lee2020's $\kappa,\gamma$, li2025's weights, ma2021's $p$; the baselines at their textbook defaults) and tuned by the registered rule of `protocol.toml` on the validation seeds; ma2021's recursion (30) holds its gains once $P_k$ settles (relative change $\le10^{-6}$ on ten steps) | issue #28: tuning matters as much as the method, so both rows are reported; the rule, search sets and seed split were committed before the test seeds ran |
-# | A11 | falsified messages | a shift of 20 oracle steady-state sd of the state estimate a node sends, mapped into each method's message by its own encoding | one attack for every method, in physical units (the first design added a bounded injection in each method's own message units, which made the columns incomparable) |
-# | A12 | seeds | the test seeds 201–204, the first four of the eight (201–208) `protocol.toml` registers, 40 runs each (160 pooled, not 320): a deviation decided before any test-seed result, for the CPU budget of the machine that ran it (2 CPUs; ERRATA.md, arena); their runs pooled (one $\Sigma_o$, one bootstrap, one growth rule over all of them); the cards' seed 2026 only in the live cell | a finding does not hinge on one draw of the runs; the validation seeds 101–104 only chose the tuned constants |
+# | A10 | settings | every method twice: as its paper printed it (ding2020's $\kappa$ and threshold, lee2020's $\kappa,\gamma$, li2025's weights, ma2021's $p$; the baselines at their textbook defaults) and tuned by the registered rule of `protocol.toml` on the validation seeds; ma2021's recursion (30) holds its gains once $P_k$ settles (relative change $\le10^{-6}$ on ten steps) | issue #28: tuning matters as much as the method, so both rows are reported; the rule, search sets and seed split were committed before the test seeds ran. What the rule can and cannot do: its objective is the attack-free score, so constants that act only under attack are not tuned by it (guo2023's alarm level and ma2021's $p$ leave the attack-free estimate unchanged, li2025's weights move it by less than 0.1 %: their tuned rows are the printed ones by the tie rule), and a detector's threshold is held only by the false-alarm cap, so the rule takes the laxest level that meets it, not the one that detects best |
+# | A11 | falsified messages | a shift of 20 oracle steady-state sd of the state estimate a node sends, mapped into each method's message by its own encoding | one attack for every method, in physical units (the first design added a bounded injection in each method's own message units, which made the columns incomparable); a method with several consensus rounds sends several messages per link and step, and a falsified link falsifies each of them (more exchanges, more surface: `consensus-kf`'s message score grows with its rounds) |
+# | A12 | seeds | the eight test seeds 201–208 `protocol.toml` registers, 40 runs each (320 pooled), their runs pooled (one $\Sigma_o$, one bootstrap, one growth rule over all of them); the first test stage ran only 201–204 (a declared deviation, for CPU; ERRATA.md, arena); the cards' seed 2026 only in the live cell | a finding does not hinge on one draw of the runs; the validation seeds 101–104 only chose the tuned constants |
+# | A13 | Amendment 2 of the protocol, and of the findings | made **after** the first test stage (`figures/arena/test.json` at commit 367ae54, tuned constants a141056) was looked at: a run that escapes (RMS error above $10^4$ times the oracle's) makes its cell diverged; the growth factor is 2, not 4; the tuning's fallback never picks a diverged point unless all diverged; `kcf`'s $\epsilon\,d_{\max}<1$ is a condition, not a requirement; every baseline declares its attack model (marks one rule for all); ding2020's overflowing bounds give non-finite estimates (diverged), not an error; X4 and X7 decide on the methods told nothing about the attack and (X4) touched by it. Then the validation re-ran in full and this test stage on all eight seeds | defects of the first stage a hostile fairness review found: a ratio of $1.6\cdot10^{29}$ scored, an error growing linearly read as a score, a tuned point that had diverged, an N/A that was a stability condition, marks on the papers only, a divergence reported as an error, and findings decided by methods told the attack or immune to it by construction; ERRATA.md gives the first stage's results beside these |
+# | A14 | replacement | the replaced value is uniform in ±`magnitude` noise sd around 0, as li2025's attack model replaces the measurement by a bounded signal; on the target, whose position grows to thousands of noise sd over the horizon, a replaced sample is therefore a gross error, while on the three-inertia and the tank (outputs of the order of the range) it is not | the attack is one card in noise units, but its strength relative to the signal differs by plant: the replacement column on `target20` measures that plant's output scale as much as the methods (a replacement around the true output would be an additive attack, outside li2025's model) |
 
 # %%
 manifest_path = run.finish(extra={"tuned": TEST["tuned"], "protocol": TEST["protocol"]})

@@ -133,11 +133,32 @@ def test_matrix_selects_networks_and_attacks() -> None:
     assert [sc.name for sc in grid] == ["inertia5/none", "inertia5/dos"]
 
 
-def test_every_cell_is_a_number_with_its_interval_or_a_named_status() -> None:
+class NeedsTheAttackSchedule(Method):
+    """A method that cannot run on any card: it needs what no scenario gives."""
+
+    name = "needs-schedule"
+    title = "needs the attack schedule"
+
+    def requirements(self, sc: scenarios.Scenario) -> list[tuple[str, bool]]:
+        return [("the attack's schedule, which no card gives", False)]
+
+    def run(self, trial: scenarios.Trial) -> Estimate:  # pragma: no cover - never reached
+        raise AssertionError("a method that cannot run is never run")
+
+
+@pytest.fixture()
+def needs_schedule():
+    register(NeedsTheAttackSchedule)
+    yield "needs-schedule"
+    METHODS.pop("needs-schedule")
+
+
+def test_every_cell_is_a_number_with_its_interval_or_a_named_status(needs_schedule: str) -> None:
     sc = [scenarios.scenario(n, a, runs=4) for n, a in
           (("target20", "bias"), ("tank12", "message"), ("target20", "replacement"))]
     sc[0] = scenarios.scenario("inertia5", "bias", runs=4, horizon=300)  # a smoke test's horizon
-    m = matrix.run_matrix(sc, ["oracle", "kf", "chi2-kf", "li2025", "kcf"], short=True)
+    m = matrix.run_matrix(sc, ["oracle", "kf", "chi2-kf", "li2025", "kcf", needs_schedule],
+                          short=True)
     for row in matrix.table_rows(m):
         if row["status"] == "ok":
             for q in ("steady", "worst", "transient"):
@@ -149,7 +170,10 @@ def test_every_cell_is_a_number_with_its_interval_or_a_named_status() -> None:
     # outside its theory (a message attack is not its attack model): scored, and marked
     li = m.cell("tank12/message", "li2025")
     assert li.status == "ok" and li.outside[0].startswith("every attack on the measurement packets")
-    assert m.cell("target20/replacement", "kcf").status == "n/a"  # epsilon x degree >= 1: cannot run
+    assert m.cell("target20/replacement", needs_schedule).status == "n/a"
+    # epsilon x max degree >= 1 is a stability condition of kcf's theory: it runs, marked (Amendment 2)
+    kcf = m.cell("target20/replacement", "kcf")
+    assert kcf.status != "n/a" and any("epsilon * max degree < 1" in t for t in kcf.outside)
     assert matrix.cell_text(m.cell("inertia5/bias", "chi2-kf"))["detection"] != "–"
     assert matrix.cell_text(m.cell("inertia5/bias", "kf"))["detection"] == "–"
 

@@ -157,13 +157,14 @@ def test_bad_constants_are_refused_naming_them() -> None:
             baselines.KalmanConsensusFilter(epsilon=value)
 
 
-def test_kcf_refuses_a_gain_beyond_one_over_the_max_degree() -> None:
+def test_kcf_runs_a_gain_beyond_one_over_the_max_degree_marked_outside_its_theory() -> None:
+    """One applicability rule (Amendment 2): a stability condition marks the cell, never n/a."""
     t = _trial("target20", runs=2, horizon=5)  # max degree 10
     kcf = baselines.KalmanConsensusFilter(epsilon=0.2)
-    assert "epsilon * max degree < 1" in kcf.not_applicable(t.scenario)
-    with pytest.raises(ValidationError, match="epsilon must be < 1 / max degree = 0.1"):
-        kcf.run(t)
-    assert baselines.KalmanConsensusFilter(epsilon=0.05).not_applicable(t.scenario) is None
+    assert kcf.not_applicable(t.scenario) is None
+    assert any("epsilon * max degree < 1" in text for text in kcf.outside_theory(t.scenario))
+    assert kcf.run(t).xhat.shape == (2, 6, t.scenario.network.N, t.scenario.plant.n)
+    assert baselines.KalmanConsensusFilter(epsilon=0.05).outside_theory(t.scenario) == []
 
 
 def test_a_ci_round_is_the_weighted_average_of_the_information_pairs() -> None:

@@ -181,6 +181,88 @@ def test_a_diverged_row_reports_its_growth_and_no_score() -> None:
     assert testseeds._written_growth(pooled | {"status": "ok", "growth": 1.23456})["growth"] == 1.23456
 
 
+def frozen_blow_up(trial: Trial, oracle: Estimate) -> Estimate:
+    """One run of each trial jumps to 1e5 times the oracle's error early in the steady window and
+    stays there.
+
+    The pooled late / mid factor stays near 1 (the first design's miss: ding2020 tuned on
+    inertia5 under replacement scored 1.59e29 as a ratio); the run escapes (Amendment 2).
+    """
+    xhat = oracle.xhat.copy()
+    settle = estimators.settle_steps(trial.scenario)
+    e = oracle.xhat[:, settle:, 0] - trial.x[:, settle:]
+    level = 1e5 * np.sqrt(np.mean(e**2))
+    xhat[0, settle + 5:] += level * np.sqrt(trial.x.shape[-1])
+    return Estimate(xhat)
+
+
+def test_a_run_that_escaped_is_diverged_whatever_its_growth() -> None:
+    pooled, whole = pooled_and_score([201, 202], frozen_blow_up)
+    assert whole.growth < estimators.GROWTH_LIMIT and pooled["growth"] < estimators.GROWTH_LIMIT
+    assert pooled["status"] == whole.status == "diverged" and pooled["steady"] is None
+    # one run of each seed escaped: 2 of the 6 pooled runs, the same count as on the runs joined
+    assert pooled["reason"].startswith("2 of 6 runs escaped") and whole.reason.startswith("2 of 6 runs")
+    short, _ = pooled_and_score([201], frozen_blow_up, short=True)
+    assert short["status"] == "ok"  # a smoke test reports, it does not rule
+
+
+def linear(trial: Trial, oracle: Estimate) -> Estimate:
+    """The oracle's estimate plus an error growing linearly in k: unbounded, factor 2.9."""
+    k = np.arange(trial.x.shape[1], dtype=float)
+    drift = (k / k[-1])[:, None] * 30.0 * trial.scenario.steady_covariance.diagonal() ** 0.5
+    return Estimate(oracle.xhat + drift[None, :, None, :])
+
+
+def test_an_error_growing_linearly_is_diverged() -> None:
+    """Amendment 2 (b): the first limit, 4, read this error (factor about 2.9) as a score."""
+    pooled, whole = pooled_and_score([201, 202], linear)
+    assert 2.5 < whole.growth < 3.2 and pooled["growth"] == pytest.approx(whole.growth, rel=1e-10)
+    assert pooled["status"] == whole.status == "diverged"
+
+
+def test_the_divergence_constants_are_the_protocols_and_escape_is_per_run() -> None:
+    div = protocol.load()["divergence"]
+    assert (estimators.ESCAPE_LIMIT, estimators.GROWTH_LIMIT) == (div["escape_limit"],
+                                                                   div["growth_factor"])
+    q = np.array([1.0, 2.0, 1e8 + 1.0])
+    assert estimators.escaped(q).tolist() == [False, False, True]
+    # the same run among more runs is the same verdict on it: a per-run rule, not a pooled one
+    assert estimators.escaped(np.concatenate([q, np.ones(1000)])).sum() == 1
+    for bad in (np.array([-1.0]), np.ones((2, 2))):
+        with pytest.raises(ValidationError, match="per_run"):
+            estimators.escaped(bad)
+
+
+def test_the_data_free_score_is_what_the_zero_estimate_scores() -> None:
+    """:func:`testseeds.data_free_score` is the expected score of x_hat = 0: its sample matches."""
+    seeds = [201, 202, 203, 204]
+    oparts, parts = [], []
+    for s in seeds:
+        sc = scenarios.scenario("tank12", "none", horizon="auto", runs=10, seed=s)
+        trial = scenarios.simulate(sc)
+        settle = estimators.settle_steps(sc)
+        oracle = METHODS["oracle"].run(trial)
+        oparts.append(testseeds.summary(trial, oracle, settle))
+        parts.append(testseeds.summary(trial, Estimate(np.zeros_like(oracle.xhat)), settle))
+    free = testseeds.data_free_score(oparts)
+    zero = testseeds.pool(oparts, parts, seeds)
+    # 40 runs of a stationary plant (tau = 90 steps, 1358 steady steps): a few % of sampling error
+    assert zero["status"] == "ok" and zero["steady"][0] == pytest.approx(free, rel=0.1)
+    assert testseeds.data_free_score(oparts[:1] + [{"status": "error"}]) is None
+
+
+def test_the_data_free_moment_is_the_prior_propagated() -> None:
+    sc = scenarios.scenario("tank12", "none", horizon="auto", runs=2, seed=201)
+    A, Q, n = sc.plant.A, sc.plant.Q, sc.plant.n
+    P0 = sc.plant.x0_std**2 * np.eye(n)
+    assert np.allclose(estimators.data_free_moment(sc, 0, 1), P0)
+    assert np.allclose(estimators.data_free_moment(sc, 1, 3), A @ P0 @ A.T + Q
+                       + A @ (A @ P0 @ A.T + Q) @ A.T + Q)
+    for start, stop in ((0, 0), (-1, 2), (0, sc.horizon + 2), (0.5, 2)):
+        with pytest.raises(ValidationError, match="start, stop"):
+            estimators.data_free_moment(sc, start, stop)
+
+
 def test_a_short_run_reports_growth_without_ruling_on_it() -> None:
     pooled, whole = pooled_and_score([201], growing, short=True)
     assert pooled["status"] == whole.status == "ok" and pooled["growth"] > 4

@@ -129,6 +129,14 @@ def test_with_no_admissible_point_the_lowest_false_alarm_bound_is_marked() -> No
     assert (c["point"], c["mark"]) == (0, tuning.NO_ADMISSIBLE) and "printed" in c["rule"]
 
 
+def test_with_no_admissible_point_a_diverged_point_is_chosen_only_if_all_diverged() -> None:
+    """Amendment 2 (c): the first rule chose ding2020's diverged point 12 on inertia5."""
+    c = tuning.choose([rec(0, 1.0, fa=0.05), rec(1, 0.8, "diverged", fa=0.001), rec(2, 0.9, fa=0.02)])
+    assert (c["point"], c["rule"]) == (2, "lowest false-alarm upper bound")
+    c = tuning.choose([rec(0, 1.0, "diverged", fa=0.05), rec(1, 0.8, "diverged", fa=0.001)])
+    assert c["point"] == 1 and "every point with a false-alarm rate diverged" in c["rule"]
+
+
 @pytest.mark.parametrize("records, words", [
     ([], "records must be a non-empty list"),
     ({"point": 0}, "records must be a non-empty list"),

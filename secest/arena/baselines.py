@@ -46,7 +46,13 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from secest.arena.estimators import Estimate, Method, metropolis_weights, register
+from secest.arena.estimators import (
+    Estimate,
+    Method,
+    metropolis_weights,
+    no_attack_conditions,
+    register,
+)
 from secest.arena.scenarios import Network, Scenario, Trial
 from secest.core.tolerances import Tolerance
 from secest.core.validation import ValidationError, check_choice, check_int, check_real
@@ -167,7 +173,9 @@ def _ci_round(
 
 
 def _undirected(sc: Scenario) -> list[tuple[str, bool]]:
-    return [("the graph is undirected (Metropolis weights)", sc.network.undirected)]
+    """A Metropolis-weighted filter's theory: an undirected graph, and no attack of any kind."""
+    return ([("the graph is undirected (Metropolis weights)", sc.network.undirected)]
+            + no_attack_conditions(sc, links=True))
 
 
 # ---------------------------------------------------------------------------------- encodings
@@ -252,6 +260,9 @@ class LocalKF(Method):
     title = "local KF at every node, no communication"
     kind = "baseline"
     reading = "no inter-node links: message and DoS attacks do not reach it"
+
+    def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
+        return no_attack_conditions(sc, links=False)
 
     def run(self, trial: Trial) -> Estimate:
         sc = trial.scenario
@@ -434,8 +445,9 @@ class KalmanConsensusFilter(Method):
     covariance is the local ``P_i`` of (L1), the consensus term left out of it as in the KCF's
     covariance update, and (L2) predicts. Since ``||C_i||_2 < epsilon``, ``epsilon d_max < 1``
     (``d_max`` the largest in-degree) keeps the consensus part a convex combination (the
-    Perron-matrix step-size condition of discrete-time consensus); the protocol refuses larger
-    gains as unstable, and so does :meth:`run`.
+    Perron-matrix step-size condition of discrete-time consensus). A larger gain is outside that
+    theory, not impossible: the filter runs, its cell is marked (:meth:`conditions`) and scored,
+    and the growth rule says whether it diverged (``protocol.toml``, Amendment 2).
 
     Parameters
     ----------
@@ -451,18 +463,15 @@ class KalmanConsensusFilter(Method):
     def __init__(self, epsilon: float = 0.2) -> None:
         self.epsilon = check_real("epsilon", epsilon, lower=0.0)
 
-    def requirements(self, sc: Scenario) -> list[tuple[str, bool]]:
+    def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
         d_max = float(sc.network.degree.max())
-        return [(f"epsilon * max degree < 1 (epsilon = {self.epsilon:g}, max degree {d_max:g})",
-                 self.epsilon * d_max < 1)]
+        return [(f"epsilon * max degree < 1 (epsilon = {self.epsilon:g}, max degree {d_max:g}): "
+                 "the consensus step is a convex combination", self.epsilon * d_max < 1),
+                *no_attack_conditions(sc, links=True)]
 
     def run(self, trial: Trial) -> Estimate:
         sc = trial.scenario
         net = sc.network
-        d_max = float(net.degree.max())
-        if self.epsilon * d_max >= 1:
-            raise ValidationError(f"epsilon must be < 1 / max degree = {1 / d_max:g} on network "
-                                  f"{sc.network.name!r}, found {self.epsilon!r}")
         A, Q = sc.plant.A, sc.plant.Q
         out = np.empty((*trial.y.shape[:3], sc.plant.n))
         prior = _start(trial)
@@ -574,6 +583,20 @@ class WmsrKF(Method):
 
     def __init__(self, trimmed: int = 1) -> None:
         self.trimmed = check_int("trimmed", trimmed, minimum=0)
+
+    def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
+        """Its guarantee's graph condition (a necessary part of it), and reliable links.
+
+        W-MSR tolerates ``F``-local faulty neighbours (falsified messages, and a node whose own
+        sensor is attacked) on a ``(2F + 1)``-robust graph; robustness is not checked (coNP-hard
+        in general), its necessary condition, every in-degree at least ``2F + 1``, is.
+        """
+        d_min = int(sc.network.degree.min())
+        need = 2 * self.trimmed + 1
+        return [(f"every in-degree >= 2F + 1 = {need} (necessary for the (2F + 1)-robust graph "
+                 f"of its guarantee; smallest in-degree {d_min})", d_min >= need),
+                ("its model: every link delivers (no losses, no DoS)",
+                 sc.attack.kind != "dos" and not sc.attack.lossy)]
 
     def run(self, trial: Trial) -> Estimate:
         sc = trial.scenario

@@ -1,11 +1,13 @@
 """The arena's estimators behind one interface, and how they are scored.
 
-Every estimator, the five papers' and the baselines', is a :class:`Method`: it names the
-conditions its theory needs (:meth:`Method.conditions`), checked on a scenario before it
-runs, and :meth:`Method.run` turns one :class:`secest.arena.scenarios.Trial` (all Monte Carlo runs
-at once) into an :class:`Estimate`: every node's estimate at every step, and the method's
-alarms and covariance bounds where it has them. A method whose condition fails on a
-scenario does not run there; the arena reports "not applicable: <condition>".
+Every estimator, the five papers' and the baselines', is a :class:`Method`: it names what
+it needs to run at all (:meth:`Method.requirements`) and the conditions of its theory
+(:meth:`Method.conditions`), both checked on a scenario before it runs, and :meth:`Method.run`
+turns one :class:`secest.arena.scenarios.Trial` (all Monte Carlo runs at once) into an
+:class:`Estimate`: every node's estimate at every step, and the method's alarms and covariance
+bounds where it has them. A method whose requirement fails on a scenario does not run there
+(the arena reports "N/A: <requirement>"); a failed condition of its theory marks the cell,
+which is scored all the same.
 
 Register a new method with :func:`register` (a test registers a toy method and finds it in
 the matrix). :func:`score` compares an estimate with the oracle's on the same runs.
@@ -48,6 +50,7 @@ __all__ = [
     "BOOTSTRAP",
     "CENTRAL_BLOCK",
     "CHI2_ALPHA",
+    "ESCAPE_LIMIT",
     "EXTRAS",
     "GROWTH_LIMIT",
     "METHODS",
@@ -58,8 +61,12 @@ __all__ = [
     "Score",
     "check_names",
     "check_trial",
+    "data_free_moment",
+    "escape_reason",
+    "escaped",
     "evaluate",
     "growth",
+    "no_attack_conditions",
     "normalised_errors",
     "rate",
     "rate_of_counts",
@@ -144,6 +151,16 @@ class Method:
         outside its theory (:meth:`outside_theory`), so a mark never hides a result.
         """
         return []
+
+    def told(self, sc: Scenario) -> str:
+        """What the method is told about ``sc``'s attack from its card; ``""``: nothing.
+
+        Some papers assume parts of the attack known (its channels, its probability): the
+        arena gives them from the card, as the paper does. A told method does not find the
+        attack by itself, so the findings on the attacks decide on the methods told nothing
+        and report the told ones beside them.
+        """
+        return ""
 
     def requirements(self, sc: Scenario) -> list[tuple[str, bool]]:
         """What the method needs to run at all on ``sc``: (statement, holds) pairs.
@@ -330,6 +347,30 @@ class Oracle(Method):
         return Estimate(_every_node(centralised_kf(sc, trial.y_clean), sc.network.N))
 
 
+def no_attack_conditions(sc: Scenario, *, links: bool) -> list[tuple[str, bool]]:
+    """The attack model of a textbook filter: none. (statement, holds) pairs on ``sc``.
+
+    The baselines' counterpart of the papers' attack models (:meth:`Method.conditions`): a
+    Kalman filter's optimality assumes the measurements are its model's, and a distributed
+    filter's (``links``) that every message is true and delivered; each attack outside that
+    marks the cell, as a paper method's attack model marks its cells.
+
+    Parameters
+    ----------
+    sc : Scenario
+    links : bool
+        The filter exchanges messages (falsified messages and lost links are then in its scope).
+    """
+    att = sc.attack
+    out = [("its model: no attack on the measurements (a textbook Kalman filter)",
+            att.kind not in ("bias", "replacement"))]
+    if links:
+        out += [("its model: every message true (no falsified messages)", att.kind != "message"),
+                ("its model: every link delivers (no losses, no DoS)",
+                 att.kind != "dos" and not att.lossy)]
+    return out
+
+
 @register
 class UndefendedKF(Method):
     """Centralised Kalman filter on the delivered (attacked) measurements, no defence."""
@@ -338,6 +379,9 @@ class UndefendedKF(Method):
     name = "kf"
     title = "centralised KF, no defence"
     reading = "no inter-node links: message and DoS attacks do not reach it"
+
+    def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
+        return no_attack_conditions(sc, links=False)
 
     def run(self, trial: Trial) -> Estimate:
         sc = trial.scenario
@@ -417,9 +461,13 @@ def metropolis_weights(network: Network) -> tuple[NDArray[np.float64], NDArray[n
 
 SETTLE_TAU = 5
 """The transient window is the first ``SETTLE_TAU tau`` steps (``protocol.toml`` [score])."""
-GROWTH_LIMIT = 4.0
+GROWTH_LIMIT = 2.0
 """A cell is diverged when its late mean squared normalised error exceeds this many times its
-mid-window one (``protocol.toml`` [divergence])."""
+mid-window one (``protocol.toml`` [divergence]; 4 before Amendment 2, which missed an error growing
+linearly in time: its factor is 2.9 on the steady window)."""
+ESCAPE_LIMIT = 1e4
+"""A run has escaped (its cell is diverged) when its steady-window RMS error exceeds this many
+times the oracle's (``protocol.toml`` [divergence], Amendment 2: :func:`escaped`)."""
 BOOTSTRAP = 2000
 """Percentile-bootstrap resamples of the runs for every score interval (seed 0)."""
 
@@ -438,9 +486,10 @@ class Score:
     ----------
     status : {"ok", "n/a", "diverged", "error"}
         ``"ok"``: scored; ``"n/a"``: the method cannot run on the scenario (a requirement
-        fails, :meth:`Method.requirements`); ``"diverged"``: an estimate is not finite, or its
-        error grows (:data:`GROWTH_LIMIT`): it shows no score; ``"error"``: it raised (its
-        message, or ``needs extra: lmi``). The other cells are not affected.
+        fails, :meth:`Method.requirements`); ``"diverged"``: an estimate is not finite, its
+        error grows (:data:`GROWTH_LIMIT`) or a run escaped (:func:`escaped`): it shows no
+        score; ``"error"``: it raised (its message, or ``needs extra: lmi``). The other cells
+        are not affected.
     reason : str
         Why the status is not ``"ok"``; empty otherwise.
     outside : tuple of str
@@ -531,10 +580,88 @@ def normalised_errors(
         raise ValidationError(f"Incompatible dimensions of xhat, x and oracle: expected (runs, k, N, "
                               f"n), (runs, k, n) and (runs, k, n), found {xhat.shape}, {x.shape} "
                               f"and {oracle.shape}")
-    eo = (oracle - x).reshape(-1, x.shape[-1])
     e = xhat - x[:, :, None, :]
-    white = e @ whitening(eo.T @ eo / eo.shape[0])
+    white = e @ whitening(oracle_moment(x, oracle))
     return np.sum(white**2, axis=-1) / x.shape[-1]
+
+
+def data_free_moment(sc: Scenario, start: int, stop: int) -> NDArray[np.float64]:
+    """``sum over k in [start, stop) of P_k``: the error covariances of the estimate that uses no data.
+
+    Without measurements or messages the best estimate of ``x_k`` is its prior mean, 0
+    (``x_0 ~ N(0, x0_std^2 I)``, zero-mean noise), whose error covariance follows
+    ``P_0 = x0_std^2 I``, ``P_{k+1} = A P_k A^T + Q``. It is the same for every method, attack
+    and seed: the scale of a plant's scores (:func:`secest.arena.testseeds.data_free_score`).
+
+    Parameters
+    ----------
+    sc : Scenario
+    start, stop : int
+        The window's steps, ``0 <= start < stop <= K + 1``.
+
+    Returns
+    -------
+    (n, n) array
+    """
+    sc = check_scenario("sc", sc)
+    if not (isinstance(start, (int, np.integer)) and isinstance(stop, (int, np.integer))
+            and 0 <= start < stop <= sc.horizon + 1):
+        raise ValidationError(f"start, stop must be steps with 0 <= start < stop <= K + 1 = "
+                              f"{sc.horizon + 1}, found {start!r}, {stop!r}")
+    A, Q = sc.plant.A, sc.plant.Q
+    P = sc.plant.x0_std**2 * np.eye(sc.plant.n)
+    total = np.zeros_like(P)
+    for k in range(stop):
+        if k >= start:
+            total += P
+        P = A @ P @ A.T + Q
+    return total
+
+
+def escaped(per_run: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """The runs whose error escaped: mean ``q`` above ``ESCAPE_LIMIT^2`` (RMS 10^4 x the oracle's).
+
+    A run whose RMS error on the steady window exceeds :data:`ESCAPE_LIMIT` times the oracle's has
+    left every bounded regime of the arena (its largest bounded cell read 1.0e3 in the first test
+    stage); its cell is diverged even when its error stopped growing inside the window (an early
+    blow-up, frozen by a detector that then rejects everything). In the score's own unit, so it
+    means the same on every plant and horizon; a property of each run, and the cell is diverged
+    when any run escaped (``protocol.toml``, Amendment 2): more runs see a rare escape more
+    often, as any test gains power, but what is tested does not change.
+
+    Parameters
+    ----------
+    per_run : (runs,) array
+        Mean unit-free squared error ``q`` of each run over the steady window's steps and nodes.
+
+    Returns
+    -------
+    (runs,) bool array
+    """
+    per_run = np.asarray(per_run, dtype=float)
+    if per_run.ndim != 1 or not np.all(per_run >= 0):
+        raise ValidationError("per_run must be a 1-d array of non-negative mean squared errors")
+    return per_run > ESCAPE_LIMIT**2
+
+
+def escape_reason(hits: NDArray[np.bool_], per_run: NDArray[np.float64]) -> str:
+    """``"k of R runs escaped: ..."`` for a diverged cell's reason (:func:`escaped`).
+
+    Parameters
+    ----------
+    hits : (runs,) bool array
+        :func:`escaped`'s answer.
+    per_run : (runs,) array
+        The runs' mean ``q`` it was given.
+    """
+    return (f"{int(hits.sum())} of {hits.size} runs escaped: RMS error > {ESCAPE_LIMIT:.0e} x the "
+            f"oracle's (the worst {np.sqrt(per_run.max()):.2g} x)").replace("e+0", "e")
+
+
+def oracle_moment(x: NDArray[np.float64], oracle: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``Sigma_o``: the oracle's error second moment over the runs and steps given (uncentred)."""
+    eo = (oracle - x).reshape(-1, x.shape[-1])
+    return eo.T @ eo / eo.shape[0]
 
 
 def whitening(sigma: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -637,7 +764,7 @@ def score(trial: Trial, estimate: Estimate, oracle: Estimate, *, short: bool = F
     -------
     Score
         ``"ok"`` with the scores (and rates when the method raises alarms), or ``"diverged"``
-        with the reason (not finite, or the growth factor).
+        with the reason (not finite, the growth factor, or the runs that escaped).
     """
     trial = check_trial("trial", trial)
     _check_estimate("estimate", estimate, trial)
@@ -652,6 +779,10 @@ def score(trial: Trial, estimate: Estimate, oracle: Estimate, *, short: bool = F
     if not short and not g <= GROWTH_LIMIT:  # a short horizon has no steady window to grow in
         return Score("diverged", f"its error grows: late / mid mean squared error {g:.3g} > "
                      f"{GROWTH_LIMIT:g}", growth=g)
+    per_run = q_steady.mean(axis=(1, 2))
+    hits = escaped(per_run)
+    if not short and hits.any():
+        return Score("diverged", escape_reason(hits, per_run), growth=g)
     steady, worst = _scores(q_steady)
     transient = _scores(normalised_errors(estimate.xhat[:, :settle], x[:, :settle], xo[:, :settle]))[0]
     result = Score("ok", steady=steady, steady_worst=worst, transient=transient, growth=g,

@@ -413,8 +413,9 @@ def dask_client(methods: Sequence[estimators.Method], scheduler: str | None,
             cloudpickle.register_pickle_by_value(module)
     cluster = None
     if scheduler is None:
+        # ":0": the scheduler's HTTP server on a free port (no clash with another cluster's 8787)
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               dashboard_address=None)
+                               dashboard_address=":0")
     client = Client(cluster if cluster is not None else scheduler)
     try:
         yield client

@@ -207,8 +207,8 @@ def heatmap(m: matrix.Matrix, *, title: str, width: float = 7.16) -> Figure:
     bar.set_label("steady-window score, oracle = 1 (log scale)", fontsize=9)
     bar.ax.tick_params(labelsize=8)
     ax.legend(handles=[Patch(facecolor="0.85", hatch="////", edgecolor="0.55",
-                             label="no score: n/a (cannot run), div. (diverged: growth rule) "
-                                   "or err. (raised)"),
+                             label="no score: n/a (cannot run), div. (diverged: growth, escape "
+                                   "or not finite) or err. (raised)"),
                        Line2D([], [], marker="o", ms=2.2, color="black", lw=0,
                               label="outside the method's theory (scored)")],
               ncols=2,

@@ -273,8 +273,10 @@ def summary(trial: Trial, est: Estimate, settle: int) -> dict[str, Any]:
         ``status`` (``"ok"``, or ``"not finite"`` with nothing else); ``transient`` and
         ``steady``: per run and node ``sum e e^T`` over the window (runs, N, n, n) and ``steps``;
         ``mid`` and ``late``: per run ``sum e e^T`` over the nodes and steps of the steady
-        window's second and last quarters (runs, n, n); with alarms, their counts per run on the
-        steady window (attacked and clean samples).
+        window's second and last quarters (runs, n, n); ``free``: the data-free estimate's
+        ``sum P_k`` over the steady window (:func:`~secest.arena.estimators.data_free_moment`:
+        the scale of the plant's scores); with alarms, their counts per run on the steady window
+        (attacked and clean samples).
     """
     if not np.all(np.isfinite(est.xhat)):
         return {"status": "not finite"}
@@ -287,6 +289,7 @@ def summary(trial: Trial, est: Estimate, settle: int) -> dict[str, Any]:
         "mid": _moments(steady[:, mid]).sum(axis=1), "late": _moments(steady[:, late]).sum(axis=1),
         "quarter_steps": (len(range(*mid.indices(steady.shape[1]))),
                           len(range(*late.indices(steady.shape[1])))),
+        "free": estimators.data_free_moment(trial.scenario, settle, e.shape[1]),
     }
     if est.alarms is not None:
         out["alarms"] = _alarm_counts(est.alarms[:, settle:], trial.attacked[:, settle:])
@@ -409,7 +412,8 @@ def pool(oracle: list[dict[str, Any]], parts: list[dict[str, Any]], seeds: list[
     dict
         ``status`` (``ok``, ``diverged``, ``n/a``, ``error``), ``reason``, ``outside``, and for a
         scored row ``steady``, ``worst``, ``transient`` (value, low, high), ``growth``,
-        ``detection`` and ``false_alarm`` (or None); a diverged row carries its growth, no score.
+        ``detection`` and ``false_alarm`` (or None); a diverged row (growth rule, or a run that
+        escaped: :func:`~secest.arena.estimators.escaped`) carries its growth, no score.
     """
     if not (len(oracle) == len(parts) == len(seeds)) or not parts:
         raise ValidationError(f"Incompatible lengths of oracle, parts and seeds: expected one "
@@ -428,13 +432,38 @@ def pool(oracle: list[dict[str, Any]], parts: list[dict[str, Any]], seeds: list[
         return empty | {"status": "diverged", "growth": g,
                         "reason": f"its error grows: late / mid mean squared error > "
                                   f"{estimators.GROWTH_LIMIT:g}"}
-    steady, worst = estimators.scores_of_runs(np.concatenate(
-        [_per_run(p["steady"], W, p["steps"][1]) for p in parts]))
+    per_run = np.concatenate([_per_run(p["steady"], W, p["steps"][1]) for p in parts])
+    hits = estimators.escaped(per_run.mean(axis=1))
+    if not short and hits.any():
+        return empty | {"status": "diverged", "growth": g,
+                        "reason": estimators.escape_reason(hits, per_run.mean(axis=1))}
+    steady, worst = estimators.scores_of_runs(per_run)
     Wt = _metric(oracle, "transient")
     transient = estimators.scores_of_runs(np.concatenate(
         [_per_run(p["transient"], Wt, p["steps"][0]) for p in parts]))[0]
     return empty | {"status": "ok", "steady": steady, "worst": worst, "transient": transient,
                     "growth": g} | _rates(parts)
+
+
+def data_free_score(oracle: list[dict[str, Any]]) -> float | None:
+    """The steady-window score of the estimate that uses no data (``x_hat = 0``), in the pooled unit.
+
+    The scale of a plant's scores: a method near it has learnt little from its data.
+
+    Parameters
+    ----------
+    oracle : list of dict
+        The oracle's :func:`summary` on each seed's trial of one scenario.
+
+    Returns
+    -------
+    float or None
+        ``sqrt(trace(W^T sum P_k W) / (n steps))``; None when the oracle did not run on a seed.
+    """
+    if not oracle or any(o["status"] != "ok" for o in oracle):
+        return None
+    W = _metric(oracle, "steady")
+    return float(np.sqrt(_per_run(oracle[0]["free"][None, None], W, oracle[0]["steps"][1])[0, 0]))
 
 
 def _written_growth(row: dict[str, Any]) -> dict[str, Any]:
@@ -545,6 +574,8 @@ def _plant_record(tuned: dict[str, Any], plant: str, attacks: list[str], homes: 
     args = (tuned, plant)
     return {"plant": sc.plant.name, "network": plant, "horizon": sc.horizon,
             "settle": estimators.settle_steps(sc, short=short), "tau": sc.time_constant,
+            "data_free": data_free_score([r["cells"]["oracle/reference"]
+                                          for r in found[(plant, attacks[0])]]),
             "home": [n for n in tuned["tuned"][plant] if METHODS[n].home == plant],
             "cells": {a: _attack_rows(*args, a, seeds, found, plan, short) for a in attacks},
             "homes": {name: {"attack": a,
@@ -604,9 +635,9 @@ def run(
     dict
         ``protocol`` (file, SHA-256, commit), ``tuned`` (file, commit, SHA-256), ``seeds``,
         ``runs_per_seed``, ``horizon``, ``short``, ``attacks``, ``choices`` (plant -> method ->
-        the committed choice) and ``plants`` (plant -> horizon, windows, home methods, per
-        attack the rows, and per home ground on it (:func:`home_grounds`) its attack and rows):
-        JSON-ready, deterministic.
+        the committed choice) and ``plants`` (plant -> horizon, windows, the data-free score
+        (:func:`data_free_score`), home methods, per attack the rows, and per home ground on it
+        (:func:`home_grounds`) its attack and rows): JSON-ready, deterministic.
     """
     seeds, runs, horizon, short = _options(seeds, runs, horizon, short, workers, scheduler)
     tuned = load_tuned(tuned_path, short=short)

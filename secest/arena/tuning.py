@@ -54,8 +54,8 @@ local-kf        (none)        (none)             no free constant: one point
 consensus-kf-1  rounds        ``rounds``         ``1`` only
 consensus-kf    rounds        ``rounds``
 diffusion-kf    combination   ``combination``    ``"metropolis"`` only
-kcf             epsilon       ``epsilon``        ``epsilon * max degree >= 1``: the method's requirement
-                                                 fails, the point is ``n/a``: excluded
+kcf             epsilon       ``epsilon``        ``epsilon * max degree >= 1``: outside its theory, the
+                                                 point runs, marked (Amendment 2); out only if diverged
 wmsr-kf         trimmed       ``trimmed``
 oracle          (no entry)    (none)             the reference of every score: never tuned (refused)
 ==============  ============  =================  ========================================================
@@ -635,11 +635,14 @@ def choose(records: list[dict[str, Any]], *, cap: float | None = None) -> dict[s
                 + ("the printed point" if pick["printed"] else "the point listed first"))
     else:
         mark = NO_ADMISSIBLE
-        bounded = [r for r in records if r["false_alarm"] is not None]
-        if bounded:
-            low = min(r["false_alarm"][2] for r in bounded)
-            pick = _preferred([r for r in bounded if r["false_alarm"][2] == low])
-            rule = "lowest false-alarm upper bound"
+        rated = [r for r in records if r["false_alarm"] is not None]
+        bounded = [r for r in rated if r["status"] == "ok"]  # Amendment 2: never a diverged point
+        if bounded or rated:
+            among = bounded or rated
+            low = min(r["false_alarm"][2] for r in among)
+            pick = _preferred([r for r in among if r["false_alarm"][2] == low])
+            rule = ("lowest false-alarm upper bound" + ("" if bounded else
+                    " (every point with a false-alarm rate diverged)"))
         else:
             pick = next(r for r in records if r["printed"])
             rule = "no false-alarm bound (no detector, or none ran): the printed point"

@@ -121,6 +121,17 @@ def _sym(X: NDArray[np.float64]) -> NDArray[np.float64]:
     return 0.5 * (X + np.swapaxes(X, -1, -2))
 
 
+def _eigvalsh(X: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Ascending eigenvalues of each symmetric matrix of a stack; NaN for a matrix that is not
+    finite (a bound that overflowed), so that one diverged node or run propagates NaN, which
+    the caller sees as a non-finite estimate, instead of stopping every other one."""
+    finite = np.isfinite(X).all(axis=(-2, -1))
+    if finite.all():
+        return np.linalg.eigvalsh(X)
+    ev = np.linalg.eigvalsh(np.where(finite[..., None, None], X, 0.0))
+    return np.where(finite[..., None], ev, np.nan)
+
+
 def _leq(
     X: NDArray[np.float64],
     Y: NDArray[np.float64],
@@ -129,7 +140,7 @@ def _leq(
     strict: bool,
 ) -> NDArray[np.bool_]:
     """``X <= Y`` (``X < Y`` if strict) in the Loewner order, relative tolerance ``tol*scale``."""
-    lam = np.linalg.eigvalsh(_sym(Y - X))[..., 0]
+    lam = _eigvalsh(_sym(Y - X))[..., 0]
     return lam > tol * scale if strict else lam >= -tol * scale
 
 
@@ -146,8 +157,8 @@ def _check_pair(X: ArrayLike, Y: ArrayLike, tol: float) -> tuple[NDArray, NDArra
 def _min_max(
     X: NDArray, Y: NDArray, tol: float, strict: bool, which: str
 ) -> tuple[NDArray[np.float64], NDArray[np.int8]]:
-    ex = np.linalg.eigvalsh(_sym(X))
-    ey = np.linalg.eigvalsh(_sym(Y))
+    ex = _eigvalsh(_sym(X))
+    ey = _eigvalsh(_sym(Y))
     scale = np.maximum(np.abs(ex).max(-1), np.abs(ey).max(-1))
     x_le_y = _leq(X, Y, scale, tol, strict=False)
     y_lt_x = _leq(Y, X, scale, tol, strict=strict) & ~x_le_y
@@ -531,10 +542,10 @@ def _health(
     Pi: NDArray, Gam: NDArray, theta: NDArray, rejections: NDArray, lockout_steps: int, tol: float
 ) -> tuple[NDArray, NDArray, NDArray, NDArray]:
     """PSD and order of the new bounds, and the lockout counters (module docstring)."""
-    ev = np.linalg.eigvalsh(Pi)
+    ev = _eigvalsh(Pi)
     Pi_psd = ev[..., 0] >= -tol * np.abs(ev).max(axis=-1)
-    gap = np.linalg.eigvalsh(Pi - Gam)[..., 0]
-    scale = np.maximum(np.abs(ev).max(axis=-1), np.abs(np.linalg.eigvalsh(Gam)).max(axis=-1))
+    gap = _eigvalsh(Pi - Gam)[..., 0]
+    scale = np.maximum(np.abs(ev).max(axis=-1), np.abs(_eigvalsh(Gam)).max(axis=-1))
     ordered = gap >= -tol * scale
     count = np.where(theta == 1, 0, rejections + 1)
     if not (np.all(Pi_psd) and np.all(ordered)):
@@ -688,7 +699,7 @@ def secure_filter_step(
     K = np.swapaxes(np.linalg.solve(Pi_eta, np.swapaxes(PCt, -1, -2)), -1, -2)
     # (17), (19): lower prediction bound
     Q1 = (1 - kappa * d) * (A @ Gam @ A.T) + d * kappa * (kappa - 1) * AXiA
-    ev = np.linalg.eigvalsh(_sym(Q1))
+    ev = _eigvalsh(_sym(Q1))
     q1_psd = ev[..., 0] >= -tol * np.abs(ev).max(axis=-1)
     Gamma_prior = _sym(np.where(q1_psd[..., None, None], Q1 + BBt, BBt))
     # (18)-(19): lower posterior bound
@@ -832,7 +843,7 @@ def secure_filter_node_step(
     K = Pi_prior @ C_i.T @ np.linalg.inv(Pi_eta)
     # (17)
     Q1 = (1 - kappa * d) * (A @ G_i @ A.T) + d * kappa * (kappa - 1) * AXiA
-    ev = np.linalg.eigvalsh(_sym(Q1))
+    ev = _eigvalsh(_sym(Q1))
     Gamma_prior = _sym(Q1 + BBt) if ev[0] >= -tol * np.abs(ev).max() else BBt.copy()
     # (18)-(19)
     IKC = np.eye(n) - K @ C_i

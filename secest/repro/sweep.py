@@ -175,7 +175,8 @@ def _client(scheduler: str | None, workers: int | None) -> tuple[Any, Any]:
     if scheduler is not None:
         return Client(scheduler), None
     n = workers if workers is not None else len(os.sched_getaffinity(0))
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None)
+    # ":0": the scheduler's HTTP server on a free port (no clash with another cluster's 8787)
+    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0")
     return Client(cluster), cluster
 
 

@@ -173,6 +173,11 @@ class Guo2023(Method):
         self.rtol = check_real("rtol", rtol, lower=0.0, upper=1.0, lower_open=True, upper_open=True)
         self.false_alarm = check_probability("false_alarm", false_alarm, open_interval=True)
 
+    def told(self, sc: Scenario) -> str:
+        if self.threat == "card" and sc.attacked_nodes:
+            return "the attacked sensors (its H^i: the paper's known attack channels)"
+        return ""
+
     def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
         mdl = arena_model(sc, self.threat)
         A, C, R = sc.plant.A, sc.C, sc.R

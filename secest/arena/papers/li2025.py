@@ -121,6 +121,12 @@ class Li2025(Method):
         self.weights = tuple(float(w) for w in weights)
         self.variant = variant
 
+    def told(self, sc: Scenario) -> str:
+        if sc.attack.kind == "replacement":
+            return ("the replaced sensors, the probability and the magnitude (psi_check, xi*: the "
+                    "paper assumes them known)")
+        return ""
+
     def conditions(self, sc: Scenario) -> list[tuple[str, bool]]:
         A = sc.plant.A
         clean, attacked = _packets(sc)
