@@ -580,8 +580,9 @@ def normalised_errors(
         raise ValidationError(f"Incompatible dimensions of xhat, x and oracle: expected (runs, k, N, "
                               f"n), (runs, k, n) and (runs, k, n), found {xhat.shape}, {x.shape} "
                               f"and {oracle.shape}")
+    eo = (oracle - x).reshape(-1, x.shape[-1])
     e = xhat - x[:, :, None, :]
-    white = e @ whitening(oracle_moment(x, oracle))
+    white = e @ whitening(eo.T @ eo / eo.shape[0])
     return np.sum(white**2, axis=-1) / x.shape[-1]
 
 
@@ -656,12 +657,6 @@ def escape_reason(hits: NDArray[np.bool_], per_run: NDArray[np.float64]) -> str:
     """
     return (f"{int(hits.sum())} of {hits.size} runs escaped: RMS error > {ESCAPE_LIMIT:.0e} x the "
             f"oracle's (the worst {np.sqrt(per_run.max()):.2g} x)").replace("e+0", "e")
-
-
-def oracle_moment(x: NDArray[np.float64], oracle: NDArray[np.float64]) -> NDArray[np.float64]:
-    """``Sigma_o``: the oracle's error second moment over the runs and steps given (uncentred)."""
-    eo = (oracle - x).reshape(-1, x.shape[-1])
-    return eo.T @ eo / eo.shape[0]
 
 
 def whitening(sigma: NDArray[np.float64]) -> NDArray[np.float64]:
