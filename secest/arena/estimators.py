@@ -626,9 +626,10 @@ def escaped(per_run: NDArray[np.float64]) -> NDArray[np.bool_]:
     left every bounded regime of the arena (its largest bounded cell read 1.0e3 in the first test
     stage); its cell is diverged even when its error stopped growing inside the window (an early
     blow-up, frozen by a detector that then rejects everything). In the score's own unit, so it
-    means the same on every plant and horizon; a property of each run, and the cell is diverged
-    when any run escaped (``protocol.toml``, Amendment 2): more runs see a rare escape more
-    often, as any test gains power, but what is tested does not change.
+    means the same on every plant and horizon; judged per run, and the cell is diverged when any
+    run escaped (``protocol.toml``, Amendment 2), so a rare escape (probability ``p`` per run) is
+    caught with probability ``1 - (1 - p)^R`` over ``R`` runs: the rule's power depends on the
+    run count (a declared limitation).
 
     Parameters
     ----------
