@@ -514,7 +514,7 @@ for name, s in live_cells.items():
 # | X3 | premise of the attack columns: every attack card degrades, on every plant, the undefended baseline it reaches (`kf` under sensor attacks, `consensus-kf` under message and link attacks): lower bound of its score $>1$ and above its no-attack upper bound |
 # | X4_&lt;attack&gt; | per attack: the methods within a factor 2 on every plant where the attack degrades its baseline (X3), among the methods the attack can reach (message and DoS: only methods whose nodes exchange messages); holds when a paper method is that is told nothing about the attack and whose estimate the attack touches (the told and the untouched listed beside); `fails-premise` when the attack degrades its baseline on no plant |
 # | X5 | applicability: every paper method runs (is not N/A) in every cell; the cells outside each method's theory are counted beside it (a restatement of the one applicability rule on these cards) |
-# | X6 | every method with a detector keeps its false-alarm rate's upper bound at most 1 % in every cell where it runs |
+# | X6 | every method with a detector, told nothing about the attack, keeps its false-alarm rate's upper bound at most 1 % in every cell where it runs (the told ones beside) |
 # | X7 | every method with a detector, told nothing about the attack, sees every sensor attack on every plant where the attack degrades `kf`: lower bound of its detection rate $\ge50$ % (the told ones beside) |
 # | X8 | no method diverges (growth rule, a run that escaped, or a non-finite estimate) in any cell |
 
@@ -657,9 +657,12 @@ def detectors(kind: str) -> list[str]:
 
 
 def x6(kind: str) -> tuple[dict, bool, None]:
-    m = {"upper": {}, "cell": {}}
+    m = {"upper": {}, "cell": {}, "told": {}}
     for name in detectors(kind):
         fa = [(c.false_alarm[2], s) for s, c in cells_of(name, kind) if c.false_alarm is not None]
+        if any(told(name, att) for att in ATTACKS):  # alarms only where it was told: beside
+            m["told"][name] = max(fa)[0]
+            continue
         m["upper"][name], m["cell"][name] = max(fa)
     m["worst_upper"] = max(m["upper"].values(), default=0.0)
     return m, bool(m["worst_upper"] <= FA_MAX), None
@@ -754,7 +757,8 @@ claims["X6"] = decided(
     "false-alarm rate below 1 % in every scenario where it runs",
     check="per method with alarms, the largest upper 95 % bound (union of Wilson and a bootstrap "
     "over runs) of its false-alarm rate on the steady window over every cell; holds when every one "
-    "is <= 1 %." + RULE)
+    "is <= 1 %. A method told the attack (Method.told: guo2023 alarms only on the sensor it is "
+    "told, so its rate over every node is diluted) is listed beside ('told'), not deciding." + RULE)
 claims["X7"] = decided(
     x7, "worst_lower", threshold=DET_MIN, tolerance=tolerance_of(detectors("tuned")),
     paper="(ours) every method with a detector sees the sensor attacks: it flags at least half of "
@@ -855,7 +859,7 @@ display(Markdown("\n".join(
 # | A10 | settings | every method twice: as its paper printed it (ding2020's $\kappa$ and threshold, lee2020's $\kappa,\gamma$, li2025's weights, ma2021's $p$; the baselines at their textbook defaults) and tuned by the registered rule of `protocol.toml` on the validation seeds; ma2021's recursion (30) holds its gains once $P_k$ settles (relative change $\le10^{-6}$ on ten steps) | issue #28: tuning matters as much as the method, so both rows are reported; the rule, search sets and seed split were committed before the test seeds ran. What the rule can and cannot do: its objective is the attack-free score, so constants that act only under attack are not tuned by it (guo2023's alarm level and ma2021's $p$ leave the attack-free estimate unchanged, li2025's weights move it by less than 0.1 %: their tuned rows are the printed ones by the tie rule), and a detector's threshold is held only by the false-alarm cap, so the rule takes the laxest level that meets it, not the one that detects best |
 # | A11 | falsified messages | a shift of 20 oracle steady-state sd of the state estimate a node sends, mapped into each method's message by its own encoding | one attack for every method, in physical units (the first design added a bounded injection in each method's own message units, which made the columns incomparable); a method with several consensus rounds sends several messages per link and step, and a falsified link falsifies each of them (more exchanges, more surface: `consensus-kf`'s message score grows with its rounds) |
 # | A12 | seeds | the eight test seeds 201–208 `protocol.toml` registers, 40 runs each (320 pooled), their runs pooled (one $\Sigma_o$, one bootstrap, one growth rule over all of them); the first test stage ran only 201–204 (a declared deviation, for CPU; ERRATA.md, arena); the cards' seed 2026 only in the live cell | a finding does not hinge on one draw of the runs; the validation seeds 101–104 only chose the tuned constants |
-# | A13 | Amendment 2 of the protocol, and of the findings | made **after** the first test stage (`figures/arena/test.json` at commit 367ae54, tuned constants a141056) was looked at: a run that escapes (RMS error above $10^4$ times the oracle's) makes its cell diverged; the growth factor is 2, not 4; the tuning's fallback never picks a diverged point unless all diverged; `kcf`'s $\epsilon\,d_{\max}<1$ is a condition, not a requirement; every baseline declares its attack model (marks one rule for all); ding2020's overflowing bounds give non-finite estimates (diverged), not an error; X4 and X7 decide on the methods told nothing about the attack and (X4) touched by it. Then the validation re-ran in full and this test stage on all eight seeds | defects of the first stage a hostile fairness review found: a ratio of $1.6\cdot10^{29}$ scored, an error growing linearly read as a score, a tuned point that had diverged, an N/A that was a stability condition, marks on the papers only, a divergence reported as an error, and findings decided by methods told the attack or immune to it by construction; ERRATA.md gives the first stage's results beside these |
+# | A13 | Amendment 2 of the protocol, and of the findings | made **after** the first test stage (`figures/arena/test.json` at commit 367ae54, tuned constants a141056) was looked at: a run that escapes (RMS error above $10^4$ times the oracle's) makes its cell diverged; the growth factor is 2, not 4; the tuning's fallback never picks a diverged point unless all diverged; `kcf`'s $\epsilon\,d_{\max}<1$ is a condition, not a requirement; every baseline declares its attack model (marks one rule for all); ding2020's overflowing bounds give non-finite estimates (diverged), not an error; X4, X6 and X7 decide on the methods told nothing about the attack and (X4) touched by it. Then the validation re-ran in full and this test stage on all eight seeds | defects of the first stage a hostile fairness review found: a ratio of $1.6\cdot10^{29}$ scored, an error growing linearly read as a score, a tuned point that had diverged, an N/A that was a stability condition, marks on the papers only, a divergence reported as an error, and findings decided by methods told the attack or immune to it by construction; ERRATA.md gives the first stage's results beside these |
 # | A14 | replacement | the replaced value is uniform in ±`magnitude` noise sd around 0, as li2025's attack model replaces the measurement by a bounded signal; on the target, whose position grows to thousands of noise sd over the horizon, a replaced sample is therefore a gross error, while on the three-inertia and the tank (outputs of the order of the range) it is not | the attack is one card in noise units, but its strength relative to the signal differs by plant: the replacement column on `target20` measures that plant's output scale as much as the methods (a replacement around the true output would be an additive attack, outside li2025's model) |
 
 # %%
