@@ -244,11 +244,11 @@ def test_the_data_free_score_is_what_the_zero_estimate_scores() -> None:
         oracle = METHODS["oracle"].run(trial)
         oparts.append(testseeds.summary(trial, oracle, settle))
         parts.append(testseeds.summary(trial, Estimate(np.zeros_like(oracle.xhat)), settle))
-    free = testseeds.data_free_score(oparts)
+    free = testseeds.data_free_score(sc, oparts)
     zero = testseeds.pool(oparts, parts, seeds)
     # 40 runs of a stationary plant (tau = 90 steps, 1358 steady steps): a few % of sampling error
     assert zero["status"] == "ok" and zero["steady"][0] == pytest.approx(free, rel=0.1)
-    assert testseeds.data_free_score(oparts[:1] + [{"status": "error"}]) is None
+    assert testseeds.data_free_score(sc, oparts[:1] + [{"status": "error"}]) is None
 
 
 def test_the_data_free_moment_is_the_prior_propagated() -> None:

@@ -273,10 +273,8 @@ def summary(trial: Trial, est: Estimate, settle: int) -> dict[str, Any]:
         ``status`` (``"ok"``, or ``"not finite"`` with nothing else); ``transient`` and
         ``steady``: per run and node ``sum e e^T`` over the window (runs, N, n, n) and ``steps``;
         ``mid`` and ``late``: per run ``sum e e^T`` over the nodes and steps of the steady
-        window's second and last quarters (runs, n, n); ``free``: the data-free estimate's
-        ``sum P_k`` over the steady window (:func:`~secest.arena.estimators.data_free_moment`:
-        the scale of the plant's scores); with alarms, their counts per run on the steady window
-        (attacked and clean samples).
+        window's second and last quarters (runs, n, n); with alarms, their counts per run on the
+        steady window (attacked and clean samples).
     """
     if not np.all(np.isfinite(est.xhat)):
         return {"status": "not finite"}
@@ -289,7 +287,6 @@ def summary(trial: Trial, est: Estimate, settle: int) -> dict[str, Any]:
         "mid": _moments(steady[:, mid]).sum(axis=1), "late": _moments(steady[:, late]).sum(axis=1),
         "quarter_steps": (len(range(*mid.indices(steady.shape[1]))),
                           len(range(*late.indices(steady.shape[1])))),
-        "free": estimators.data_free_moment(trial.scenario, settle, e.shape[1]),
     }
     if est.alarms is not None:
         out["alarms"] = _alarm_counts(est.alarms[:, settle:], trial.attacked[:, settle:])
@@ -445,15 +442,17 @@ def pool(oracle: list[dict[str, Any]], parts: list[dict[str, Any]], seeds: list[
                     "growth": g} | _rates(parts)
 
 
-def data_free_score(oracle: list[dict[str, Any]]) -> float | None:
+def data_free_score(sc: Scenario, oracle: list[dict[str, Any]]) -> float | None:
     """The steady-window score of the estimate that uses no data (``x_hat = 0``), in the pooled unit.
 
     The scale of a plant's scores: a method near it has learnt little from its data.
 
     Parameters
     ----------
+    sc : Scenario
+        The scenario (its plant, prior and horizon; computed once, the same for every seed).
     oracle : list of dict
-        The oracle's :func:`summary` on each seed's trial of one scenario.
+        The oracle's :func:`summary` on each seed's trial of it.
 
     Returns
     -------
@@ -462,8 +461,9 @@ def data_free_score(oracle: list[dict[str, Any]]) -> float | None:
     """
     if not oracle or any(o["status"] != "ok" for o in oracle):
         return None
-    W = _metric(oracle, "steady")
-    return float(np.sqrt(_per_run(oracle[0]["free"][None, None], W, oracle[0]["steps"][1])[0, 0]))
+    settle, steps = oracle[0]["steps"]
+    free = estimators.data_free_moment(sc, settle, settle + steps)  # (sum P_k over the window)
+    return float(np.sqrt(_per_run(free[None, None], _metric(oracle, "steady"), steps)[0, 0]))
 
 
 def _written_growth(row: dict[str, Any]) -> dict[str, Any]:
@@ -574,7 +574,7 @@ def _plant_record(tuned: dict[str, Any], plant: str, attacks: list[str], homes: 
     args = (tuned, plant)
     return {"plant": sc.plant.name, "network": plant, "horizon": sc.horizon,
             "settle": estimators.settle_steps(sc, short=short), "tau": sc.time_constant,
-            "data_free": data_free_score([r["cells"]["oracle/reference"]
+            "data_free": data_free_score(sc, [r["cells"]["oracle/reference"]
                                           for r in found[(plant, attacks[0])]]),
             "home": [n for n in tuned["tuned"][plant] if METHODS[n].home == plant],
             "cells": {a: _attack_rows(*args, a, seeds, found, plan, short) for a in attacks},
