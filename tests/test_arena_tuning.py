@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from secest.arena import baselines, estimators, protocol, tuning
+from secest.arena import baselines, estimators, protocol, scenarios, testseeds, tuning
 from secest.arena.estimators import METHODS
 from secest.core.validation import ValidationError
 
@@ -94,9 +94,9 @@ def rec(point: int, score: float | None, status: str = "ok", fa: float | None = 
             "constants": {"c": point}, "arguments": {"c": point}}
 
 
-def test_the_lowest_median_score_wins_and_diverged_points_are_excluded() -> None:
+def test_the_lowest_score_wins_and_diverged_points_are_excluded() -> None:
     c = tuning.choose([rec(0, 2.0), rec(1, 0.5, "diverged"), rec(2, 1.2), rec(3, 1.1)])
-    assert (c["point"], c["rule"], c["mark"]) == (3, "lowest median score", "")
+    assert (c["point"], c["rule"], c["mark"]) == (3, "lowest score", "")
     assert c["admissible"] == [0, 2, 3]
     assert c["excluded"][0]["point"] == 1 and c["excluded"][0]["why"].startswith("diverged")
 
@@ -135,6 +135,16 @@ def test_with_no_admissible_point_a_diverged_point_is_chosen_only_if_all_diverge
     assert (c["point"], c["rule"]) == (2, "lowest false-alarm upper bound")
     c = tuning.choose([rec(0, 1.0, "diverged", fa=0.05), rec(1, 0.8, "diverged", fa=0.001)])
     assert c["point"] == 1 and "every point with a false-alarm rate diverged" in c["rule"]
+
+
+def test_when_every_point_diverged_a_tie_goes_to_the_least_growth() -> None:
+    """Amendment 3 (d): lee2020 on target20, ten points that never alarm, went to the first listed."""
+    tied = [rec(0, None, "diverged", fa=0.01) | {"growth": 1.5}, rec(1, None, "diverged", fa=0.0)
+            | {"growth": 11.0}, rec(2, None, "diverged", fa=0.0) | {"growth": None},
+            rec(3, None, "diverged", fa=0.0) | {"growth": 2.6}, rec(4, None, "diverged", fa=0.0)
+            | {"growth": 2.6}]
+    c = tuning.choose(tied)
+    assert c["point"] == 3 and "the least growth" in c["rule"]  # a non-finite growth counts as inf
 
 
 @pytest.mark.parametrize("records, words", [
@@ -229,14 +239,29 @@ def test_two_points_of_ding2020_on_one_validation_seed() -> None:
     grid = tuning.grid("ding2020", 1)
     for r, p in zip(records, grid, strict=False):
         assert (r["method"], r["plant"], r["arguments"]) == ("ding2020", "target20", p["arguments"])
-        assert r["status"] == "ok" and r["reason"] == "" and r["diverged"] == [False]
-        assert r["score"] == r["scores"][0] == r["seeds"][0]["steady"][0] > 0
+        assert r["status"] == "ok" and r["reason"] == ""
+        assert r["score"] == r["steady"][0] > 0 and r["steady"][1] <= r["score"] <= r["steady"][2]
         assert r["detector"] and 0 <= r["false_alarm"][0] <= r["false_alarm"][2] <= 1
-        assert [s["seed"] for s in r["seeds"]] == [101]
+        assert r["seeds"] == [101]
     choice = tuning.choose(records)
     assert choice["point"] in (0, 1)
     assert json.loads(json.dumps(tuning._jsonable(choice))) == tuning._jsonable(choice)
     assert "ding2020" in METHODS and not [n for n in METHODS if "#" in n or "[" in n]
+
+
+def test_a_points_seeds_pool_as_the_test_stage_pools_its_seeds() -> None:
+    """Amendment 3 (a): one rule in both stages; the tuning's record is the test stage's pooled row
+    of the same trials (:func:`testseeds.trial_task`, :func:`testseeds.pool`)."""
+    opts = {"seeds": [101, 102], "runs": 3, "horizon": 12, "short": True}
+    record = tuning.validate("chi2-kf", "target20", **opts, points=[0])[0]
+    job = testseeds.Job("chi2-kf", ("printed",), 0, METHODS["chi2-kf"], {})
+    oracle = testseeds.Job("oracle", ("reference",), 0, METHODS["oracle"], {})
+    cells = [testseeds.trial_task(scenarios.scenario("target20", "none", horizon=12, runs=3, seed=s),
+                                  [oracle, job], True)["cells"] for s in (101, 102)]
+    row = testseeds.pool([c[oracle.key] for c in cells], [c[job.key] for c in cells], [101, 102],
+                         short=True)
+    assert record["score"] == row["steady"][0] and record["worst"] == list(row["worst"])
+    assert record["growth"] == row["growth"] and record["false_alarm"] == list(row["false_alarm"])
 
 
 def test_a_failing_point_is_one_record(monkeypatch: pytest.MonkeyPatch) -> None:

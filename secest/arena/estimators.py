@@ -52,7 +52,7 @@ __all__ = [
     "CHI2_ALPHA",
     "ESCAPE_LIMIT",
     "EXTRAS",
-    "GROWTH_LIMIT",
+    "GROWTH_EXPONENT",
     "METHODS",
     "RESERVED",
     "SETTLE_TAU",
@@ -66,6 +66,10 @@ __all__ = [
     "escaped",
     "evaluate",
     "growth",
+    "growth_exponent",
+    "growth_of_runs",
+    "growth_reason",
+    "grows",
     "no_attack_conditions",
     "normalised_errors",
     "rate",
@@ -461,13 +465,15 @@ def metropolis_weights(network: Network) -> tuple[NDArray[np.float64], NDArray[n
 
 SETTLE_TAU = 5
 """The transient window is the first ``SETTLE_TAU tau`` steps (``protocol.toml`` [score])."""
-GROWTH_LIMIT = 2.0
-"""A cell is diverged when its late mean squared normalised error exceeds this many times its
-mid-window one (``protocol.toml`` [divergence]; 4 before Amendment 2, which missed an error growing
-linearly in time: its factor is 2.9 on the steady window)."""
+GROWTH_EXPONENT = 0.1
+"""A cell is diverged when, at some node, the lower 95 % bound of the exponent ``p`` of a mean
+squared error growing as ``k^p`` over the steady window exceeds this (:func:`grows`;
+``protocol.toml`` [divergence], Amendment 3: a network growth factor of 4, then 2, read an error
+growing as ``k`` (a random walk) as a score, and the network mean hid a node that grows; an
+exponent means the same on every horizon, its interval the same at every run count)."""
 ESCAPE_LIMIT = 1e4
-"""A run has escaped (its cell is diverged) when its steady-window RMS error exceeds this many
-times the oracle's (``protocol.toml`` [divergence], Amendment 2: :func:`escaped`)."""
+"""A cell is diverged when its steady-window RMS error, pooled over its runs, exceeds this many
+times the oracle's (``protocol.toml`` [divergence], Amendments 2 and 3: :func:`escaped`)."""
 BOOTSTRAP = 2000
 """Percentile-bootstrap resamples of the runs for every score interval (seed 0)."""
 
@@ -487,7 +493,7 @@ class Score:
     status : {"ok", "n/a", "diverged", "error"}
         ``"ok"``: scored; ``"n/a"``: the method cannot run on the scenario (a requirement
         fails, :meth:`Method.requirements`); ``"diverged"``: an estimate is not finite, its
-        error grows (:data:`GROWTH_LIMIT`) or a run escaped (:func:`escaped`): it shows no
+        error grows (:func:`grows`) or it escaped (:func:`escaped`): it shows no
         score; ``"error"``: it raised (its message, or ``needs extra: lmi``). The other cells
         are not affected.
     reason : str
@@ -502,7 +508,8 @@ class Score:
         Network score on the transient window ``[0, settle)``.
     growth : float, optional
         Mean ``q`` over the last quarter of the steady window over that of its second quarter
-        (divergence rule); about 1 in a steady state.
+        (:func:`growth`); about 1 in a steady state; the divergence rule reads it as an
+        exponent (:func:`growth_exponent`).
     detection, false_alarm : (value, low, high) floats, optional
         Alarm rates on the attacked / attack-free (run, step, node) samples of the steady
         window (:func:`rate`); None without alarms (or without an attacked sample).
@@ -619,45 +626,43 @@ def data_free_moment(sc: Scenario, start: int, stop: int) -> NDArray[np.float64]
     return total
 
 
-def escaped(per_run: NDArray[np.float64]) -> NDArray[np.bool_]:
-    """The runs whose error escaped: mean ``q`` above ``ESCAPE_LIMIT^2`` (RMS 10^4 x the oracle's).
+def escaped(per_run: NDArray[np.float64]) -> bool:
+    """Whether a cell escaped: its mean ``q`` over every run above ``ESCAPE_LIMIT^2``.
 
-    A run whose RMS error on the steady window exceeds :data:`ESCAPE_LIMIT` times the oracle's has
-    left every bounded regime of the arena (its largest bounded cell read 1.0e3 in the first test
-    stage); its cell is diverged even when its error stopped growing inside the window (an early
-    blow-up, frozen by a detector that then rejects everything). In the score's own unit, so it
-    means the same on every plant and horizon; judged per run, and the cell is diverged when any
-    run escaped (``protocol.toml``, Amendment 2), so a rare escape (probability ``p`` per run) is
-    caught with probability ``1 - (1 - p)^R`` over ``R`` runs: the rule's power depends on the
-    run count (a declared limitation).
+    A cell whose steady-window RMS error exceeds :data:`ESCAPE_LIMIT` times the oracle's has left
+    every bounded regime of the arena; it is diverged even when its error stopped growing inside
+    the window (an early blow-up, frozen by a detector that then rejects everything). In the
+    score's own unit, so it means the same on every plant and horizon, and on the runs pooled
+    (Amendment 3; per run before, where any one run of ``R`` decided, so the rule's meaning
+    changed with the run count).
 
     Parameters
     ----------
-    per_run : (runs,) array
-        Mean unit-free squared error ``q`` of each run over the steady window's steps and nodes.
+    per_run : (runs,) or (runs, N) array
+        Mean unit-free squared error ``q`` of each run (and node) over the steady window's steps.
 
     Returns
     -------
-    (runs,) bool array
+    bool
     """
     per_run = np.asarray(per_run, dtype=float)
-    if per_run.ndim != 1 or not np.all(per_run >= 0):
-        raise ValidationError("per_run must be a 1-d array of non-negative mean squared errors")
-    return per_run > ESCAPE_LIMIT**2
+    if per_run.ndim not in (1, 2) or per_run.size == 0 or not np.all(per_run >= 0):
+        raise ValidationError("per_run must be a non-empty (runs,) or (runs, N) array of "
+                              "non-negative mean squared errors")
+    return bool(per_run.mean() > ESCAPE_LIMIT**2)
 
 
-def escape_reason(hits: NDArray[np.bool_], per_run: NDArray[np.float64]) -> str:
-    """``"k of R runs escaped: ..."`` for a diverged cell's reason (:func:`escaped`).
+def escape_reason(per_run: NDArray[np.float64]) -> str:
+    """The reason of an escaped cell (:func:`escaped`), its RMS error in the oracle's unit.
 
     Parameters
     ----------
-    hits : (runs,) bool array
-        :func:`escaped`'s answer.
-    per_run : (runs,) array
-        The runs' mean ``q`` it was given.
+    per_run : (runs,) or (runs, N) array
+        The runs' mean ``q`` :func:`escaped` was given.
     """
-    return (f"{int(hits.sum())} of {hits.size} runs escaped: RMS error > {ESCAPE_LIMIT:.0e} x the "
-            f"oracle's (the worst {np.sqrt(per_run.max()):.2g} x)").replace("e+0", "e")
+    rms = np.sqrt(np.asarray(per_run, dtype=float).mean())
+    return (f"it escaped: steady-window RMS error {rms:.2g} x the oracle's > "
+            f"{ESCAPE_LIMIT:.0e}").replace("e+0", "e")
 
 
 def whitening(sigma: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -715,8 +720,13 @@ def scores_of_runs(
     return (triple(nodes.mean(), nodes_b.mean(axis=1)), triple(nodes.max(), nodes_b.max(axis=1)))
 
 
-def growth(q: NDArray[np.float64]) -> float:
-    """The divergence rule's growth factor: mean ``q`` over the last quarter of the steps / the second.
+def quarters(length: int) -> tuple[slice, slice]:
+    """The second and the last quarter of a window of ``length`` steps (:func:`growth`)."""
+    return slice(length // 4, max(length // 2, length // 4 + 1)), slice((3 * length) // 4, None)
+
+
+def growth(q: NDArray[np.float64]) -> tuple[float, float, float]:
+    """The growth factor: mean ``q`` over the last quarter of the steps / over the second quarter.
 
     Parameters
     ----------
@@ -725,19 +735,120 @@ def growth(q: NDArray[np.float64]) -> float:
 
     Returns
     -------
-    float
-        ``mean q[:, 3k/4:] / mean q[:, k/4:k/2]`` (inf when the second quarter's mean is 0); a cell
-        is diverged above :data:`GROWTH_LIMIT`.
+    (value, low, high)
+        Per node ``mean q[:, 3k/4:, i] / mean q[:, k/4:k/2, i]`` over the runs, with its 95 %
+        interval over the runs; the node whose lower bound is the largest
+        (:func:`growth_of_runs`). :func:`growth_exponent` turns a factor into the exponent the
+        divergence rule reads.
     """
     if not isinstance(q, np.ndarray) or q.ndim != 3 or q.size == 0:
         raise ValidationError(f"q must be a (runs, k, N) array with k >= 1, found "
                               f"{getattr(q, 'shape', type(q).__name__)}")
     if not np.all(np.isfinite(q) & (q >= 0)):
         raise ValidationError("q must hold finite non-negative squared errors")
-    L = q.shape[1]
-    mid = q[:, L // 4: max(L // 2, L // 4 + 1)].mean()
-    late = q[:, (3 * L) // 4:].mean()
-    return float(late / mid) if mid > 0 else float("inf")
+    mid, late = quarters(q.shape[1])
+    return growth_of_runs(q[:, mid].mean(axis=1), q[:, late].mean(axis=1))
+
+
+def growth_of_runs(mid: NDArray[np.float64],
+                   late: NDArray[np.float64]) -> tuple[float, float, float]:
+    """The growth factor of the node that grows most surely, with its 95 % interval over the runs.
+
+    Per node ``i`` the factor is ``g_i = mean over runs of late / mean over runs of mid`` (each
+    run's quarters have the same number of steps). Its interval treats the runs as independent
+    draws: ``ln g_i +- t se_i``, ``se_i`` the standard error of the mean of
+    ``late_r / mean(late) - mid_r / mean(mid)`` over the runs (the delta method for a log ratio
+    of means) and ``t`` Student's 97.5 % quantile with ``runs - 1`` degrees of freedom, so that a
+    few runs give a wide interval, not an overconfident one. A network is as bounded as its worst
+    node: the node reported is the one whose lower bound is the largest (the first such).
+
+    Parameters
+    ----------
+    mid, late : (runs,) or (runs, N) arrays
+        Each run's (and node's) mean ``q`` over the steady window's second and last quarters
+        (one run gives the interval ``(0, inf)``).
+
+    Returns
+    -------
+    (value, low, high)
+        inf where a node's mean over the second quarter is 0 (its interval too).
+    """
+    mid, late = np.asarray(mid, dtype=float), np.asarray(late, dtype=float)
+    if mid.ndim not in (1, 2) or mid.shape != late.shape or mid.size == 0:
+        raise ValidationError(f"mid, late must be two (runs,) or (runs, N) arrays of one shape, "
+                              f"found shapes {mid.shape}, {late.shape}")
+    mid, late = mid.reshape(mid.shape[0], -1), late.reshape(late.shape[0], -1)
+    m, l_ = mid.mean(axis=0), late.mean(axis=0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        value = np.where(m > 0, l_ / np.where(m > 0, m, 1.0), np.inf)
+        d = late / np.where(l_ > 0, l_, 1.0) - mid / np.where(m > 0, m, 1.0)
+    runs = mid.shape[0]
+    spread = (stats.t.ppf(0.975, runs - 1) * d.std(axis=0, ddof=1) / np.sqrt(runs) if runs > 1
+              else np.full(d.shape[1], np.inf))  # one run decides no growth: (0, inf)
+    low = np.where(np.isfinite(value), value * np.exp(-spread), np.inf)
+    high = np.where(np.isfinite(value), value * np.exp(spread), np.inf)
+    worst = int(np.argmax(low))
+    return float(value[worst]), float(low[worst]), float(high[worst])
+
+
+def growth_exponent(factor: float, settle: int, length: int) -> float:
+    """The exponent ``p`` of a mean squared error growing as ``k^p`` that gives ``factor``.
+
+    With the steady window's steps ``settle .. settle + length - 1`` and ``k_mid``, ``k_late`` the
+    mean steps of its second and last quarters (:func:`quarters`),
+    ``p = ln(factor) / ln(k_late / k_mid)``: for a power law of the step it returns ``p`` exactly
+    for ``p = 1`` and to within 1 % for ``0 < p <= 2`` on the arena's windows, whatever the
+    horizon (a factor's meaning depends on where the window lies: 1.71 is ``k^1`` on a window
+    ``[5 tau, 20 tau]``). A cell is diverged when ``p > GROWTH_EXPONENT``
+    (``protocol.toml`` [divergence], Amendment 3).
+
+    Parameters
+    ----------
+    factor : float
+        :func:`growth`'s factor (>= 0, or inf).
+    settle : int
+        The steady window's first step (>= 1).
+    length : int
+        Its number of steps (>= 4: two distinct quarters).
+
+    Returns
+    -------
+    float
+        ``p``; inf for an infinite factor, -inf for 0.
+    """
+    if not (isinstance(settle, (int, np.integer)) and settle >= 1
+            and isinstance(length, (int, np.integer)) and length >= 4):
+        raise ValidationError(f"settle, length must be integers >= 1 and >= 4, found "
+                              f"{settle!r}, {length!r}")
+    if not factor >= 0:
+        raise ValidationError(f"factor must be a non-negative growth factor, found {factor!r}")
+    mid, late = (settle + np.mean(range(*part.indices(length))) for part in quarters(length))
+    with np.errstate(divide="ignore"):
+        return float(np.log(factor) / np.log(late / mid))
+
+
+def grows(factor: tuple[float, float, float], settle: int, length: int) -> bool:
+    """The growth rule: the lower 95 % bound of a node's growth exponent above ``GROWTH_EXPONENT``.
+
+    A rule on the interval, as every rule on a rate (``protocol.toml`` [detection]): what it
+    tests, a mean squared error growing faster than ``k^GROWTH_EXPONENT``, does not change with
+    the run count; more runs only narrow the interval (Amendment 3).
+
+    Parameters
+    ----------
+    factor : (value, low, high)
+        :func:`growth`'s factor and interval.
+    settle, length : int
+        The steady window (:func:`growth_exponent`).
+    """
+    return not growth_exponent(factor[1], settle, length) <= GROWTH_EXPONENT
+
+
+def growth_reason() -> str:
+    """A diverged cell's reason under the growth rule (:func:`grows`); its factor is reported
+    beside it (round-off amplified by a divergence decides its digits, so the reason holds none)."""
+    return (f"its error grows: mean squared error as k^p, the 95 % lower bound of p above "
+            f"{GROWTH_EXPONENT:g}")
 
 
 def score(trial: Trial, estimate: Estimate, oracle: Estimate, *, short: bool = False) -> Score:
@@ -760,7 +871,7 @@ def score(trial: Trial, estimate: Estimate, oracle: Estimate, *, short: bool = F
     -------
     Score
         ``"ok"`` with the scores (and rates when the method raises alarms), or ``"diverged"``
-        with the reason (not finite, the growth factor, or the runs that escaped).
+        with the reason (not finite, its growth exponent, or its escape).
     """
     trial = check_trial("trial", trial)
     _check_estimate("estimate", estimate, trial)
@@ -772,16 +883,15 @@ def score(trial: Trial, estimate: Estimate, oracle: Estimate, *, short: bool = F
     x, xo = trial.x, oracle.xhat[:, :, 0]
     q_steady = normalised_errors(estimate.xhat[:, settle:], x[:, settle:], xo[:, settle:])
     g = growth(q_steady)
-    if not short and not g <= GROWTH_LIMIT:  # a short horizon has no steady window to grow in
-        return Score("diverged", f"its error grows: late / mid mean squared error {g:.3g} > "
-                     f"{GROWTH_LIMIT:g}", growth=g)
-    per_run = q_steady.mean(axis=(1, 2))
-    hits = escaped(per_run)
-    if not short and hits.any():
-        return Score("diverged", escape_reason(hits, per_run), growth=g)
+    length = q_steady.shape[1]
+    if not short and grows(g, settle, length):  # a short horizon has no steady window to grow in
+        return Score("diverged", growth_reason(), growth=g[0])
+    per_run = q_steady.mean(axis=1)
+    if not short and escaped(per_run):
+        return Score("diverged", escape_reason(per_run), growth=g[0])
     steady, worst = _scores(q_steady)
     transient = _scores(normalised_errors(estimate.xhat[:, :settle], x[:, :settle], xo[:, :settle]))[0]
-    result = Score("ok", steady=steady, steady_worst=worst, transient=transient, growth=g,
+    result = Score("ok", steady=steady, steady_worst=worst, transient=transient, growth=g[0],
                    notes=dict(estimate.notes))
     if estimate.alarms is not None:
         attacked = trial.attacked[:, settle:]

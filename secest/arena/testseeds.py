@@ -241,11 +241,6 @@ def _moments(e: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.einsum("rkia,rkib->riab", e, e)
 
 
-def _quarters(length: int) -> tuple[slice, slice]:
-    """The mid and late parts of a window of ``length`` steps (:func:`~estimators.growth`)."""
-    return slice(length // 4, max(length // 2, length // 4 + 1)), slice((3 * length) // 4, None)
-
-
 def _alarm_counts(alarms: NDArray[np.bool_], attacked: NDArray[np.bool_]) -> dict[str, list[int]]:
     """Per run: alarms on attacked and on clean samples, and how many of each."""
     def per_run(a: NDArray[np.bool_]) -> list[int]:
@@ -272,19 +267,19 @@ def summary(trial: Trial, est: Estimate, settle: int) -> dict[str, Any]:
     dict
         ``status`` (``"ok"``, or ``"not finite"`` with nothing else); ``transient`` and
         ``steady``: per run and node ``sum e e^T`` over the window (runs, N, n, n) and ``steps``;
-        ``mid`` and ``late``: per run ``sum e e^T`` over the nodes and steps of the steady
-        window's second and last quarters (runs, n, n); with alarms, their counts per run on the
+        ``mid`` and ``late``: per run and node ``sum e e^T`` over the steps of the steady
+        window's second and last quarters (runs, N, n, n); with alarms, their counts per run on the
         steady window (attacked and clean samples).
     """
     if not np.all(np.isfinite(est.xhat)):
         return {"status": "not finite"}
     e = est.xhat - trial.x[:, :, None, :]
     steady = e[:, settle:]
-    mid, late = _quarters(steady.shape[1])
+    mid, late = estimators.quarters(steady.shape[1])
     out: dict[str, Any] = {
         "status": "ok", "transient": _moments(e[:, :settle]), "steady": _moments(steady),
         "steps": (settle, steady.shape[1]),
-        "mid": _moments(steady[:, mid]).sum(axis=1), "late": _moments(steady[:, late]).sum(axis=1),
+        "mid": _moments(steady[:, mid]), "late": _moments(steady[:, late]),
         "quarter_steps": (len(range(*mid.indices(steady.shape[1]))),
                           len(range(*late.indices(steady.shape[1])))),
     }
@@ -348,14 +343,12 @@ def _metric(oracle: list[dict[str, Any]], window: str) -> NDArray[np.float64]:
     return estimators.whitening(total / (runs * steps))
 
 
-def _growth(parts: list[dict[str, Any]], W: NDArray[np.float64]) -> float:
-    """The growth rule's factor on the pooled runs (:func:`~secest.arena.estimators.growth`)."""
-    runs = sum(p["steady"].shape[0] for p in parts)
-    nodes = parts[0]["steady"].shape[1]
+def _growth(parts: list[dict[str, Any]], W: NDArray[np.float64]) -> tuple[float, float, float]:
+    """The growth factor of the pooled runs, with its interval (:func:`~estimators.growth`)."""
     n_mid, n_late = parts[0]["quarter_steps"]
-    mid = sum(np.trace(W.T @ p["mid"].sum(axis=0) @ W) for p in parts) / (runs * nodes * n_mid)
-    late = sum(np.trace(W.T @ p["late"].sum(axis=0) @ W) for p in parts) / (runs * nodes * n_late)
-    return float(late / mid) if mid > 0 else float("inf")
+    mid = np.concatenate([_per_run(p["mid"], W, n_mid) for p in parts])
+    late = np.concatenate([_per_run(p["late"], W, n_late) for p in parts])
+    return estimators.growth_of_runs(mid, late)
 
 
 def _rates(parts: list[dict[str, Any]]) -> dict[str, Any]:
@@ -408,38 +401,44 @@ def pool(oracle: list[dict[str, Any]], parts: list[dict[str, Any]], seeds: list[
     -------
     dict
         ``status`` (``ok``, ``diverged``, ``n/a``, ``error``), ``reason``, ``outside``, and for a
-        scored row ``steady``, ``worst``, ``transient`` (value, low, high), ``growth``,
-        ``detection`` and ``false_alarm`` (or None); a diverged row (growth rule, or a run that
-        escaped: :func:`~secest.arena.estimators.escaped`) carries its growth, no score.
+        scored row ``steady``, ``worst``, ``transient`` (value, low, high), ``growth`` (the
+        factor) and ``growth_interval`` (its 95 % bounds; the growth rule reads the lower),
+        ``growth_undecided`` (True when the factor itself is above the rule's limit and only its
+        interval keeps the row scored: a few runs that grow, a mark),
+        ``detection`` and ``false_alarm`` (or None); a diverged row (growth rule:
+        :func:`~secest.arena.estimators.grows`, or escaped: :func:`~secest.arena.estimators.escaped`)
+        carries its growth factor, no score.
     """
     if not (len(oracle) == len(parts) == len(seeds)) or not parts:
         raise ValidationError(f"Incompatible lengths of oracle, parts and seeds: expected one "
                               f"per seed, found {len(oracle)}, {len(parts)}, {len(seeds)}")
     empty = {"reason": "", "outside": _outside(parts), "steady": None, "worst": None,
-             "transient": None, "growth": None, "detection": None, "false_alarm": None}
+             "transient": None, "growth": None, "growth_interval": None,
+             "growth_undecided": False, "detection": None, "false_alarm": None}
     failed = _failed(parts, seeds)
     lost = [s for s, o in zip(seeds, oracle, strict=True) if o["status"] != "ok"]
-    if lost:
+    if lost and failed is None:
         failed = {"status": "error", "reason": f"seed {lost[0]}: the oracle did not run"}
     if failed is not None:
         return empty | failed
     W = _metric(oracle, "steady")
     g = _growth(parts, W)
-    if not short and not g <= estimators.GROWTH_LIMIT:
-        return empty | {"status": "diverged", "growth": g,
-                        "reason": f"its error grows: late / mid mean squared error > "
-                                  f"{estimators.GROWTH_LIMIT:g}"}
-    per_run = np.concatenate([_per_run(p["steady"], W, p["steps"][1]) for p in parts])
-    hits = estimators.escaped(per_run.mean(axis=1))
-    if not short and hits.any():
-        return empty | {"status": "diverged", "growth": g,
-                        "reason": estimators.escape_reason(hits, per_run.mean(axis=1))}
+    settle, length = parts[0]["steps"]
+    if not short and estimators.grows(g, settle, length):
+        return empty | {"status": "diverged", "growth": g[0],
+                        "reason": estimators.growth_reason()}
+    per_run = np.concatenate([_per_run(p["steady"], W, length) for p in parts])
+    if not short and estimators.escaped(per_run):
+        return empty | {"status": "diverged", "growth": g[0],
+                        "reason": estimators.escape_reason(per_run)}
     steady, worst = estimators.scores_of_runs(per_run)
     Wt = _metric(oracle, "transient")
     transient = estimators.scores_of_runs(np.concatenate(
         [_per_run(p["transient"], Wt, p["steps"][0]) for p in parts]))[0]
+    undecided = not short and estimators.grows((g[0],) * 3, settle, length)
     return empty | {"status": "ok", "steady": steady, "worst": worst, "transient": transient,
-                    "growth": g} | _rates(parts)
+                    "growth": g[0], "growth_interval": [g[1], g[2]],
+                    "growth_undecided": undecided} | _rates(parts)
 
 
 def data_free_score(sc: Scenario, oracle: list[dict[str, Any]]) -> float | None:

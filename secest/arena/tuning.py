@@ -6,15 +6,18 @@ Per method and plant (network card), independently (issue #28):
    (the first entry of every list) first, then the product of the lists in their order;
 2. :func:`validate`: every point runs the plant's no-attack card on every validation seed
    (``[seeds] validation``, ``runs_per_seed`` runs each): one task per (point, seed), in this
-   process or on Dask; per point its steady-window network scores, the median over the seeds,
-   whether a seed diverged and, for a method with a detector, the false-alarm rate of the
-   pooled runs with its upper 95 % bound (:func:`~secest.arena.estimators.rate_of_counts`);
-   a point that fails is one record with its error, never an aborted validation;
+   process or on Dask; per point the runs of every seed pooled by the test stage's own rule
+   (:func:`secest.arena.testseeds.pool`, Amendment 3): its steady-window network score, its
+   divergence (growth exponent, escape, non-finite estimates) and, for a method with a
+   detector, the false-alarm rate of the pooled runs with its upper 95 % bound
+   (:func:`~secest.arena.estimators.rate_of_counts`); a point that fails is one record with
+   its error, never an aborted validation;
 3. :func:`choose`: the rule: diverged points and points whose false-alarm upper bound exceeds
    ``false_alarm_cap`` are excluded (so are points that could not run: ``n/a`` or ``error``);
-   the lowest median score wins; ties within 1 % go to the printed point, then to the point
-   listed first; with no admissible point, the point of lowest false-alarm upper bound is
-   chosen and marked ``"no admissible point"`` (a method without a detector: the printed point).
+   the lowest pooled score wins; ties within 1 % go to the printed point, then to the point
+   listed first; with no admissible point, the point of lowest false-alarm upper bound among
+   those that did not diverge (among all if every one did; ties: the least growth) is chosen
+   and marked ``"no admissible point"`` (a method without a detector: the printed point).
 
 The engine sees the validation seeds only: a test seed is refused (:func:`refuse_test_seeds`),
 and so is any seed the protocol does not list as a validation seed. :func:`tune` runs many
@@ -67,12 +70,10 @@ Constructor arguments no search key sets keep their defaults (:data:`FIXED`): gu
 from __future__ import annotations
 
 import argparse
-import copy
 import hashlib
 import itertools
 import json
 import sys
-import uuid
 from collections.abc import Sequence
 from importlib import resources
 from pathlib import Path
@@ -81,9 +82,9 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
-from secest.arena import estimators, matrix, protocol, scenarios
-from secest.arena.estimators import METHODS, Estimate, Method
-from secest.arena.scenarios import Scenario, Trial
+from secest.arena import estimators, matrix, protocol, scenarios, testseeds
+from secest.arena.estimators import METHODS, Method
+from secest.arena.scenarios import Scenario
 from secest.core.validation import ValidationError, check_bool, check_positive_int, check_probability
 
 __all__ = [
@@ -294,11 +295,12 @@ def _names(label: str, values: object) -> list[str]:
 
 
 def point_task(sc: Scenario, method: Method, short: bool) -> dict[str, Any]:
-    """One (point, seed) of the validation: ``method`` scored on ``sc``'s trial, alarms counted.
+    """One (point, seed) of the validation: the oracle and ``method`` on ``sc``'s trial, summarised.
 
-    The method is put in this process's registry under a name of its own for the call (a
-    worker may run several points of one method at once) and removed after it, then scored by
-    :func:`secest.arena.estimators.evaluate` (the oracle as the unit, errors as a cell).
+    The trial is summarised as the test stage summarises its trials
+    (:func:`secest.arena.testseeds.trial_task`: per run and node the error moments on each window,
+    the alarm counts), so that the seeds of a point pool into one row by the test stage's own rule
+    (:func:`secest.arena.testseeds.pool`, Amendment 3).
 
     Parameters
     ----------
@@ -312,36 +314,17 @@ def point_task(sc: Scenario, method: Method, short: bool) -> dict[str, Any]:
     Returns
     -------
     dict
-        ``seed``, ``status``, ``reason``, ``outside``, ``steady`` and ``worst`` (network and
-        worst-node scores with their intervals), ``growth``, and, for a method that raises
-        alarms, ``hits`` and ``total``: per run, the false alarms and the samples of the steady
-        window.
+        ``seed``, ``oracle`` and ``cell``: the oracle's and the method's summaries (or an ``n/a``
+        / ``error`` record with its reason).
     """
     scenarios.check_scenario("sc", sc)
     if not isinstance(method, Method):
         raise ValidationError(f"method must be a Method, found {type(method).__name__}")
     short = check_bool("short", short)
-    key = f"{method.name}#{uuid.uuid4().hex}"
-    ran = copy.copy(method)
-    ran.name = key
-    counts: dict[str, list[int]] = {}
-
-    def observe(name: str, trial: Trial, est: Estimate) -> None:
-        if name == key and est.alarms is not None:
-            settle = estimators.settle_steps(sc, short=short)
-            where = ~trial.attacked[:, settle:]
-            runs = where.shape[0]
-            counts["hits"] = (est.alarms[:, settle:] & where).reshape(runs, -1).sum(axis=1).tolist()
-            counts["total"] = where.reshape(runs, -1).sum(axis=1).tolist()
-
-    METHODS[key] = ran
-    try:
-        cell = estimators.evaluate(sc, [key], observe=observe, short=short)[key]
-    finally:
-        METHODS.pop(key, None)
-    return {"seed": sc.seed, "status": cell.status, "reason": cell.reason,
-            "outside": list(cell.outside), "steady": _floats(cell.steady),
-            "worst": _floats(cell.steady_worst), "growth": _finite(cell.growth), **counts}
+    oracle = testseeds.Job("oracle", ("reference",), 0, METHODS["oracle"], {})
+    job = testseeds.Job(method.name, ("point",), 0, method, {})
+    cells = testseeds.trial_task(sc, [oracle, job], short)["cells"]
+    return {"seed": sc.seed, "oracle": cells[oracle.key], "cell": cells[job.key]}
 
 
 def _floats(value: tuple[float, ...] | None) -> list[float] | None:
@@ -355,8 +338,8 @@ def _finite(value: float | None) -> float | None:
 def _failed(seed: int, exc: BaseException) -> dict[str, Any]:
     """The result of a task that raised: an error cell, the other tasks unaffected."""
     text = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
-    return {"seed": seed, "status": "error", "reason": f"{type(exc).__name__}: {text}".rstrip(": "),
-            "outside": [], "steady": None, "worst": None, "growth": None}
+    error = {"status": "error", "reason": f"{type(exc).__name__}: {text}".rstrip(": ")}
+    return {"seed": seed, "oracle": error, "cell": error}
 
 
 def _run_here(jobs: list[tuple[Scenario, Method]], short: bool) -> list[dict[str, Any]]:
@@ -406,41 +389,48 @@ def _build(name: str, point: dict[str, Any]) -> Method | str:
     return method
 
 
-def _status(results: list[dict[str, Any]]) -> tuple[str, str]:
-    """A point's status over its seeds: error, n/a, diverged or ok, with the first reason."""
-    for status in ("error", "n/a", "diverged"):
-        bad = [r for r in results if r["status"] == status]
-        if bad:
-            return status, f"seed {bad[0]['seed']}: {bad[0]['reason']}"
-    return "ok", ""
+def _false_alarms(parts: list[dict[str, Any]]) -> list[float] | None:
+    """The false-alarm rate (rate, low, high) of the pooled runs that raised alarms, or None."""
+    counted = [p["alarms"] for p in parts if "alarms" in p]
+    if not counted:
+        return None
+    hits = np.concatenate([c["hits_clean"] for c in counted])
+    total = np.concatenate([c["clean"] for c in counted])
+    return [float(v) for v in estimators.rate_of_counts(hits, total)]
 
 
-def _record(name: str, plant: str, point: dict[str, Any],
-            results: list[dict[str, Any]]) -> dict[str, Any]:
-    """One point's record: its seeds' results, median score, divergence and pooled false alarms."""
-    status, reason = _status(results)
-    steady = [None if r["steady"] is None else r["steady"][0] for r in results]
-    counted = [r for r in results if "hits" in r]
-    false_alarm = None
-    if counted:
-        hits = np.concatenate([r["hits"] for r in counted])
-        total = np.concatenate([r["total"] for r in counted])
-        false_alarm = [float(v) for v in estimators.rate_of_counts(hits, total)]
+def _record(name: str, plant: str, point: dict[str, Any], results: list[dict[str, Any]],
+            short: bool) -> dict[str, Any]:
+    """One point's record: its seeds' runs pooled by the test stage's rule, and its false alarms.
+
+    The score, the growth rule and the escape rule are :func:`secest.arena.testseeds.pool`'s on
+    the runs of every validation seed together (Amendment 3: per seed before, so that a point
+    could be diverged in the tuning and bounded in the test); the false-alarm rate counts every
+    pooled run that raised alarms (a diverged point's too: the fallback of rule 4 reads it).
+    """
+    parts = [r["cell"] for r in results]
+    row = testseeds.pool([r["oracle"] for r in results], parts, [r["seed"] for r in results],
+                         short=short)
+    false_alarm = _false_alarms(parts)
     return {
-        "method": name, "plant": plant, **point, "status": status, "reason": reason,
-        "score": float(np.median(steady)) if status == "ok" else None,
-        "scores": steady, "diverged": [r["status"] == "diverged" for r in results],
-        "detector": bool(counted), "false_alarm": false_alarm,
-        "seeds": [{k: v for k, v in r.items() if k not in ("hits", "total")} for r in results],
+        "method": name, "plant": plant, **point, "status": row["status"], "reason": row["reason"],
+        "outside": row["outside"],
+        "score": row["steady"][0] if row["status"] == "ok" else None,
+        "steady": _floats(row["steady"]), "worst": _floats(row["worst"]),
+        "growth": None if row["growth"] is None else _finite(row["growth"]),
+        "growth_interval": row["growth_interval"], "growth_undecided": row["growth_undecided"],
+        "detector": false_alarm is not None, "false_alarm": false_alarm,
+        "seeds": [r["seed"] for r in results],
     }
 
 
 def _unbuilt(name: str, plant: str, point: dict[str, Any], reason: str,
              seeds: list[int]) -> dict[str, Any]:
     """The record of a point whose method could not be built: one error record, no task."""
-    failed = {"status": "error", "reason": reason, "outside": [], "steady": None, "worst": None,
-              "growth": None}
-    return _record(name, plant, point, [{"seed": s, **failed} for s in seeds])
+    return {"method": name, "plant": plant, **point, "status": "error", "reason": reason,
+            "outside": [], "score": None, "steady": None, "worst": None, "growth": None,
+            "growth_interval": None, "growth_undecided": False,
+            "detector": False, "false_alarm": None, "seeds": list(seeds)}
 
 
 def _check_options(seeds: object, runs: object, horizon: object, short: object,
@@ -485,7 +475,7 @@ def _many(pairs: list[tuple[str, str]], seeds: list[int], runs: int, horizon: in
     for name, plant, point, method, first in plan:
         if isinstance(method, Method):
             out[(name, plant)].append(_record(name, plant, point,
-                                              results[first: first + len(seeds)]))
+                                              results[first: first + len(seeds)], short))
         else:
             out[(name, plant)].append(_unbuilt(name, plant, point, method, seeds))
     return out
@@ -532,11 +522,13 @@ def validate(
     Returns
     -------
     list of dict
-        One record per point, in grid order: the point (:func:`grid`), ``status`` (``"ok"``, or
-        the worst of its seeds': ``"error"``, ``"n/a"``, ``"diverged"``) and ``reason``,
-        ``score`` (median steady-window network score over the seeds; None unless ok),
-        ``scores`` and ``diverged`` per seed, ``detector``, ``false_alarm`` (rate, low, high of
-        the pooled runs of every seed; None without a detector) and ``seeds`` (every seed's cell).
+        One record per point, in grid order: the point (:func:`grid`), and its seeds' runs
+        pooled (:func:`secest.arena.testseeds.pool`): ``status`` (``"ok"``, ``"diverged"``,
+        ``"n/a"``, ``"error"``), ``reason``, ``outside``, ``score`` (the pooled steady-window
+        network score; None unless ok), ``steady`` and ``worst`` (value, low, high), ``growth``
+        (the factor) and ``growth_interval`` (its 95 % bounds, a bounded point's),
+        ``detector``, ``false_alarm`` (rate, low, high of the pooled runs; None without a
+        detector) and ``seeds``.
 
     Raises
     ------
@@ -597,6 +589,17 @@ def _preferred(tied: list[dict[str, Any]]) -> dict[str, Any]:
     return printed[0] if printed else min(tied, key=lambda r: r["point"])
 
 
+def _least_growth(tied: list[dict[str, Any]]) -> dict[str, Any]:
+    """Among tied records: the least growth factor (one not finite counts as infinite;
+    Amendment 3), then :func:`_preferred`."""
+    def factor(r: dict[str, Any]) -> float:
+        g = r.get("growth")
+        return float("inf") if g is None else g
+
+    least = min(factor(r) for r in tied)
+    return _preferred([r for r in tied if factor(r) == least])
+
+
 def choose(records: list[dict[str, Any]], *, cap: float | None = None) -> dict[str, Any]:
     """The registered rule (``protocol.toml`` [tuning]) on one method's records on one plant.
 
@@ -630,8 +633,8 @@ def choose(records: list[dict[str, Any]], *, cap: float | None = None) -> dict[s
         best = min(r["score"] for r in admissible)
         tied = [r for r in admissible if r["score"] <= best * (1 + TIE)]
         pick = _preferred(tied)
-        rule = ("lowest median score" if len(tied) == 1 else
-                f"within {TIE:.0%} of the lowest median score: "
+        rule = ("lowest score" if len(tied) == 1 else
+                f"within {TIE:.0%} of the lowest score: "
                 + ("the printed point" if pick["printed"] else "the point listed first"))
     else:
         mark = NO_ADMISSIBLE
@@ -640,9 +643,9 @@ def choose(records: list[dict[str, Any]], *, cap: float | None = None) -> dict[s
         if bounded or rated:
             among = bounded or rated
             low = min(r["false_alarm"][2] for r in among)
-            pick = _preferred([r for r in among if r["false_alarm"][2] == low])
+            pick = _least_growth([r for r in among if r["false_alarm"][2] == low])
             rule = ("lowest false-alarm upper bound" + ("" if bounded else
-                    " (every point with a false-alarm rate diverged)"))
+                    " (every point with a false-alarm rate diverged; ties: the least growth)"))
         else:
             pick = next(r for r in records if r["printed"])
             rule = "no false-alarm bound (no detector, or none ran): the printed point"
