@@ -358,6 +358,7 @@ def test_committed_arena_covers_the_acceptance_matrix() -> None:
     for net, record in test["plants"].items():
         groups = list(record["cells"].items())
         groups += [(name, h["rows"]) for name, h in record.get("homes", {}).items()]
+        window = (record["settle"], record["horizon"] + 1 - record["settle"])
         for att, rows in groups:
             kinds = {(r["method"], r["row"]) for r in rows}
             for name in set(METHODS) - {"oracle"}:
@@ -365,8 +366,14 @@ def test_committed_arena_covers_the_acceptance_matrix() -> None:
             for r in rows:
                 if r["status"] == "ok":
                     assert r["steady"][1] <= r["steady"][0] <= r["steady"][2], r
+                    low, high = r["growth_interval"]
+                    assert low <= r["growth"] <= high, r
+                    if att in record["cells"]:  # the growth rule, on this plant's window
+                        assert not estimators.grows((r["growth"], low, high), *window), r
+                        assert r["growth_undecided"] == estimators.grows((r["growth"],) * 3, *window)
                 elif r["status"] == "diverged":
-                    assert r["steady"] is None and (r["growth"] is None or r["growth"] == ">1e6"
-                                                    or r["growth"] >= 4.0), r
+                    assert r["steady"] is None and r["reason"].startswith(
+                        ("its error grows", "it escaped", "the estimate is not finite")), r
+                    assert r["growth"] is None or r["growth"] == ">1e6" or r["growth"] > 0, r
                 else:
                     assert r["reason"].strip(), r
