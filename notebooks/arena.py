@@ -30,9 +30,9 @@
 # and the seed split were committed before any validation or test run, the tuned constants
 # (`figures/arena/tuned.json`) before the test seeds 201–208 ran (`figures/arena/test.json`
 # records both commits; the test stage refuses to run on a tuned file git has not committed
-# unmodified). One amendment of the divergence and applicability rules came **after** a first test
-# stage had been looked at; the validation and the test stage then ran again in full under it
-# (deviation A13 below, with the first stage's numbers in ERRATA.md). This notebook runs no matrix: it reads those two committed files and regenerates
+# unmodified). Two amendments of the divergence, applicability and tuning rules came **after** a
+# test stage had been looked at; each time the validation and the test stage ran again in full
+# (deviations A13 and A15 below, with the earlier stages' numbers in ERRATA.md). This notebook runs no matrix: it reads those two committed files and regenerates
 # every table, figure and finding from them (`make robustness NB=arena`, then `make arena-test`,
 # then `make figures NB=arena`).
 #
@@ -180,20 +180,29 @@ display(Markdown("\n".join(
 # $[0,5\tau)$, the steady window $[5\tau,K]$, and the horizon is $K=20\tau$ (rounded up to ten
 # steps): each plant runs as long as it needs. Findings cite the steady window.
 #
-# **Divergence by growth, or by escape.** A cell is `diverged` when its mean $q$ over the last
-# quarter of the steady window exceeds 2 times that of its second quarter (its RMS error grew by
-# 41 % over half the window; an error growing linearly in time gives 2.9), when an estimate is not
-# finite, or when any one run *escapes*: its RMS error on the steady window exceeds $10^4$ times the
-# oracle's (Amendment 2 of the protocol; the first stage's limit was 4 and had no escape rule: a
-# run that blew up and then froze, its detector rejecting every measurement afterwards, did not
-# grow in the pooled error, and the cell read $1.6\cdot10^{29}$ as a score). Escape is judged per
-# run and a cell is diverged when any run escapes, so a method whose runs escape with a small
-# probability $p$ is caught with probability $1-(1-p)^R$: 40 runs per seed in the tuning, 320 in the
-# test stage. That is a limitation of the rule, declared, not a property of the methods; in this test
-# stage it fires on no row (the $1.6\cdot10^{29}$ cell went away with the tuning's corrected
-# fallback, which no longer picks a point that diverged). A diverged row shows the growth factor and
-# the reason, never a score (the factor to 2 significant digits, above $10^6$ written `>1e6`:
-# amplified round-off differs between machines).
+# **Divergence by growth, or by escape.** For each node $i$, with $m_i$ the mean $q$ over the runs
+# on the second and on the last quarter of the steady window, the growth factor is
+# $g_i=m_i^{\text{late}}/m_i^{\text{mid}}$ and the growth exponent $p_i=\ln g_i/\ln(\bar k_{\text{late}}/
+# \bar k_{\text{mid}})$, $\bar k$ the mean step of each quarter: a mean squared error growing as $k^p$
+# gives $p$ (to 1 % for $0<p\le 2$, exactly for $p=1$) on any horizon. Each $p_i$ has an
+# interval over the runs, the $N$ of them holding together at 95 % (delta method for the log of a
+# ratio of means, Student's $t$ with $R-1$ degrees of freedom at $1-0.025/N$: a few runs give a wide
+# interval, and a network of many nodes is read as growing no more often than a centralised filter,
+# whose nodes are one). A cell is `diverged` when the lower bound
+# of some node's $p_i$ exceeds $0.05$ (Amendment 3 of the protocol: a random walk, $p=1$, that
+# carries a twentieth of a node's mean squared error at mid-window reaches it), when an estimate is
+# not finite, or when it *escapes*: its steady-window RMS error over the pooled runs exceeds $10^4$
+# times the oracle's (Amendment 2 judged escape per run, so its power grew with the run count;
+# Amendment 3 judges the pooled runs). Before Amendment 3 the rule was a limit of 4, then 2, on the
+# network's factor: it passed an error growing as $k$ (factor 1.71 on this window), hid a node
+# that grows behind the network mean, and was judged per validation seed in the tuning but on the
+# pooled runs in the test, so that one point could be diverged in one and bounded in the other. The
+# tuning now pools its seeds by the test stage's own function. A diverged row shows the growth
+# factor (of the node whose lower bound is the largest) and the reason, never a score (the factor
+# to 2 significant digits, above $10^6$ written `>1e6`: amplified round-off differs between
+# machines). A scored row whose factor alone is above the limit (its interval is not: a few runs
+# grow, the others do not) is marked ‡ *growth undecided*; a growth slower than $k^{0.05}$ (e.g.
+# logarithmic) is not seen by this window, a declared limit.
 #
 # **One attack for all.** Sensor attacks are in units of the attacked sensor's noise; a falsified
 # message shifts the state estimate a node sends by `magnitude` oracle steady-state standard
@@ -354,7 +363,8 @@ for net in PLANTS:
 # the transient score (unit-free, oracle = 1, 95 % bootstrap intervals over the pooled runs), the
 # detection and false-alarm rates (%, union of Wilson and a bootstrap over runs; – where the method
 # has no detector, or the scenario no attacked sample), and the conditions of the method's theory
-# that fail there (scored all the same). `diverged` rows give the growth factor, never a score.
+# that fail there (scored all the same). `diverged` rows give the growth factor, never a score; ‡
+# marks a scored row whose growth is undecided (its factor above the limit, its interval not).
 
 
 # %%
@@ -373,7 +383,8 @@ def as_score(row: dict) -> Score:
         reason = f"{reason} (growth {growth_text(row)})"
     growth = row["growth"] if isinstance(row["growth"], float) else None
     return Score(row["status"], reason, tuple(row["outside"]), triple("steady"), triple("worst"),
-                 triple("transient"), growth, triple("detection"), triple("false_alarm"))
+                 triple("transient"), growth, triple("detection"), triple("false_alarm"),
+                 notes={"growth_undecided": row.get("growth_undecided", False)})
 
 
 CELLS = {kind: {} for kind in KINDS}
@@ -390,7 +401,8 @@ for net in PLANTS:
 def row_words(s: Score) -> list[str]:
     t = matrix.cell_text(s)
     if s.status == "ok":
-        return [t["steady"], t["worst"], t["transient"], t["detection"], t["false_alarm"]]
+        mark = " ‡" if s.notes.get("growth_undecided") else ""
+        return [t["steady"] + mark, t["worst"], t["transient"], t["detection"], t["false_alarm"]]
     return [f"**{md(t['steady'])}**", "", "", "", ""]
 
 
@@ -516,7 +528,7 @@ for name, s in live_cells.items():
 # | X5 | applicability: every paper method runs (is not N/A) in every cell; the cells outside each method's theory are counted beside it (a restatement of the one applicability rule on these cards) |
 # | X6 | every method with a detector, told nothing about the attack, keeps its false-alarm rate's upper bound at most 1 % in every cell where it runs (the told ones beside) |
 # | X7 | every method with a detector, told nothing about the attack, sees every sensor attack on every plant where the attack degrades `kf`: lower bound of its detection rate $\ge50$ % (the told ones beside) |
-# | X8 | no method diverges (growth rule, a run that escaped, or a non-finite estimate) in any cell |
+# | X8 | no method diverges (growth rule, escape, or a non-finite estimate) in any cell |
 
 # %%
 FACTOR, FA_MAX, DET_MIN = 2.0, 0.01, 0.5
@@ -770,10 +782,10 @@ claims["X7"] = decided(
 claims["X8"] = decided(
     x8, "diverged", threshold=0,
     paper="(ours) no method diverges on the shared scenarios",
-    check="number of cells that are diverged: an estimate not finite, the mean squared "
-    "normalised error of the last quarter of the steady window above 2 times that of its second "
-    "quarter, on the pooled runs of the test seeds, or a run whose steady-window RMS error exceeds "
-    "1e4 times the oracle's (protocol.toml, Amendment 2); holds when 0." + RULE)
+    check="number of cells that are diverged: an estimate not finite, a node whose mean squared "
+    "normalised error grows as k^p over the steady window with the lower bound of p (95 % "
+    "together over the nodes) above 0.05 (on the pooled runs of the test seeds), or a steady-window RMS error over the pooled runs "
+    "above 1e4 times the oracle's (protocol.toml, Amendments 2 and 3); holds when 0." + RULE)
 
 written = json.loads(results.write_claims(results_path, claims).read_text())
 for cid, c in written.items():
@@ -861,6 +873,7 @@ display(Markdown("\n".join(
 # | A12 | seeds | the eight test seeds 201–208 `protocol.toml` registers, 40 runs each (320 pooled), their runs pooled (one $\Sigma_o$, one bootstrap, one growth rule over all of them); the first test stage ran only 201–204 (a declared deviation, for CPU; ERRATA.md, arena); the cards' seed 2026 only in the live cell | a finding does not hinge on one draw of the runs; the validation seeds 101–104 only chose the tuned constants |
 # | A13 | Amendment 2 of the protocol, and of the findings | made **after** the first test stage (`figures/arena/test.json` at commit 367ae54, tuned constants a141056) was looked at: a run that escapes (RMS error above $10^4$ times the oracle's) makes its cell diverged; the growth factor is 2, not 4; the tuning's fallback never picks a diverged point unless all diverged; `kcf`'s $\epsilon\,d_{\max}<1$ is a condition, not a requirement; every baseline declares its attack model (marks one rule for all); ding2020's overflowing bounds give non-finite estimates (diverged), not an error; X4, X6 and X7 decide on the methods told nothing about the attack and (X4) touched by it. Then the validation re-ran in full and this test stage on all eight seeds | defects of the first stage a hostile fairness review found: a ratio of $1.6\cdot10^{29}$ scored, an error growing linearly read as a score, a tuned point that had diverged, an N/A that was a stability condition, marks on the papers only, a divergence reported as an error, and findings decided by methods told the attack or immune to it by construction; ERRATA.md gives the first stage's results beside these |
 # | A14 | replacement | the replaced value is uniform in ±`magnitude` noise sd around 0, as li2025's attack model replaces the measurement by a bounded signal; on the target, whose position grows to thousands of noise sd over the horizon, a replaced sample is therefore a gross error, while on the three-inertia and the tank (outputs of the order of the range) it is not | the attack is one card in noise units, but its strength relative to the signal differs by plant: the replacement column on `target20` measures that plant's output scale as much as the methods (a replacement around the true output would be an additive attack, outside li2025's model) |
+# | A15 | Amendment 3 of the protocol | made **after** the second test stage (`figures/arena/test.json` at commit 76e690b, tuned constants d417302) was looked at: the tuning pools each point's validation seeds by the test stage's own function (one $\Sigma_o$, one growth rule, one escape rule; the objective the pooled score, not the median of the seeds'); divergence by the growth exponent of every node with a 95 % interval over the runs, a cell diverged when some node's lower bound exceeds $0.05$ (before: the network's factor above 2); escape on the pooled runs (before: any one run); rule 4's ties to the least growth. Then the validation re-ran in full and this test stage on all eight seeds | defects of the second stage a second hostile review found: one point diverged in the tuning (judged per seed, 40 runs) and bounded in the test (pooled, 320 runs); a factor limit that passes an error growing as $k$ (a random walk) and hides one node's growth behind the network mean; an escape rule whose power grew with the run count; a fallback tie decided by the listing order. ERRATA.md gives the second stage's results beside these |
 
 # %%
 manifest_path = run.finish(extra={"tuned": TEST["tuned"], "protocol": TEST["protocol"]})
