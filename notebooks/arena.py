@@ -187,8 +187,10 @@ display(Markdown("\n".join(
 # gives $p$ (to 1 % for $0<p\le 2$, exactly for $p=1$) on any horizon. Each $p_i$ has an
 # interval over the runs, the $N$ of them holding together at 95 % (delta method for the log of a
 # ratio of means, Student's $t$ with $R-1$ degrees of freedom at $1-0.025/N$: a few runs give a wide
-# interval, and a network of many nodes is read as growing no more often than a centralised filter,
-# whose nodes are one). A cell is `diverged` when the lower bound
+# interval, and a network's $N$ tests together keep a 5 % error. $N$ is the plant's, the same for
+# every method on it; a centralised filter's $N$ identical columns get the same, wider, quantile,
+# which makes the rule more lenient for it than one test would be: no scored `kf` or `chi2-kf` row
+# changes with $N=1$, a third review found). A cell is `diverged` when the lower bound
 # of some node's $p_i$ exceeds $0.05$ (Amendment 3 of the protocol: a random walk, $p=1$, that
 # carries a twentieth of a node's mean squared error at mid-window reaches it), when an estimate is
 # not finite, or when it *escapes*: its steady-window RMS error over the pooled runs exceeds $10^4$

@@ -761,9 +761,10 @@ def growth_of_runs(mid: NDArray[np.float64],
     ``late_r / mean(late) - mid_r / mean(mid)`` over the runs (the delta method for a log ratio
     of means) and ``t`` Student's ``1 - 0.025 / N`` quantile with ``runs - 1`` degrees of
     freedom: a few runs give a wide interval, not an overconfident one, and the ``N`` intervals
-    hold together at 95 % (Bonferroni), so that a network of many nodes is not more often read as
-    growing than a centralised filter (whose nodes are one). A network is as bounded as its worst
-    node: the node reported is the one whose lower bound is the largest (the first such).
+    hold together at 95 % (Bonferroni). ``N`` is the plant's, the same for every method on it (a
+    centralised filter's ``N`` identical columns get the same, wider, quantile: more lenient for it
+    than one test). A network is as bounded as its worst node: the node reported is the one whose
+    lower bound is the largest (the first such).
 
     Parameters
     ----------
