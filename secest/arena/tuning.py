@@ -391,12 +391,8 @@ def _build(name: str, point: dict[str, Any]) -> Method | str:
 
 def _false_alarms(parts: list[dict[str, Any]]) -> list[float] | None:
     """The false-alarm rate (rate, low, high) of the pooled runs that raised alarms, or None."""
-    counted = [p["alarms"] for p in parts if "alarms" in p]
-    if not counted:
-        return None
-    hits = np.concatenate([c["hits_clean"] for c in counted])
-    total = np.concatenate([c["clean"] for c in counted])
-    return [float(v) for v in estimators.rate_of_counts(hits, total)]
+    counted = [p for p in parts if "alarms" in p]  # the test stage's rates, on these parts
+    return None if not counted else [float(v) for v in testseeds._rates(counted)["false_alarm"]]
 
 
 def _record(name: str, plant: str, point: dict[str, Any], results: list[dict[str, Any]],
