@@ -264,6 +264,7 @@ def test_the_growth_exponent_of_a_power_law_is_its_exponent(p: float) -> None:
     assert estimators.growth_exponent(1.0, 103, 308) == 0.0
     assert estimators.growth_exponent(float("inf"), 103, 308) == float("inf")
     assert estimators.grows((2.0, 1.04, 3.0), 103, 308) and not estimators.grows((2.0, 1.02, 3.0), 103, 308)
+    assert not estimators.grows((9.0, 9.0, 9.0), 1, 3)  # no two distinct quarters: not ruled
     # the interval is over the runs: runs alike give a point, one run apart a spread; the node
     # that grows most surely is the one reported
     assert estimators.growth_of_runs(np.ones(5), np.full(5, 2.0)) == (2.0, 2.0, 2.0)

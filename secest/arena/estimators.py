@@ -62,13 +62,13 @@ __all__ = [
     "check_names",
     "check_trial",
     "data_free_moment",
+    "divergence",
     "escape_reason",
     "escaped",
     "evaluate",
     "growth",
     "growth_exponent",
     "growth_of_runs",
-    "growth_reason",
     "grows",
     "no_attack_conditions",
     "normalised_errors",
@@ -835,6 +835,8 @@ def growth_exponent(factor: float, settle: int, length: int) -> float:
 def grows(factor: tuple[float, float, float], settle: int, length: int) -> bool:
     """The growth rule: a node's growth exponent's lower bound above ``GROWTH_EXPONENT``.
 
+    A window of fewer than 4 steps has no two distinct quarters: no growth is ruled there.
+
     A rule on the interval, as every rule on a rate (``protocol.toml`` [detection]): what it
     tests, a mean squared error growing faster than ``k^GROWTH_EXPONENT``, does not change with
     the run count; more runs only narrow the interval (Amendment 3).
@@ -846,14 +848,31 @@ def grows(factor: tuple[float, float, float], settle: int, length: int) -> bool:
     settle, length : int
         The steady window (:func:`growth_exponent`).
     """
-    return not growth_exponent(factor[1], settle, length) <= GROWTH_EXPONENT
+    return length >= 4 and not growth_exponent(factor[1], settle, length) <= GROWTH_EXPONENT
 
 
-def growth_reason() -> str:
-    """A diverged cell's reason under the growth rule (:func:`grows`); its factor is reported
-    beside it (round-off amplified by a divergence decides its digits, so the reason holds none)."""
-    return (f"its error grows: some node's mean squared error grows as k^p with p above "
-            f"{GROWTH_EXPONENT:g} (lower bound, 95 % over the nodes)")
+def divergence(factor: tuple[float, float, float], per_run: NDArray[np.float64], settle: int,
+               length: int) -> str:
+    """Why a scored cell is diverged by the rules of ``protocol.toml`` [divergence], or ``""``.
+
+    The growth rule (:func:`grows`) first, then escape (:func:`escaped`); one place for both
+    :func:`score` and the test stage's pooled rows. A non-finite estimate is decided before.
+    The growth reason holds no number: its factor is reported beside it (round-off amplified by
+    a divergence decides its digits).
+
+    Parameters
+    ----------
+    factor : (value, low, high)
+        :func:`growth`'s factor and interval.
+    per_run : (runs,) or (runs, N) array
+        Mean ``q`` over the steady window per run (and node), as :func:`escaped` takes it.
+    settle, length : int
+        The steady window (:func:`growth_exponent`).
+    """
+    if grows(factor, settle, length):
+        return (f"its error grows: some node's mean squared error grows as k^p with p above "
+                f"{GROWTH_EXPONENT:g} (lower bound, 95 % over the nodes)")
+    return escape_reason(per_run) if escaped(per_run) else ""
 
 
 def score(trial: Trial, estimate: Estimate, oracle: Estimate, *, short: bool = False) -> Score:
@@ -888,12 +907,9 @@ def score(trial: Trial, estimate: Estimate, oracle: Estimate, *, short: bool = F
     x, xo = trial.x, oracle.xhat[:, :, 0]
     q_steady = normalised_errors(estimate.xhat[:, settle:], x[:, settle:], xo[:, settle:])
     g = growth(q_steady)
-    length = q_steady.shape[1]
-    if not short and grows(g, settle, length):  # a short horizon has no steady window to grow in
-        return Score("diverged", growth_reason(), growth=g[0])
-    per_run = q_steady.mean(axis=1)
-    if not short and escaped(per_run):
-        return Score("diverged", escape_reason(per_run), growth=g[0])
+    why = "" if short else divergence(g, q_steady.mean(axis=1), settle, q_steady.shape[1])
+    if why:  # a short horizon has no steady window to grow in: reported, not ruled
+        return Score("diverged", why, growth=g[0])
     steady, worst = _scores(q_steady)
     transient = _scores(normalised_errors(estimate.xhat[:, :settle], x[:, :settle], xo[:, :settle]))[0]
     result = Score("ok", steady=steady, steady_worst=worst, transient=transient, growth=g[0],

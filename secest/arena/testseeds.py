@@ -405,9 +405,8 @@ def pool(oracle: list[dict[str, Any]], parts: list[dict[str, Any]], seeds: list[
         factor) and ``growth_interval`` (its 95 % bounds; the growth rule reads the lower),
         ``growth_undecided`` (True when the factor itself is above the rule's limit and only its
         interval keeps the row scored: a few runs that grow, a mark),
-        ``detection`` and ``false_alarm`` (or None); a diverged row (growth rule:
-        :func:`~secest.arena.estimators.grows`, or escaped: :func:`~secest.arena.estimators.escaped`)
-        carries its growth factor, no score.
+        ``detection`` and ``false_alarm`` (or None); a diverged row (growth or
+        escape: :func:`~secest.arena.estimators.divergence`) carries its growth factor, no score.
     """
     if not (len(oracle) == len(parts) == len(seeds)) or not parts:
         raise ValidationError(f"Incompatible lengths of oracle, parts and seeds: expected one "
@@ -424,13 +423,10 @@ def pool(oracle: list[dict[str, Any]], parts: list[dict[str, Any]], seeds: list[
     W = _metric(oracle, "steady")
     g = _growth(parts, W)
     settle, length = parts[0]["steps"]
-    if not short and estimators.grows(g, settle, length):
-        return empty | {"status": "diverged", "growth": g[0],
-                        "reason": estimators.growth_reason()}
     per_run = np.concatenate([_per_run(p["steady"], W, length) for p in parts])
-    if not short and estimators.escaped(per_run):
-        return empty | {"status": "diverged", "growth": g[0],
-                        "reason": estimators.escape_reason(per_run)}
+    why = "" if short else estimators.divergence(g, per_run, settle, length)
+    if why:
+        return empty | {"status": "diverged", "growth": g[0], "reason": why}
     steady, worst = estimators.scores_of_runs(per_run)
     Wt = _metric(oracle, "transient")
     transient = estimators.scores_of_runs(np.concatenate(

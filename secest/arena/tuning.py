@@ -413,7 +413,7 @@ def _record(name: str, plant: str, point: dict[str, Any], results: list[dict[str
         "outside": row["outside"],
         "score": row["steady"][0] if row["status"] == "ok" else None,
         "steady": _floats(row["steady"]), "worst": _floats(row["worst"]),
-        "growth": None if row["growth"] is None else _finite(row["growth"]),
+        "growth": _finite(row["growth"]),
         "growth_interval": row["growth_interval"], "growth_undecided": row["growth_undecided"],
         "detector": false_alarm is not None, "false_alarm": false_alarm,
         "seeds": [r["seed"] for r in results],
