@@ -30,7 +30,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -54,6 +54,7 @@ __all__ = [
     "EXTRAS",
     "GROWTH_EXPONENT",
     "METHODS",
+    "NodeGrowth",
     "RESERVED",
     "SETTLE_TAU",
     "Estimate",
@@ -68,6 +69,8 @@ __all__ = [
     "evaluate",
     "growth",
     "growth_exponent",
+    "growth_nodes",
+    "growth_not_excluded",
     "growth_of_runs",
     "grows",
     "no_attack_conditions",
@@ -721,6 +724,14 @@ def scores_of_runs(
     return (triple(nodes.mean(), nodes_b.mean(axis=1)), triple(nodes.max(), nodes_b.max(axis=1)))
 
 
+class NodeGrowth(NamedTuple):
+    """Every node's growth factor (:func:`growth_nodes`) and its 95 % bounds, (N,) arrays each."""
+
+    value: NDArray[np.float64]
+    low: NDArray[np.float64]
+    high: NDArray[np.float64]
+
+
 def quarters(length: int) -> tuple[slice, slice]:
     """The second and the last quarter of a window of ``length`` steps (:func:`growth`)."""
     return slice(length // 4, max(length // 2, length // 4 + 1)), slice((3 * length) // 4, None)
@@ -751,9 +762,8 @@ def growth(q: NDArray[np.float64]) -> tuple[float, float, float]:
     return growth_of_runs(q[:, mid].mean(axis=1), q[:, late].mean(axis=1))
 
 
-def growth_of_runs(mid: NDArray[np.float64],
-                   late: NDArray[np.float64]) -> tuple[float, float, float]:
-    """The growth factor of the node that grows most surely, with its interval over the runs.
+def growth_nodes(mid: NDArray[np.float64], late: NDArray[np.float64]) -> NodeGrowth:
+    """Every node's growth factor with its interval over the runs.
 
     Per node ``i`` the factor is ``g_i = mean over runs of late / mean over runs of mid`` (each
     run's quarters have the same number of steps). Its interval treats the runs as independent
@@ -763,19 +773,19 @@ def growth_of_runs(mid: NDArray[np.float64],
     freedom: a few runs give a wide interval, not an overconfident one, and the ``N`` intervals
     hold together at 95 % (Bonferroni). ``N`` is the plant's, the same for every method on it (a
     centralised filter's ``N`` identical columns get the same, wider, quantile: more lenient for it
-    than one test). A network is as bounded as its worst node: the node reported is the one whose
-    lower bound is the largest (the first such).
+    than one test).
 
     Parameters
     ----------
     mid, late : (runs,) or (runs, N) arrays
         Each run's (and node's) mean ``q`` over the steady window's second and last quarters
-        (one run gives the interval ``(0, inf)``).
+        (one run gives every node the interval ``(0, inf)``).
 
     Returns
     -------
-    (value, low, high)
-        inf where a node's mean over the second quarter is 0 (its interval too).
+    NodeGrowth
+        ``value``, ``low``, ``high``: (N,) arrays; inf where a node's mean over the second quarter
+        is 0 (its interval too).
     """
     mid, late = np.asarray(mid, dtype=float), np.asarray(late, dtype=float)
     if mid.ndim not in (1, 2) or mid.shape != late.shape or mid.size == 0:
@@ -792,8 +802,29 @@ def growth_of_runs(mid: NDArray[np.float64],
               else np.full(nodes, np.inf))  # one run decides no growth: (0, inf)
     low = np.where(np.isfinite(value), value * np.exp(-spread), np.inf)
     high = np.where(np.isfinite(value), value * np.exp(spread), np.inf)
-    worst = int(np.argmax(low))
-    return float(value[worst]), float(low[worst]), float(high[worst])
+    return NodeGrowth(value, low, high)
+
+
+def growth_of_runs(mid: NDArray[np.float64],
+                   late: NDArray[np.float64]) -> tuple[float, float, float]:
+    """The growth factor of the node that grows most surely, with its interval over the runs.
+
+    :func:`growth_nodes`' factor and interval of the node whose lower bound is the largest (the
+    first such): a network is as bounded as its worst node, and the growth rule
+    (:func:`grows`) reads that bound.
+
+    Parameters
+    ----------
+    mid, late : (runs,) or (runs, N) arrays
+        As :func:`growth_nodes` takes them.
+
+    Returns
+    -------
+    (value, low, high)
+    """
+    g = growth_nodes(mid, late)
+    worst = int(np.argmax(g.low))
+    return float(g.value[worst]), float(g.low[worst]), float(g.high[worst])
 
 
 def growth_exponent(factor: float, settle: int, length: int) -> float:
@@ -849,6 +880,24 @@ def grows(factor: tuple[float, float, float], settle: int, length: int) -> bool:
         The steady window (:func:`growth_exponent`).
     """
     return length >= 4 and not growth_exponent(factor[1], settle, length) <= GROWTH_EXPONENT
+
+
+def growth_not_excluded(upper: float, settle: int, length: int) -> bool:
+    """The mark ``growth_undecided``: some node's growth exponent's upper bound above the limit.
+
+    Read on a row that :func:`grows` did not rule diverged: its runs neither show a node growing
+    faster than ``k^GROWTH_EXPONENT`` nor exclude it (Amendment 4; a row is *bounded* only when
+    every node's upper bound is at most the limit). What the runs resolve is each row's interval,
+    reported beside it.
+
+    Parameters
+    ----------
+    upper : float
+        The largest upper bound of the nodes' growth factors (:func:`growth_nodes`).
+    settle, length : int
+        The steady window (:func:`growth_exponent`); a window of fewer than 4 steps rules nothing.
+    """
+    return length >= 4 and not growth_exponent(upper, settle, length) <= GROWTH_EXPONENT
 
 
 def divergence(factor: tuple[float, float, float], per_run: NDArray[np.float64], settle: int,
