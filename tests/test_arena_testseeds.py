@@ -179,9 +179,9 @@ def test_a_diverged_row_reports_its_growth_and_no_score() -> None:
     assert low <= pooled["growth"] <= min(high, pooled["growth_largest"]) <= pooled["growth_upper"]
     for r in rows:
         assert r["status"] == "diverged" and r["steady"] is None
-        assert r["growth"] == float(f"{pooled['growth']:.2g}")
-        assert r["growth_interval"] == [float(f"{low:.2g}"), float(f"{high:.2g}")]
-        assert r["growth_upper"] == float(f"{pooled['growth_upper']:.2g}")
+        assert r["growth"] == float(f"{pooled['growth']:.4g}")
+        assert r["growth_interval"] == [float(f"{low:.4g}"), float(f"{high:.4g}")]
+        assert r["growth_upper"] == float(f"{pooled['growth_upper']:.4g}")
     huge = testseeds._written_growth(pooled | {"growth": 7.2e21})
     assert huge["growth"] == ">1e6"
     assert testseeds._written_growth(pooled | {"status": "ok", "growth": 1.23456})["growth"] == 1.23456

@@ -18,7 +18,7 @@ gives on that trial; with several, what it gives on their runs concatenated into
 The order is enforced here: :func:`committed` refuses a tuned file that git does not track or
 that differs from its committed version, and the output records its commit and SHA-256, and the
 commit of ``protocol.toml``. The output (``figures/arena/test.json``) holds deterministic content
-only; a diverged row's growth numbers are rounded to 2 significant digits (capped at
+only; a diverged row's growth numbers are rounded to 4 significant digits (capped at
 :data:`GROWTH_CAP`), since amplified round-off differs between machines.
 """
 
@@ -478,13 +478,14 @@ def data_free_score(sc: Scenario, oracle: list[dict[str, Any]]) -> float | None:
 
 
 def _written_growth(row: dict[str, Any]) -> dict[str, Any]:
-    """A diverged row's growth numbers to 2 significant digits, ``">1e6"`` above
-    :data:`GROWTH_CAP` (amplified round-off decides their later digits)."""
+    """A diverged row's growth numbers to 4 significant digits, ``">1e6"`` above
+    :data:`GROWTH_CAP` (amplified round-off decides the digits of a blow-up's; 4 digits keep a
+    lower bound near the limit factor, about 1.027, on its side of it)."""
     if row["status"] != "diverged" or row["growth"] is None:
         return row
 
     def written(g: float) -> float | str:
-        return f">{GROWTH_CAP:.0e}".replace("e+0", "e") if not g <= GROWTH_CAP else float(f"{g:.2g}")
+        return f">{GROWTH_CAP:.0e}".replace("e+0", "e") if not g <= GROWTH_CAP else float(f"{g:.4g}")
 
     return row | {key: written(row[key]) for key in ("growth", "growth_upper", "growth_largest")} | {
         "growth_interval": [written(g) for g in row["growth_interval"]]}
