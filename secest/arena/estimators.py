@@ -63,6 +63,7 @@ __all__ = [
     "check_names",
     "check_trial",
     "data_free_moment",
+    "decisive",
     "divergence",
     "escape_reason",
     "escaped",
@@ -514,6 +515,10 @@ class Score:
         Mean ``q`` over the last quarter of the steady window over that of its second quarter
         (:func:`growth`); about 1 in a steady state; the divergence rule reads it as an
         exponent (:func:`growth_exponent`).
+    growth_undecided : bool
+        A scored cell some of whose nodes' growth exponent has an upper bound above
+        :data:`GROWTH_EXPONENT` (:func:`growth_not_excluded`): its runs neither show nor exclude
+        the growth; a mark (``‡`` in the arena's tables).
     detection, false_alarm : (value, low, high) floats, optional
         Alarm rates on the attacked / attack-free (run, step, node) samples of the steady
         window (:func:`rate`); None without alarms (or without an attacked sample).
@@ -528,6 +533,7 @@ class Score:
     steady_worst: tuple[float, float, float] | None = None
     transient: tuple[float, float, float] | None = None
     growth: float | None = None
+    growth_undecided: bool = False
     detection: tuple[float, float, float] | None = None
     false_alarm: tuple[float, float, float] | None = None
     notes: dict[str, Any] = field(default_factory=dict)
@@ -758,8 +764,13 @@ def growth(q: NDArray[np.float64]) -> tuple[float, float, float]:
                               f"{getattr(q, 'shape', type(q).__name__)}")
     if not np.all(np.isfinite(q) & (q >= 0)):
         raise ValidationError("q must hold finite non-negative squared errors")
+    return decisive(_growth_of_nodes(q))
+
+
+def _growth_of_nodes(q: NDArray[np.float64]) -> NodeGrowth:
+    """:func:`growth_nodes` of each run's means over the second and the last quarter of ``q``."""
     mid, late = quarters(q.shape[1])
-    return growth_of_runs(q[:, mid].mean(axis=1), q[:, late].mean(axis=1))
+    return growth_nodes(q[:, mid].mean(axis=1), q[:, late].mean(axis=1))
 
 
 def growth_nodes(mid: NDArray[np.float64], late: NDArray[np.float64]) -> NodeGrowth:
@@ -773,7 +784,7 @@ def growth_nodes(mid: NDArray[np.float64], late: NDArray[np.float64]) -> NodeGro
     freedom: a few runs give a wide interval, not an overconfident one, and the ``N`` intervals
     hold together at 95 % (Bonferroni). ``N`` is the plant's, the same for every method on it (a
     centralised filter's ``N`` identical columns get the same, wider, quantile: more lenient for it
-    than one test).
+    than one test in the growth rule, harsher in the mark :func:`growth_not_excluded`).
 
     Parameters
     ----------
@@ -822,9 +833,14 @@ def growth_of_runs(mid: NDArray[np.float64],
     -------
     (value, low, high)
     """
-    g = growth_nodes(mid, late)
-    worst = int(np.argmax(g.low))
-    return float(g.value[worst]), float(g.low[worst]), float(g.high[worst])
+    return decisive(growth_nodes(mid, late))
+
+
+def decisive(nodes: NodeGrowth) -> tuple[float, float, float]:
+    """``(value, low, high)`` of the node whose lower bound is the largest (the first such): the
+    node the growth rule (:func:`grows`) reads."""
+    worst = int(np.argmax(nodes.low))
+    return float(nodes.value[worst]), float(nodes.low[worst]), float(nodes.high[worst])
 
 
 def growth_exponent(factor: float, settle: int, length: int) -> float:
@@ -955,14 +971,16 @@ def score(trial: Trial, estimate: Estimate, oracle: Estimate, *, short: bool = F
         return Score("diverged", "the estimate is not finite in some run")
     x, xo = trial.x, oracle.xhat[:, :, 0]
     q_steady = normalised_errors(estimate.xhat[:, settle:], x[:, settle:], xo[:, settle:])
-    g = growth(q_steady)
-    why = "" if short else divergence(g, q_steady.mean(axis=1), settle, q_steady.shape[1])
+    nodes = _growth_of_nodes(q_steady)
+    g, length = decisive(nodes), q_steady.shape[1]
+    why = "" if short else divergence(g, q_steady.mean(axis=1), settle, length)
     if why:  # a short horizon has no steady window to grow in: reported, not ruled
         return Score("diverged", why, growth=g[0])
     steady, worst = _scores(q_steady)
     transient = _scores(normalised_errors(estimate.xhat[:, :settle], x[:, :settle], xo[:, :settle]))[0]
+    undecided = not short and growth_not_excluded(float(nodes.high.max()), settle, length)
     result = Score("ok", steady=steady, steady_worst=worst, transient=transient, growth=g[0],
-                   notes=dict(estimate.notes))
+                   growth_undecided=undecided, notes=dict(estimate.notes))
     if estimate.alarms is not None:
         attacked = trial.attacked[:, settle:]
         alarms = estimate.alarms[:, settle:]

@@ -360,8 +360,7 @@ def _growth_fields(nodes: estimators.NodeGrowth) -> tuple[tuple[float, float, fl
     ``growth_undecided`` reads it); ``growth_largest``: the largest factor of any node (rule 4's
     ties read it).
     """
-    worst = int(np.argmax(nodes.low))
-    g = (float(nodes.value[worst]), float(nodes.low[worst]), float(nodes.high[worst]))
+    g = estimators.decisive(nodes)
     return g, {"growth": g[0], "growth_interval": [g[1], g[2]],
                "growth_upper": float(nodes.high.max()), "growth_largest": float(nodes.value.max())}
 

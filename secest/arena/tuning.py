@@ -16,8 +16,8 @@ Per method and plant (network card), independently (issue #28):
    ``false_alarm_cap`` are excluded (so are points that could not run: ``n/a`` or ``error``);
    the lowest pooled score wins; ties within 1 % go to the printed point, then to the point
    listed first; with no admissible point, the point of lowest false-alarm upper bound among
-   those that did not diverge (among all if every one did; ties: the least growth factor of any
-   node) is chosen and marked ``"no admissible point"`` (a method without a detector: the
+   those that did not diverge (among all if every one did; ties: the least largest growth factor
+   over the nodes) is chosen and marked ``"no admissible point"`` (a method without a detector: the
    printed point).
 
 The engine sees the validation seeds only: a test seed is refused (:func:`refuse_test_seeds`),
