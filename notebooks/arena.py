@@ -28,11 +28,14 @@
 # lowest attack-free steady score among the points that do not diverge and, for a method with a
 # detector, keep the upper 95 % bound of their false alarms at most 1 %). The rule, the search sets
 # and the seed split were committed before any validation or test run, the tuned constants
-# (`figures/arena/tuned.json`) before the test seeds 201–208 ran (`figures/arena/test.json`
+# (`figures/arena/tuned.json`) before the test seeds 301–308 ran (`figures/arena/test.json`
 # records both commits; the test stage refuses to run on a tuned file git has not committed
-# unmodified). Two amendments of the divergence, applicability and tuning rules came **after** a
-# test stage had been looked at; each time the validation and the test stage ran again in full
-# (deviations A13 and A15 below, with the earlier stages' numbers in ERRATA.md). This notebook runs no matrix: it reads those two committed files and regenerates
+# unmodified, or made under another `protocol.toml`). Three amendments of the divergence,
+# applicability and tuning rules came **after** a test stage had been looked at; each time the
+# validation and the test stage ran again in full (deviations A13, A15 and A16 below, with the
+# earlier stages' numbers in ERRATA.md). The last one also retired the test seeds 201–208, seen
+# under three versions of the rules: the rules in force met the seeds 301–308 once, in this stage.
+# This notebook runs no matrix: it reads those two committed files and regenerates
 # every table, figure and finding from them (`make robustness NB=arena`, then `make arena-test`,
 # then `make figures NB=arena`).
 #
@@ -200,11 +203,18 @@ display(Markdown("\n".join(
 # that grows behind the network mean, and was judged per validation seed in the tuning but on the
 # pooled runs in the test, so that one point could be diverged in one and bounded in the other. The
 # tuning now pools its seeds by the test stage's own function. A diverged row shows the growth
-# factor (of the node whose lower bound is the largest) and the reason, never a score (the factor
-# to 2 significant digits, above $10^6$ written `>1e6`: amplified round-off differs between
-# machines). A scored row whose factor alone is above the limit (its interval is not: a few runs
-# grow, the others do not) is marked ‡ *growth undecided*; a growth slower than $k^{0.05}$ (e.g.
-# logarithmic) is not seen by this window, a declared limit.
+# factor (of the node whose lower bound is the largest) with its interval and the reason, never a
+# score (to 4 significant digits, above $10^6$ written `>1e6`: amplified round-off differs between
+# machines). A scored row is *bounded* when every node's upper bound of $p$ is
+# at most $0.05$; otherwise (some node's interval contains the limit: its runs neither show nor
+# exclude the growth) it is marked ‡ *growth undecided* (Amendment 4; before it, only a row whose
+# factor alone was above the limit). What 320 runs resolve is each row's interval, not the limit:
+# `local-kf`'s two nodes on the three-inertia plant that do not see its rigid-body mode (a random
+# walk) grow as $k^{0.082}$ on this window (their exact error covariance, a Riccati recursion: a
+# test): closer to the limit than 320 runs resolve for those slow nodes (their interval's
+# half-width was about $0.1$ in the third stage, against about $0.03$ for a typical row there; the
+# census below gives this stage's). A growth slower than $k^{0.05}$ (e.g. logarithmic) is not seen
+# by this window, a declared limit.
 #
 # **One attack for all.** Sensor attacks are in units of the attacked sensor's noise; a falsified
 # message shifts the state estimate a node sends by `magnitude` oracle steady-state standard
@@ -366,13 +376,18 @@ for net in PLANTS:
 # detection and false-alarm rates (%, union of Wilson and a bootstrap over runs; – where the method
 # has no detector, or the scenario no attacked sample), and the conditions of the method's theory
 # that fail there (scored all the same). `diverged` rows give the growth factor, never a score; ‡
-# marks a scored row whose growth is undecided (its factor above the limit, its interval not).
+# marks a scored row whose growth is undecided (some node's interval of the growth exponent
+# contains the limit).
 
 
 # %%
 def growth_text(row: dict) -> str:
-    g = row["growth"]
-    return str(g) if isinstance(g, str) else ("–" if g is None else matrix._sig(g, 2))
+    """A row's growth factor and, where stored (every row since Amendment 4), its 95 % interval."""
+    def one(g: float | str | None) -> str:
+        return str(g) if isinstance(g, str) else ("–" if g is None else matrix._sig(g, 3))
+
+    interval = row.get("growth_interval")
+    return one(row["growth"]) + (f" [{one(interval[0])}, {one(interval[1])}]" if interval else "")
 
 
 def as_score(row: dict) -> Score:
@@ -385,8 +400,8 @@ def as_score(row: dict) -> Score:
         reason = f"{reason} (growth {growth_text(row)})"
     growth = row["growth"] if isinstance(row["growth"], float) else None
     return Score(row["status"], reason, tuple(row["outside"]), triple("steady"), triple("worst"),
-                 triple("transient"), growth, triple("detection"), triple("false_alarm"),
-                 notes={"growth_undecided": row.get("growth_undecided", False)})
+                 triple("transient"), growth, row["growth_undecided"], triple("detection"),
+                 triple("false_alarm"))
 
 
 CELLS = {kind: {} for kind in KINDS}
@@ -403,7 +418,7 @@ for net in PLANTS:
 def row_words(s: Score) -> list[str]:
     t = matrix.cell_text(s)
     if s.status == "ok":
-        mark = " ‡" if s.notes.get("growth_undecided") else ""
+        mark = " ‡" if s.growth_undecided else ""
         return [t["steady"] + mark, t["worst"], t["transient"], t["detection"], t["false_alarm"]]
     return [f"**{md(t['steady'])}**", "", "", "", ""]
 
@@ -426,6 +441,47 @@ def plant_table(net: str) -> str:
 
 for net in PLANTS:
     display(Markdown(plant_table(net)))
+
+# %% [markdown]
+# **What the growth rule decided.** Per plant, over every row of the test stage (cross and home
+# grounds, printed and tuned, the reference among them): how many rows the rule rules diverged by
+# growth, how many it finds bounded (every node's upper bound of $p$ at most 0.05) and how many it
+# leaves undecided (‡), with the median half-width of the growth exponent's interval of the scored
+# rows (the node the rule reads): what the pooled runs resolve on that plant's window. Where that
+# half-width is above the limit, the runs can show hardly any row bounded and ‡ says only *not
+# resolved*, not *suspected growth*: the oracle itself carries it there. The mark is the same
+# function for every row; with Bonferroni over the plant's $N$ nodes it is harsher for a centralised
+# filter, whose $N$ identical columns widen its interval as $N$ distinct nodes would.
+
+
+# %%
+def exponent(factor: float, rec: dict) -> float:
+    """A growth factor on a plant's steady window as the exponent p (protocol.toml [divergence])."""
+    return estimators.growth_exponent(factor, rec["settle"], rec["horizon"] + 1 - rec["settle"])
+
+
+def growth_census(net: str) -> dict:
+    rec = TEST["plants"][net]
+    rows = [r for rs in rec["cells"].values() for r in rs]
+    rows += [r for h in rec.get("homes", {}).values() for r in h["rows"]]
+    scored = [r for r in rows if r["status"] == "ok"]
+    widths = [(exponent(r["growth_interval"][1], rec) - exponent(r["growth_interval"][0], rec)) / 2
+              for r in scored]
+    reference = {r["status"] + (" ‡" if r["growth_undecided"] else "") for r in rows
+                 if r["row"] == "reference"}
+    return {"rows": len(rows),
+            "diverged by growth": sum(r["reason"].startswith("its error grows") for r in rows),
+            "bounded": sum(not r["growth_undecided"] for r in scored),
+            "undecided ‡": sum(r["growth_undecided"] for r in scored),
+            "half-width of p": float(np.median(widths)), "oracle": ", ".join(sorted(reference))}
+
+
+census = {net: growth_census(net) for net in PLANTS}
+keys = list(next(iter(census.values())))
+display(Markdown("\n".join(
+    ["| plant | " + " | ".join(keys) + " |", "|---" * (len(keys) + 1) + "|"]
+    + [f"| `{net}` | " + " | ".join(f"{v:.2f}" if isinstance(v, float) else str(v)
+                                    for v in c.values()) + " |" for net, c in census.items()])))
 
 # %% [markdown]
 # **Where the home grounds' attacks act.** The papers' own attacks act early in their examples; the
@@ -872,10 +928,11 @@ display(Markdown("\n".join(
 # | A9 | what a method is told | guo2023 is told which sensor the attack card names (its $H^i$: the paper assumes the attack channels known); li2025 the replacement card's probability and magnitude ($\check\psi$, $\xi^*$: its paper assumes them known); the others nothing about the attack | each paper's own assumption, kept; an advantage under the sensor attacks that the tables do not separate from the method itself |
 # | A10 | settings | every method twice: as its paper printed it (ding2020's $\kappa$ and threshold, lee2020's $\kappa,\gamma$, li2025's weights, ma2021's $p$; the baselines at their textbook defaults) and tuned by the registered rule of `protocol.toml` on the validation seeds; ma2021's recursion (30) holds its gains once $P_k$ settles (relative change $\le10^{-6}$ on ten steps) | issue #28: tuning matters as much as the method, so both rows are reported; the rule, search sets and seed split were committed before the test seeds ran. What the rule can and cannot do: its objective is the attack-free score, so constants that act only under attack are not tuned by it (guo2023's alarm level and ma2021's $p$ leave the attack-free estimate unchanged, li2025's weights move it by less than 0.1 %: their tuned rows are the printed ones by the tie rule), and a detector's threshold is held only by the false-alarm cap, so the rule takes the laxest level that meets it, not the one that detects best |
 # | A11 | falsified messages | a shift of 20 oracle steady-state sd of the state estimate a node sends, mapped into each method's message by its own encoding | one attack for every method, in physical units (the first design added a bounded injection in each method's own message units, which made the columns incomparable); a method with several consensus rounds sends several messages per link and step, and a falsified link falsifies each of them (more exchanges, more surface: `consensus-kf`'s message score grows with its rounds) |
-# | A12 | seeds | the eight test seeds 201–208 `protocol.toml` registers, 40 runs each (320 pooled), their runs pooled (one $\Sigma_o$, one bootstrap, one growth rule over all of them); the first test stage ran only 201–204 (a declared deviation, for CPU; ERRATA.md, arena); the cards' seed 2026 only in the live cell | a finding does not hinge on one draw of the runs; the validation seeds 101–104 only chose the tuned constants |
+# | A12 | seeds | the eight test seeds 301–308 `protocol.toml` registers (Amendment 4; 201–208 before it), 40 runs each (320 pooled), their runs pooled (one $\Sigma_o$, one bootstrap, one growth rule over all of them); the first test stage ran only 201–204 (a declared deviation, for CPU; ERRATA.md, arena); the cards' seed 2026 only in the live cell | a finding does not hinge on one draw of the runs; the validation seeds 101–104 only chose the tuned constants |
 # | A13 | Amendment 2 of the protocol, and of the findings | made **after** the first test stage (`figures/arena/test.json` at commit 367ae54, tuned constants a141056) was looked at: a run that escapes (RMS error above $10^4$ times the oracle's) makes its cell diverged; the growth factor is 2, not 4; the tuning's fallback never picks a diverged point unless all diverged; `kcf`'s $\epsilon\,d_{\max}<1$ is a condition, not a requirement; every baseline declares its attack model (marks one rule for all); ding2020's overflowing bounds give non-finite estimates (diverged), not an error; X4, X6 and X7 decide on the methods told nothing about the attack and (X4) touched by it. Then the validation re-ran in full and this test stage on all eight seeds | defects of the first stage a hostile fairness review found: a ratio of $1.6\cdot10^{29}$ scored, an error growing linearly read as a score, a tuned point that had diverged, an N/A that was a stability condition, marks on the papers only, a divergence reported as an error, and findings decided by methods told the attack or immune to it by construction; ERRATA.md gives the first stage's results beside these |
 # | A14 | replacement | the replaced value is uniform in ±`magnitude` noise sd around 0, as li2025's attack model replaces the measurement by a bounded signal; on the target, whose position grows to thousands of noise sd over the horizon, a replaced sample is therefore a gross error, while on the three-inertia and the tank (outputs of the order of the range) it is not | the attack is one card in noise units, but its strength relative to the signal differs by plant: the replacement column on `target20` measures that plant's output scale as much as the methods (a replacement around the true output would be an additive attack, outside li2025's model) |
 # | A15 | Amendment 3 of the protocol | made **after** the second test stage (`figures/arena/test.json` at commit 76e690b, tuned constants d417302) was looked at: the tuning pools each point's validation seeds by the test stage's own function (one $\Sigma_o$, one growth rule, one escape rule; the objective the pooled score, not the median of the seeds'); divergence by the growth exponent of every node with a 95 % interval over the runs, a cell diverged when some node's lower bound exceeds $0.05$ (before: the network's factor above 2); escape on the pooled runs (before: any one run); rule 4's ties to the least growth. Then the validation re-ran in full and this test stage on all eight seeds | defects of the second stage a second hostile review found: one point diverged in the tuning (judged per seed, 40 runs) and bounded in the test (pooled, 320 runs); a factor limit that passes an error growing as $k$ (a random walk) and hides one node's growth behind the network mean; an escape rule whose power grew with the run count; a fallback tie decided by the listing order. ERRATA.md gives the second stage's results beside these |
+# | A16 | Amendment 4 of the protocol | made **after** the third test stage (`figures/arena/test.json` at 9e07aa0, tuned constants aedc436, seeds 201–208) was looked at: the seeds 201–208 retired and the test stage run on eight new seeds 301–308; ‡ two-sided (some node's upper bound of $p$ above $0.05$: neither growth nor boundedness shown; before, only a factor above the limit with an interval that was not); every row stores its growth interval, diverged rows too (to 4 significant digits); rule 4's ties read the most growing node. The divergence rule and its limit unchanged. The validation re-ran in full (the same records and choices as aedc436) and this test stage on the new seeds | a third hostile review found the limit below what the runs resolve (`local-kf`'s random walk on the three-inertia plant, $p = 0.082$ exactly, ruled diverged on the validation runs and scored unmarked on the test runs), a one-sided mark that let a wide interval read as bounded, diverged verdicts that the files could not show, and test seeds seen under three versions of the rules. ERRATA.md gives the third stage's results beside these |
 
 # %%
 manifest_path = run.finish(extra={"tuned": TEST["tuned"], "protocol": TEST["protocol"]})

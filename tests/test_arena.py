@@ -267,7 +267,7 @@ def arena_files(tmp_path_factory: pytest.TempPathFactory) -> dict[str, str]:
                         "--out", str(tuned)]) == 0
     git(root, "add", "tuned.json")
     git(root, "commit", "-q", "-m", "tuned")
-    assert tuning.main(["test", "--tuned", str(tuned), "--seeds", "201", "202", "--runs", "2",
+    assert tuning.main(["test", "--tuned", str(tuned), "--seeds", "301", "302", "--runs", "2",
                         "--horizon", "8", "--short", "--out", str(test)]) == 0
     return {"tuned_path": str(tuned), "test_path": str(test)}
 
@@ -367,13 +367,18 @@ def test_committed_arena_covers_the_acceptance_matrix() -> None:
                 if r["status"] == "ok":
                     assert r["steady"][1] <= r["steady"][0] <= r["steady"][2], r
                     low, high = r["growth_interval"]
-                    assert low <= r["growth"] <= high, r
-                    if att in record["cells"]:  # the growth rule, on this plant's window
+                    assert low <= r["growth"] <= min(high, r["growth_largest"]), r
+                    assert high <= r["growth_upper"], r
+                    if att in record["cells"]:  # the growth rule and its mark, on this plant's window
                         assert not estimators.grows((r["growth"], low, high), *window), r
-                        assert r["growth_undecided"] == estimators.grows((r["growth"],) * 3, *window)
+                        assert r["growth_undecided"] == estimators.growth_not_excluded(
+                            r["growth_upper"], *window), r
                 elif r["status"] == "diverged":
                     assert r["steady"] is None and r["reason"].startswith(
                         ("its error grows", "it escaped", "the estimate is not finite")), r
+                    if r["reason"].startswith("its error grows"):  # Amendment 4: auditable
+                        low = r["growth_interval"][0]
+                        assert low == ">1e6" or estimators.grows((r["growth"], low, low), *window), r
                     assert r["growth"] is None or r["growth"] == ">1e6" or r["growth"] > 0, r
                 else:
                     assert r["reason"].strip(), r

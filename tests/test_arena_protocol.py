@@ -27,7 +27,9 @@ def test_the_protocol_loads_and_its_seeds_are_new() -> None:
     assert val and test and not val & test
     used = _seeds_used_before()
     assert used == {1, 2, 3, 2026}
-    assert not (val | test) & used
+    retired = set(p["seeds"]["retired_test"])  # Amendment 4: seen under three versions of the rules
+    assert retired == set(range(201, 209))
+    assert not (val | test) & (used | retired)
     for method, constants in p["search"].items():
         assert all(isinstance(v, list) and v for v in constants.values()), method
 
@@ -37,6 +39,8 @@ def test_the_protocol_loads_and_its_seeds_are_new() -> None:
      "disjoint"),
     ("[seeds]\nvalidation = []\ntest = [2]\n[score]\n[divergence]\n[detection]\n[tuning]\n[search]\n",
      "seeds.validation"),
+    ("[seeds]\nvalidation = [1]\ntest = [2]\nretired_test = [2]\n[score]\n[divergence]\n[detection]\n"
+     "[tuning]\n[search]\n", "retired test seeds"),
     ("[seeds]\nvalidation = [1]\ntest = [2]\n[score]\n[divergence]\n[detection]\n[tuning]\n[search.x]\nk = 3\n",
      "search.x.k"),
     ("[seeds]\nvalidation = [1]\ntest = [2]\n", "expected the tables"),

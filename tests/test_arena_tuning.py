@@ -138,11 +138,14 @@ def test_with_no_admissible_point_a_diverged_point_is_chosen_only_if_all_diverge
 
 
 def test_when_every_point_diverged_a_tie_goes_to_the_least_growth() -> None:
-    """Amendment 3 (d): lee2020 on target20, ten points that never alarm, went to the first listed."""
-    tied = [rec(0, None, "diverged", fa=0.01) | {"growth": 1.5}, rec(1, None, "diverged", fa=0.0)
-            | {"growth": 11.0}, rec(2, None, "diverged", fa=0.0) | {"growth": None},
-            rec(3, None, "diverged", fa=0.0) | {"growth": 2.6}, rec(4, None, "diverged", fa=0.0)
-            | {"growth": 2.6}]
+    """Amendments 3 (d) and 4 (d): lee2020 on target20, ten points that never alarm, went to the
+    first listed; the tie reads the most growing node's factor (``growth_largest``), not the factor
+    of the node whose lower bound decided (``growth``)."""
+    def diverged(point: int, fa: float, decisive: float | None, largest: float | None) -> dict:
+        return rec(point, None, "diverged", fa=fa) | {"growth": decisive, "growth_largest": largest}
+
+    tied = [diverged(0, 0.01, 1.5, 1.5), diverged(1, 0.0, 11.0, 11.0), diverged(2, 0.0, None, None),
+            diverged(3, 0.0, 1.2, 2.6), diverged(4, 0.0, 2.0, 2.6), diverged(5, 0.0, 1.1, 3.0)]
     c = tuning.choose(tied)
     assert c["point"] == 3 and "the least growth" in c["rule"]  # a non-finite growth counts as inf
 
@@ -172,15 +175,16 @@ def test_the_pooled_rate_is_the_rate_of_the_samples() -> None:
 
 
 def test_test_seeds_are_refused() -> None:
-    test = protocol.load()["seeds"]["test"]
-    tuning.refuse_test_seeds(protocol.load()["seeds"]["validation"])
+    seeds = protocol.load()["seeds"]
+    test = seeds["test"] + seeds["retired_test"]
+    tuning.refuse_test_seeds(seeds["validation"])
     for seed in test:
         with pytest.raises(ValidationError, match=rf"seeds: \[{seed}\] are test seeds"):
             tuning.refuse_test_seeds([101, seed])
-    with pytest.raises(ValidationError, match=r"seeds: \[201, 208\] are test seeds"):
-        tuning.validate("kf", "target20", **(TINY | {"seeds": [201, 101, 208]}))
+    with pytest.raises(ValidationError, match=r"seeds: \[301, 308\] are test seeds"):
+        tuning.validate("kf", "target20", **(TINY | {"seeds": [301, 101, 308]}))
     with pytest.raises(ValidationError, match="are test seeds"):
-        tuning.tune(["kf"], ["target20"], **(TINY | {"seeds": [204]}))
+        tuning.tune(["kf"], ["target20"], **(TINY | {"seeds": [304]}))
 
 
 @pytest.mark.parametrize("kwargs, words", [
@@ -287,7 +291,7 @@ def test_the_command_line_writes_the_choice_and_every_point(tmp_path: Path) -> N
     assert set(data["tuned"]["tank12"]) == {"kf", "local-kf"}
     assert data["tuned"]["tank12"]["kf"]["point"] == 0
     assert len(data["points"]["tank12"]["local-kf"]) == 1
-    assert tuning.main(argv[:-1] + [str(tmp_path / "x.json"), "--seeds", "201"]) == 2
+    assert tuning.main(argv[:-1] + [str(tmp_path / "x.json"), "--seeds", "301"]) == 2
     assert not (tmp_path / "x.json").exists()
 
 

@@ -30,7 +30,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -54,6 +54,7 @@ __all__ = [
     "EXTRAS",
     "GROWTH_EXPONENT",
     "METHODS",
+    "NodeGrowth",
     "RESERVED",
     "SETTLE_TAU",
     "Estimate",
@@ -62,12 +63,15 @@ __all__ = [
     "check_names",
     "check_trial",
     "data_free_moment",
+    "decisive",
     "divergence",
     "escape_reason",
     "escaped",
     "evaluate",
     "growth",
     "growth_exponent",
+    "growth_nodes",
+    "growth_not_excluded",
     "growth_of_runs",
     "grows",
     "no_attack_conditions",
@@ -511,6 +515,10 @@ class Score:
         Mean ``q`` over the last quarter of the steady window over that of its second quarter
         (:func:`growth`); about 1 in a steady state; the divergence rule reads it as an
         exponent (:func:`growth_exponent`).
+    growth_undecided : bool
+        A scored cell some of whose nodes' growth exponent has an upper bound above
+        :data:`GROWTH_EXPONENT` (:func:`growth_not_excluded`): its runs neither show nor exclude
+        the growth; a mark (``‡`` in the arena's tables).
     detection, false_alarm : (value, low, high) floats, optional
         Alarm rates on the attacked / attack-free (run, step, node) samples of the steady
         window (:func:`rate`); None without alarms (or without an attacked sample).
@@ -525,6 +533,7 @@ class Score:
     steady_worst: tuple[float, float, float] | None = None
     transient: tuple[float, float, float] | None = None
     growth: float | None = None
+    growth_undecided: bool = False
     detection: tuple[float, float, float] | None = None
     false_alarm: tuple[float, float, float] | None = None
     notes: dict[str, Any] = field(default_factory=dict)
@@ -721,6 +730,14 @@ def scores_of_runs(
     return (triple(nodes.mean(), nodes_b.mean(axis=1)), triple(nodes.max(), nodes_b.max(axis=1)))
 
 
+class NodeGrowth(NamedTuple):
+    """Every node's growth factor (:func:`growth_nodes`) and its 95 % bounds, (N,) arrays each."""
+
+    value: NDArray[np.float64]
+    low: NDArray[np.float64]
+    high: NDArray[np.float64]
+
+
 def quarters(length: int) -> tuple[slice, slice]:
     """The second and the last quarter of a window of ``length`` steps (:func:`growth`)."""
     return slice(length // 4, max(length // 2, length // 4 + 1)), slice((3 * length) // 4, None)
@@ -747,13 +764,17 @@ def growth(q: NDArray[np.float64]) -> tuple[float, float, float]:
                               f"{getattr(q, 'shape', type(q).__name__)}")
     if not np.all(np.isfinite(q) & (q >= 0)):
         raise ValidationError("q must hold finite non-negative squared errors")
+    return decisive(_growth_of_nodes(q))
+
+
+def _growth_of_nodes(q: NDArray[np.float64]) -> NodeGrowth:
+    """:func:`growth_nodes` of each run's means over the second and the last quarter of ``q``."""
     mid, late = quarters(q.shape[1])
-    return growth_of_runs(q[:, mid].mean(axis=1), q[:, late].mean(axis=1))
+    return growth_nodes(q[:, mid].mean(axis=1), q[:, late].mean(axis=1))
 
 
-def growth_of_runs(mid: NDArray[np.float64],
-                   late: NDArray[np.float64]) -> tuple[float, float, float]:
-    """The growth factor of the node that grows most surely, with its interval over the runs.
+def growth_nodes(mid: NDArray[np.float64], late: NDArray[np.float64]) -> NodeGrowth:
+    """Every node's growth factor with its interval over the runs.
 
     Per node ``i`` the factor is ``g_i = mean over runs of late / mean over runs of mid`` (each
     run's quarters have the same number of steps). Its interval treats the runs as independent
@@ -763,19 +784,19 @@ def growth_of_runs(mid: NDArray[np.float64],
     freedom: a few runs give a wide interval, not an overconfident one, and the ``N`` intervals
     hold together at 95 % (Bonferroni). ``N`` is the plant's, the same for every method on it (a
     centralised filter's ``N`` identical columns get the same, wider, quantile: more lenient for it
-    than one test). A network is as bounded as its worst node: the node reported is the one whose
-    lower bound is the largest (the first such).
+    than one test in the growth rule, harsher in the mark :func:`growth_not_excluded`).
 
     Parameters
     ----------
     mid, late : (runs,) or (runs, N) arrays
         Each run's (and node's) mean ``q`` over the steady window's second and last quarters
-        (one run gives the interval ``(0, inf)``).
+        (one run gives every node the interval ``(0, inf)``).
 
     Returns
     -------
-    (value, low, high)
-        inf where a node's mean over the second quarter is 0 (its interval too).
+    NodeGrowth
+        ``value``, ``low``, ``high``: (N,) arrays; inf where a node's mean over the second quarter
+        is 0 (its interval too).
     """
     mid, late = np.asarray(mid, dtype=float), np.asarray(late, dtype=float)
     if mid.ndim not in (1, 2) or mid.shape != late.shape or mid.size == 0:
@@ -792,8 +813,34 @@ def growth_of_runs(mid: NDArray[np.float64],
               else np.full(nodes, np.inf))  # one run decides no growth: (0, inf)
     low = np.where(np.isfinite(value), value * np.exp(-spread), np.inf)
     high = np.where(np.isfinite(value), value * np.exp(spread), np.inf)
-    worst = int(np.argmax(low))
-    return float(value[worst]), float(low[worst]), float(high[worst])
+    return NodeGrowth(value, low, high)
+
+
+def growth_of_runs(mid: NDArray[np.float64],
+                   late: NDArray[np.float64]) -> tuple[float, float, float]:
+    """The growth factor of the node that grows most surely, with its interval over the runs.
+
+    :func:`growth_nodes`' factor and interval of the node whose lower bound is the largest (the
+    first such): a network is as bounded as its worst node, and the growth rule
+    (:func:`grows`) reads that bound.
+
+    Parameters
+    ----------
+    mid, late : (runs,) or (runs, N) arrays
+        As :func:`growth_nodes` takes them.
+
+    Returns
+    -------
+    (value, low, high)
+    """
+    return decisive(growth_nodes(mid, late))
+
+
+def decisive(nodes: NodeGrowth) -> tuple[float, float, float]:
+    """``(value, low, high)`` of the node whose lower bound is the largest (the first such): the
+    node the growth rule (:func:`grows`) reads."""
+    worst = int(np.argmax(nodes.low))
+    return float(nodes.value[worst]), float(nodes.low[worst]), float(nodes.high[worst])
 
 
 def growth_exponent(factor: float, settle: int, length: int) -> float:
@@ -851,6 +898,24 @@ def grows(factor: tuple[float, float, float], settle: int, length: int) -> bool:
     return length >= 4 and not growth_exponent(factor[1], settle, length) <= GROWTH_EXPONENT
 
 
+def growth_not_excluded(upper: float, settle: int, length: int) -> bool:
+    """The mark ``growth_undecided``: some node's growth exponent's upper bound above the limit.
+
+    Read on a row that :func:`grows` did not rule diverged: its runs neither show a node growing
+    faster than ``k^GROWTH_EXPONENT`` nor exclude it (Amendment 4; a row is *bounded* only when
+    every node's upper bound is at most the limit). What the runs resolve is each row's interval,
+    reported beside it.
+
+    Parameters
+    ----------
+    upper : float
+        The largest upper bound of the nodes' growth factors (:func:`growth_nodes`).
+    settle, length : int
+        The steady window (:func:`growth_exponent`); a window of fewer than 4 steps rules nothing.
+    """
+    return length >= 4 and not growth_exponent(upper, settle, length) <= GROWTH_EXPONENT
+
+
 def divergence(factor: tuple[float, float, float], per_run: NDArray[np.float64], settle: int,
                length: int) -> str:
     """Why a scored cell is diverged by the rules of ``protocol.toml`` [divergence], or ``""``.
@@ -906,14 +971,16 @@ def score(trial: Trial, estimate: Estimate, oracle: Estimate, *, short: bool = F
         return Score("diverged", "the estimate is not finite in some run")
     x, xo = trial.x, oracle.xhat[:, :, 0]
     q_steady = normalised_errors(estimate.xhat[:, settle:], x[:, settle:], xo[:, settle:])
-    g = growth(q_steady)
-    why = "" if short else divergence(g, q_steady.mean(axis=1), settle, q_steady.shape[1])
+    nodes = _growth_of_nodes(q_steady)
+    g, length = decisive(nodes), q_steady.shape[1]
+    why = "" if short else divergence(g, q_steady.mean(axis=1), settle, length)
     if why:  # a short horizon has no steady window to grow in: reported, not ruled
         return Score("diverged", why, growth=g[0])
     steady, worst = _scores(q_steady)
     transient = _scores(normalised_errors(estimate.xhat[:, :settle], x[:, :settle], xo[:, :settle]))[0]
+    undecided = not short and growth_not_excluded(float(nodes.high.max()), settle, length)
     result = Score("ok", steady=steady, steady_worst=worst, transient=transient, growth=g[0],
-                   notes=dict(estimate.notes))
+                   growth_undecided=undecided, notes=dict(estimate.notes))
     if estimate.alarms is not None:
         attacked = trial.attacked[:, settle:]
         alarms = estimate.alarms[:, settle:]

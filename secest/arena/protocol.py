@@ -46,7 +46,8 @@ def load(text: str | None = None) -> dict[str, Any]:
     ------
     ValidationError
         If a table is missing or unknown, the validation and test seeds are not two disjoint
-        lists of integers, or a search set holds a constant that is not a non-empty list.
+        lists of integers, either meets the retired test seeds (``retired_test``, optional),
+        or a search set holds a constant that is not a non-empty list.
     """
     if text is None:
         text = resources.files("secest.arena").joinpath("protocol.toml").read_text()
@@ -55,10 +56,17 @@ def load(text: str | None = None) -> dict[str, Any]:
         raise ValidationError(f"protocol: expected the tables {sorted(SECTIONS)}, found {sorted(data)}")
     seeds = data["seeds"]
     validation = set(_seed_list("validation", seeds.get("validation")))
-    shared = validation & set(_seed_list("test", seeds.get("test")))
+    test = set(_seed_list("test", seeds.get("test")))
+    shared = validation & test
     if shared:
         raise ValidationError(f"seeds: validation and test seeds must be disjoint, "
                               f"both hold {sorted(shared)}")
+    retired = (set(_seed_list("retired_test", seeds["retired_test"])) if "retired_test" in seeds
+               else set())
+    reused = (validation | test) & retired
+    if reused:
+        raise ValidationError(f"seeds: the retired test seeds {sorted(reused)} may not be "
+                              "validation or test seeds again")
     for method, constants in data["search"].items():
         for name, values in constants.items():
             if not isinstance(values, list) or not values:

@@ -18,7 +18,7 @@ gives on that trial; with several, what it gives on their runs concatenated into
 The order is enforced here: :func:`committed` refuses a tuned file that git does not track or
 that differs from its committed version, and the output records its commit and SHA-256, and the
 commit of ``protocol.toml``. The output (``figures/arena/test.json``) holds deterministic content
-only; a diverged row's growth factor is rounded to 2 significant digits (capped at
+only; a diverged row's growth numbers are rounded to 4 significant digits (capped at
 :data:`GROWTH_CAP`), since amplified round-off differs between machines.
 """
 
@@ -343,12 +343,26 @@ def _metric(oracle: list[dict[str, Any]], window: str) -> NDArray[np.float64]:
     return estimators.whitening(total / (runs * steps))
 
 
-def _growth(parts: list[dict[str, Any]], W: NDArray[np.float64]) -> tuple[float, float, float]:
-    """The growth factor of the pooled runs, with its interval (:func:`~estimators.growth`)."""
+def _growth(parts: list[dict[str, Any]], W: NDArray[np.float64]) -> estimators.NodeGrowth:
+    """Every node's growth factor on the pooled runs, with its interval
+    (:func:`~estimators.growth_nodes`)."""
     n_mid, n_late = parts[0]["quarter_steps"]
     mid = np.concatenate([_per_run(p["mid"], W, n_mid) for p in parts])
     late = np.concatenate([_per_run(p["late"], W, n_late) for p in parts])
-    return estimators.growth_of_runs(mid, late)
+    return estimators.growth_nodes(mid, late)
+
+
+def _growth_fields(nodes: estimators.NodeGrowth) -> tuple[tuple[float, float, float], dict[str, Any]]:
+    """The decisive node's (value, low, high) and a row's growth fields (Amendment 4: every row).
+
+    ``growth`` and ``growth_interval``: the node whose lower bound is the largest (the growth
+    rule reads it); ``growth_upper``: the largest upper bound of any node (the mark
+    ``growth_undecided`` reads it); ``growth_largest``: the largest factor of any node (rule 4's
+    ties read it).
+    """
+    g = estimators.decisive(nodes)
+    return g, {"growth": g[0], "growth_interval": [g[1], g[2]],
+               "growth_upper": float(nodes.high.max()), "growth_largest": float(nodes.value.max())}
 
 
 def _rates(parts: list[dict[str, Any]]) -> dict[str, Any]:
@@ -401,19 +415,21 @@ def pool(oracle: list[dict[str, Any]], parts: list[dict[str, Any]], seeds: list[
     -------
     dict
         ``status`` (``ok``, ``diverged``, ``n/a``, ``error``), ``reason``, ``outside``, and for a
-        scored row ``steady``, ``worst``, ``transient`` (value, low, high), ``growth`` (the
-        factor) and ``growth_interval`` (its 95 % bounds; the growth rule reads the lower),
-        ``growth_undecided`` (True when the factor itself is above the rule's limit and only its
-        interval keeps the row scored: a few runs that grow, a mark),
-        ``detection`` and ``false_alarm`` (or None); a diverged row (growth or
-        escape: :func:`~secest.arena.estimators.divergence`) carries its growth factor, no score.
+        scored row ``steady``, ``worst``, ``transient`` (value, low, high),
+        ``growth_undecided`` (True when some node's growth exponent's upper bound is above the
+        rule's limit: its runs neither show nor exclude growth, a mark; Amendment 4),
+        ``detection`` and ``false_alarm`` (or None); every row that ran, scored or diverged
+        (growth or escape: :func:`~secest.arena.estimators.divergence`), carries
+        :func:`_growth_fields`' ``growth``, ``growth_interval``, ``growth_upper`` and
+        ``growth_largest``; a diverged row no score.
     """
     if not (len(oracle) == len(parts) == len(seeds)) or not parts:
         raise ValidationError(f"Incompatible lengths of oracle, parts and seeds: expected one "
                               f"per seed, found {len(oracle)}, {len(parts)}, {len(seeds)}")
     empty = {"reason": "", "outside": _outside(parts), "steady": None, "worst": None,
-             "transient": None, "growth": None, "growth_interval": None,
-             "growth_undecided": False, "detection": None, "false_alarm": None}
+             "transient": None, "growth": None, "growth_interval": None, "growth_upper": None,
+             "growth_largest": None, "growth_undecided": False, "detection": None,
+             "false_alarm": None}
     failed = _failed(parts, seeds)
     lost = [s for s, o in zip(seeds, oracle, strict=True) if o["status"] != "ok"]
     if lost and failed is None:
@@ -421,20 +437,19 @@ def pool(oracle: list[dict[str, Any]], parts: list[dict[str, Any]], seeds: list[
     if failed is not None:
         return empty | failed
     W = _metric(oracle, "steady")
-    g = _growth(parts, W)
+    g, fields = _growth_fields(_growth(parts, W))
     settle, length = parts[0]["steps"]
     per_run = np.concatenate([_per_run(p["steady"], W, length) for p in parts])
     why = "" if short else estimators.divergence(g, per_run, settle, length)
     if why:
-        return empty | {"status": "diverged", "growth": g[0], "reason": why}
+        return empty | fields | {"status": "diverged", "reason": why}
     steady, worst = estimators.scores_of_runs(per_run)
     Wt = _metric(oracle, "transient")
     transient = estimators.scores_of_runs(np.concatenate(
         [_per_run(p["transient"], Wt, p["steps"][0]) for p in parts]))[0]
-    undecided = not short and estimators.grows((g[0],) * 3, settle, length)
-    return empty | {"status": "ok", "steady": steady, "worst": worst, "transient": transient,
-                    "growth": g[0], "growth_interval": [g[1], g[2]],
-                    "growth_undecided": undecided} | _rates(parts)
+    undecided = not short and estimators.growth_not_excluded(fields["growth_upper"], settle, length)
+    return empty | fields | {"status": "ok", "steady": steady, "worst": worst,
+                             "transient": transient, "growth_undecided": undecided} | _rates(parts)
 
 
 def data_free_score(sc: Scenario, oracle: list[dict[str, Any]]) -> float | None:
@@ -462,12 +477,17 @@ def data_free_score(sc: Scenario, oracle: list[dict[str, Any]]) -> float | None:
 
 
 def _written_growth(row: dict[str, Any]) -> dict[str, Any]:
-    """A diverged row's growth to 2 significant digits, or ``">1e6"`` above :data:`GROWTH_CAP`."""
-    g = row["growth"]
-    if row["status"] != "diverged" or g is None:
+    """A diverged row's growth numbers to 4 significant digits, ``">1e6"`` above
+    :data:`GROWTH_CAP` (amplified round-off decides the digits of a blow-up's; 4 digits keep a
+    lower bound near the limit factor, about 1.027, on its side of it)."""
+    if row["status"] != "diverged" or row["growth"] is None:
         return row
-    return row | {"growth": f">{GROWTH_CAP:.0e}".replace("e+0", "e") if not g <= GROWTH_CAP
-                  else float(f"{g:.2g}")}
+
+    def written(g: float) -> float | str:
+        return f">{GROWTH_CAP:.0e}".replace("e+0", "e") if not g <= GROWTH_CAP else float(f"{g:.4g}")
+
+    return row | {key: written(row[key]) for key in ("growth", "growth_upper", "growth_largest")} | {
+        "growth_interval": [written(g) for g in row["growth_interval"]]}
 
 
 # ---------------------------------------------------------------------------------- the stage

@@ -16,8 +16,9 @@ Per method and plant (network card), independently (issue #28):
    ``false_alarm_cap`` are excluded (so are points that could not run: ``n/a`` or ``error``);
    the lowest pooled score wins; ties within 1 % go to the printed point, then to the point
    listed first; with no admissible point, the point of lowest false-alarm upper bound among
-   those that did not diverge (among all if every one did; ties: the least growth) is chosen
-   and marked ``"no admissible point"`` (a method without a detector: the printed point).
+   those that did not diverge (among all if every one did; ties: the least largest growth factor
+   over the nodes) is chosen and marked ``"no admissible point"`` (a method without a detector: the
+   printed point).
 
 The engine sees the validation seeds only: a test seed is refused (:func:`refuse_test_seeds`),
 and so is any seed the protocol does not list as a validation seed. :func:`tune` runs many
@@ -239,22 +240,25 @@ def refuse_test_seeds(seeds: Sequence[int], test: Sequence[int] | None = None) -
     seeds : sequence of int
         The seeds a tuning run is asked to use.
     test : sequence of int, optional
-        The test seeds; default ``protocol.load()["seeds"]["test"]``.
+        The test seeds; default the protocol's test seeds and its retired ones
+        (``retired_test``, Amendment 4).
 
     Raises
     ------
     ValidationError
         If a seed of ``seeds`` is a test seed.
     """
-    test = protocol.load()["seeds"]["test"] if test is None else test
+    if test is None:
+        registered = protocol.load()["seeds"]
+        test = [*registered["test"], *registered.get("retired_test", [])]
     for label, values in (("seeds", seeds), ("test", test)):
         if isinstance(values, str) or not isinstance(values, Sequence) or not all(
                 isinstance(s, int) and not isinstance(s, bool) for s in values):
             raise ValidationError(f"{label} must be a list of integer seeds, found {values!r}")
     bad = [s for s in seeds if s in set(test)]
     if bad:
-        raise ValidationError(f"seeds: {bad} are test seeds of protocol.toml; the tuning sees the "
-                              "validation seeds only")
+        raise ValidationError(f"seeds: {bad} are test seeds of protocol.toml (or retired ones); "
+                              "the tuning sees the validation seeds only")
 
 
 def _seeds(seeds: object, p: dict[str, Any]) -> list[int]:
@@ -414,7 +418,11 @@ def _record(name: str, plant: str, point: dict[str, Any], results: list[dict[str
         "score": row["steady"][0] if row["status"] == "ok" else None,
         "steady": _floats(row["steady"]), "worst": _floats(row["worst"]),
         "growth": _finite(row["growth"]),
-        "growth_interval": row["growth_interval"], "growth_undecided": row["growth_undecided"],
+        "growth_interval": (None if row["growth_interval"] is None
+                            else [_finite(g) for g in row["growth_interval"]]),
+        "growth_upper": _finite(row["growth_upper"]),
+        "growth_largest": _finite(row["growth_largest"]),
+        "growth_undecided": row["growth_undecided"],
         "detector": false_alarm is not None, "false_alarm": false_alarm,
         "seeds": [r["seed"] for r in results],
     }
@@ -425,7 +433,8 @@ def _unbuilt(name: str, plant: str, point: dict[str, Any], reason: str,
     """The record of a point whose method could not be built: one error record, no task."""
     return {"method": name, "plant": plant, **point, "status": "error", "reason": reason,
             "outside": [], "score": None, "steady": None, "worst": None, "growth": None,
-            "growth_interval": None, "growth_undecided": False,
+            "growth_interval": None, "growth_upper": None, "growth_largest": None,
+            "growth_undecided": False,
             "detector": False, "false_alarm": None, "seeds": list(seeds)}
 
 
@@ -522,9 +531,11 @@ def validate(
         pooled (:func:`secest.arena.testseeds.pool`): ``status`` (``"ok"``, ``"diverged"``,
         ``"n/a"``, ``"error"``), ``reason``, ``outside``, ``score`` (the pooled steady-window
         network score; None unless ok), ``steady`` and ``worst`` (value, low, high), ``growth``
-        (the factor) and ``growth_interval`` (its 95 % bounds, a bounded point's),
-        ``detector``, ``false_alarm`` (rate, low, high of the pooled runs; None without a
-        detector) and ``seeds``.
+        (the factor), ``growth_interval`` (its 95 % bounds), ``growth_upper``,
+        ``growth_largest`` (every point that ran, diverged too: Amendment 4) and
+        ``growth_undecided`` (:func:`secest.arena.testseeds.pool`), ``detector``,
+        ``false_alarm`` (rate, low, high of the pooled runs; None without a detector) and
+        ``seeds``.
 
     Raises
     ------
@@ -586,10 +597,11 @@ def _preferred(tied: list[dict[str, Any]]) -> dict[str, Any]:
 
 
 def _least_growth(tied: list[dict[str, Any]]) -> dict[str, Any]:
-    """Among tied records: the least growth factor (one not finite counts as infinite;
-    Amendment 3), then :func:`_preferred`."""
+    """Among tied records: the least growth factor of its most growing node (one not finite or
+    unknown counts as infinite; Amendment 3, the node whose lower bound is the largest before
+    Amendment 4), then :func:`_preferred`."""
     def factor(r: dict[str, Any]) -> float:
-        g = r.get("growth")
+        g = r.get("growth_largest")
         return float("inf") if g is None else g
 
     least = min(factor(r) for r in tied)
