@@ -731,7 +731,15 @@ def scores_of_runs(
 
 
 class NodeGrowth(NamedTuple):
-    """Every node's growth factor (:func:`growth_nodes`) and its 95 % bounds, (N,) arrays each."""
+    """Every node's growth factor (:func:`growth_nodes`) and its 95 % bounds.
+
+    Attributes
+    ----------
+    value : (N,) array
+        Each node's factor: mean over runs of the last quarter / of the second quarter.
+    low, high : (N,) arrays
+        Its bounds, 95 % together over the ``N`` nodes.
+    """
 
     value: NDArray[np.float64]
     low: NDArray[np.float64]
@@ -837,8 +845,18 @@ def growth_of_runs(mid: NDArray[np.float64],
 
 
 def decisive(nodes: NodeGrowth) -> tuple[float, float, float]:
-    """``(value, low, high)`` of the node whose lower bound is the largest (the first such): the
-    node the growth rule (:func:`grows`) reads."""
+    """The factor and bounds of the node the growth rule (:func:`grows`) reads.
+
+    Parameters
+    ----------
+    nodes : NodeGrowth
+        Every node's factor and bounds (:func:`growth_nodes`).
+
+    Returns
+    -------
+    (value, low, high)
+        Those of the node whose lower bound is the largest (the first such).
+    """
     worst = int(np.argmax(nodes.low))
     return float(nodes.value[worst]), float(nodes.low[worst]), float(nodes.high[worst])
 
