@@ -247,6 +247,11 @@ def test_an_error_growing_as_a_random_walk_is_diverged() -> None:
     assert pooled["reason"] == whole.reason and whole.reason.startswith("its error grows")
 
 
+def of_runs(mid: np.ndarray, late: np.ndarray) -> tuple[float, float, float]:
+    """The factor and interval the growth rule reads (the node of the largest lower bound)."""
+    return estimators.decisive(estimators.growth_nodes(mid, late))
+
+
 def test_the_mark_reads_every_nodes_upper_bound() -> None:
     """Amendment 4 (b): a row is bounded only when every node's upper bound of p is at most the
     limit; a wide interval around a small factor is marked, not read as bounded."""
@@ -264,8 +269,9 @@ def test_the_mark_reads_every_nodes_upper_bound() -> None:
     quiet = estimators.growth_nodes(mid[:, :2], np.abs(late[:, :2]))
     assert not estimators.growth_not_excluded(quiet.high.max(), *window)
     assert not estimators.growth_not_excluded(10.0, 5, 3)  # no two quarters: nothing ruled
-    # the decisive node of growth_of_runs is growth_nodes' node of the largest lower bound
-    assert estimators.growth_of_runs(mid, np.abs(late)) == g
+    # the decisive node is the node of the largest lower bound
+    worst = int(np.argmax(nodes.low))
+    assert g == (nodes.value[worst], nodes.low[worst], nodes.high[worst])
 
 
 def test_the_divergence_constants_are_the_protocols_and_escape_is_pooled() -> None:
@@ -294,18 +300,18 @@ def test_the_growth_exponent_of_a_power_law_is_its_exponent(p: float) -> None:
     assert not estimators.grows((9.0, 9.0, 9.0), 1, 3)  # no two distinct quarters: not ruled
     # the interval is over the runs: runs alike give a point, one run apart a spread; the node
     # that grows most surely is the one reported
-    assert estimators.growth_of_runs(np.ones(5), np.full(5, 2.0)) == (2.0, 2.0, 2.0)
-    value, low, high = estimators.growth_of_runs(np.ones(40), np.r_[np.ones(39), 100.0])
+    assert of_runs(np.ones(5), np.full(5, 2.0)) == (2.0, 2.0, 2.0)
+    value, low, high = of_runs(np.ones(40), np.r_[np.ones(39), 100.0])
     assert low < value < high and value == pytest.approx(139 / 40)
-    two = estimators.growth_of_runs(np.ones((40, 2)), np.c_[np.full(40, 1.5), np.r_[np.ones(39), 100.0]])
+    two = of_runs(np.ones((40, 2)), np.c_[np.full(40, 1.5), np.r_[np.ones(39), 100.0]])
     assert two == (1.5, 1.5, 1.5)
     rng = np.random.default_rng(3)
-    few, many = (estimators.growth_of_runs(rng.exponential(size=r), rng.exponential(size=r))
+    few, many = (of_runs(rng.exponential(size=r), rng.exponential(size=r))
                  for r in (5, 500))
     assert few[2] - few[1] > many[2] - many[1]  # a few runs: a wide interval
     with pytest.raises(ValidationError, match="mid, late"):
-        estimators.growth_of_runs(np.ones(3), np.ones(4))
-    assert estimators.growth_of_runs(np.ones(1), np.full(1, 9.0)) == (9.0, 0.0, np.inf)
+        of_runs(np.ones(3), np.ones(4))
+    assert of_runs(np.ones(1), np.full(1, 9.0)) == (9.0, 0.0, np.inf)
     assert estimators.growth_exponent(0.0, 103, 308) == -np.inf
     for bad in ((1.0, 0, 308), (1.0, 103, 3), (-1.0, 103, 308), (float("nan"), 103, 308)):
         with pytest.raises(ValidationError):

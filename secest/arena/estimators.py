@@ -72,7 +72,6 @@ __all__ = [
     "growth_exponent",
     "growth_nodes",
     "growth_not_excluded",
-    "growth_of_runs",
     "grows",
     "no_attack_conditions",
     "normalised_errors",
@@ -764,8 +763,8 @@ def growth(q: NDArray[np.float64]) -> tuple[float, float, float]:
     (value, low, high)
         Per node ``mean q[:, 3k/4:, i] / mean q[:, k/4:k/2, i]`` over the runs, with its 95 %
         interval over the runs; the node whose lower bound is the largest
-        (:func:`growth_of_runs`). :func:`growth_exponent` turns a factor into the exponent the
-        divergence rule reads.
+        (:func:`growth_nodes`, :func:`decisive`). :func:`growth_exponent` turns a factor into the
+        exponent the divergence rule reads.
     """
     if not isinstance(q, np.ndarray) or q.ndim != 3 or q.size == 0:
         raise ValidationError(f"q must be a (runs, k, N) array with k >= 1, found "
@@ -822,26 +821,6 @@ def growth_nodes(mid: NDArray[np.float64], late: NDArray[np.float64]) -> NodeGro
     low = np.where(np.isfinite(value), value * np.exp(-spread), np.inf)
     high = np.where(np.isfinite(value), value * np.exp(spread), np.inf)
     return NodeGrowth(value, low, high)
-
-
-def growth_of_runs(mid: NDArray[np.float64],
-                   late: NDArray[np.float64]) -> tuple[float, float, float]:
-    """The growth factor of the node that grows most surely, with its interval over the runs.
-
-    :func:`growth_nodes`' factor and interval of the node whose lower bound is the largest (the
-    first such): a network is as bounded as its worst node, and the growth rule
-    (:func:`grows`) reads that bound.
-
-    Parameters
-    ----------
-    mid, late : (runs,) or (runs, N) arrays
-        As :func:`growth_nodes` takes them.
-
-    Returns
-    -------
-    (value, low, high)
-    """
-    return decisive(growth_nodes(mid, late))
 
 
 def decisive(nodes: NodeGrowth) -> tuple[float, float, float]:
